@@ -1,0 +1,46 @@
+# tankfx: the two commands of the quick start are `make demo` and `make test`.
+# Both create .venv (Python >= 3.12) if it is missing and install the project into it.
+
+VENV    ?= .venv
+PY      := $(VENV)/bin/python
+MPIEXEC := $(VENV)/bin/mpiexec
+NP      ?= 2
+STAMP   := $(VENV)/.tankfx-installed
+
+.PHONY: demo test test-serial test-mpi benchmark venv clean
+
+venv: $(STAMP)
+
+# The first Python >= 3.12 found: python3.12, python3.13, then python3 (with pyenv, the
+# .python-version file of this repository makes python3 resolve to 3.12).
+$(STAMP): pyproject.toml
+	@if [ ! -x $(PY) ]; then \
+	  py=""; for c in python3.12 python3.13 python3.14 python3; do \
+	    if $$c -c 'import sys; sys.exit(sys.version_info < (3, 12))' >/dev/null 2>&1; then py=$$c; break; fi; \
+	  done; \
+	  if [ -z "$$py" ]; then echo "make: tankfx needs Python >= 3.12 (none found on PATH)"; exit 1; fi; \
+	  echo "make: creating $(VENV) with $$($$py --version)"; \
+	  $$py -m venv $(VENV) || exit 1; \
+	fi
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e ".[test]"
+	@touch $(STAMP)
+
+demo: $(STAMP)
+	$(PY) demos/flexible_load.py
+
+test: test-serial test-mpi
+
+test-serial: $(STAMP)
+	$(PY) -m pytest -q -p no:cacheprovider
+
+# The tests marked `mpi` again on $(NP) ranks: each compares its parallel results with a
+# serial solve of the same scene.
+test-mpi: $(STAMP)
+	$(MPIEXEC) -n $(NP) $(PY) -m pytest -q -p no:cacheprovider -m mpi
+
+benchmark: $(STAMP)
+	$(PY) benchmarks/flexible_load.py
+
+clean:
+	rm -rf $(VENV) results .pytest_cache

@@ -1,0 +1,1 @@
+"""Parametric gmsh geometries of tankfx (installed as ``tankfx.meshes``)."""

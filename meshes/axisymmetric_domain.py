@@ -1,0 +1,220 @@
+"""Parametric gmsh geometry of the axisymmetric (r, z) tank-foundation-soil domain.
+
+The meridian plane is drawn with r along x and z along y: the ground surface is z = 0 and
+the soil occupies -depth <= z <= 0, 0 <= r <= radius. A foundation of radius ``load_radius``
+(the plate, or a flexible load) sits at z = -embedment; an embedded foundation leaves an
+excavated pit 0 <= r <= load_radius, -embedment <= z <= 0. Where there will be a tank wall,
+the tank's interior (and the pit) is meshed as a *void* region, so that the wall's meridian
+is a line of facets of the same mesh: the wall and plate can then live on facet submeshes of
+one parent mesh. The soil equations are integrated over the soil cells only; the void's
+degrees of freedom are pinned by the solver.
+
+Mesh size grows linearly with the distance from the singular points (the foundation edge and
+the wall foot), ``size = edge_size + growth * distance``, so a domain thousands of radii wide
+costs only a few thousand cells more than a small one.
+
+Run it on its own to look at a mesh in gmsh's window, or to write a ``.msh``::
+
+    python meshes/axisymmetric_domain.py --load-radius 1 --embedment 0.3 \
+        --wall-radius 1 --wall-height 3 --gui
+"""
+from __future__ import annotations
+
+import argparse
+import math
+from dataclasses import dataclass
+
+#: Physical tags of the 2D regions.
+CELL_TAGS = {"soil": 1, "void": 2}
+
+#: Physical tags of the facets. Each facet carries exactly one tag; the parts of the wall
+#: that also face the soil get their own tag so that no facet needs two.
+FACET_TAGS = {
+    "axis": 1,            # r = 0 in the soil
+    "far_side": 2,        # r = domain radius
+    "bottom": 3,          # z = -domain depth
+    "surface": 4,         # free ground surface, z = 0, outside the foundation
+    "contact": 5,         # foundation underside / loaded area, z = -embedment, r <= load_radius
+    "embedded_face": 6,   # side of the pit, r = load_radius, -embedment < z < 0, no wall on it
+    "wall": 7,            # wall meridian where it does not touch the soil
+    "wall_embedded": 8,   # wall meridian on the side of the pit (both wall and embedded face)
+    "void_axis": 9,       # r = 0 in the void
+    "void_boundary": 10,  # the rest of the void's outline (its lid, the open pit top)
+}
+
+
+@dataclass(frozen=True)
+class DomainGeometry:
+    """Lengths in metres. ``wall_radius`` None means no wall and no void region."""
+
+    load_radius: float
+    domain_radius: float
+    domain_depth: float
+    embedment: float = 0.0
+    wall_radius: float | None = None
+    wall_height: float = 0.0
+    edge_size: float = 0.05
+    growth: float = 0.2
+    wall_size: float | None = None
+    near_size: float | None = None    #: size cap in the near field (soil stresses reported)
+    near_radius: float = 0.0          #: extent of the near field around the foundation
+
+
+def build_model(g: DomainGeometry, gmsh, name: str = "tankfx", order: int = 1) -> None:
+    """Create the geometry, physical groups and mesh in the current gmsh model.
+
+    ``gmsh`` is the imported (and initialised) gmsh module: it is passed in so that this file
+    stays importable where gmsh is not installed.
+    """
+    a, D, R, Z = g.load_radius, g.embedment, g.domain_radius, g.domain_depth
+    occ = gmsh.model.occ
+    gmsh.model.add(name)
+
+    soil = occ.addRectangle(0.0, -Z, 0.0, R, Z)
+    if D > 0.0:
+        pit = occ.addRectangle(0.0, -D, 0.0, a, D)
+        (soil_dimtags, _) = occ.cut([(2, soil)], [(2, pit)])
+        soil = soil_dimtags[0][1]
+
+    pieces = [(2, soil)]
+    wall_line = None
+    if g.wall_radius is not None:
+        at, H = g.wall_radius, g.wall_height
+        void = occ.addRectangle(0.0, -D, 0.0, at, H)
+        if D > 0.0 and at < a:
+            pit = occ.addRectangle(0.0, -D, 0.0, a, D)
+            (void_dimtags, _) = occ.fuse([(2, void)], [(2, pit)])
+            void = void_dimtags[0][1]
+        pieces.append((2, void))
+        p0 = occ.addPoint(at, -D, 0.0)
+        p1 = occ.addPoint(at, -D + H, 0.0)
+        wall_line = occ.addLine(p0, p1)
+        pieces.append((1, wall_line))
+    # Points where the mesh must have a vertex: the foundation edge and the wall foot.
+    singular = [(a, -D)] + ([(a, 0.0)] if D > 0.0 else [])
+    if g.wall_radius is not None:
+        singular.append((g.wall_radius, -D))
+    point_tags = [occ.addPoint(x, y, 0.0) for (x, y) in singular]
+    pieces += [(0, p) for p in point_tags]
+    occ.fragment(pieces, [])
+    occ.synchronize()
+
+    _tag_entities(g, gmsh)
+    _size_field(g, gmsh, singular)
+    gmsh.option.setNumber("Mesh.Algorithm", 6)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
+    gmsh.model.mesh.generate(2)
+    if order > 1:
+        gmsh.model.mesh.setOrder(order)
+
+
+def _tag_entities(g: DomainGeometry, gmsh) -> None:
+    a, D, R, Z = g.load_radius, g.embedment, g.domain_radius, g.domain_depth
+    eps = 1e-9 * max(R, Z)
+    near = lambda x, y: abs(x - y) <= eps  # noqa: E731
+
+    def is_wall(x0, x1, y0, y1):
+        return (g.wall_radius is not None and near(x0, g.wall_radius) and near(x1, g.wall_radius)
+                and y0 >= -D - eps and y1 <= -D + g.wall_height + eps)
+
+    cells: dict[str, list[int]] = {"soil": [], "void": []}
+    for _, s in gmsh.model.getEntities(2):
+        x0, y0, _, x1, y1, _ = gmsh.model.getBoundingBox(2, s)
+        # the void is the only region above the ground or inside the pit
+        inside_pit = x1 <= a + eps and y0 >= -D - eps
+        cells["void" if (y1 > eps or (D > 0 and inside_pit)) else "soil"].append(s)
+
+    facets: dict[str, list[int]] = {k: [] for k in FACET_TAGS}
+    for _, c in gmsh.model.getEntities(1):
+        x0, y0, _, x1, y1, _ = gmsh.model.getBoundingBox(1, c)
+        xm, ym = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+        if near(x0, 0.0) and near(x1, 0.0):
+            facets["axis" if ym < -D else "void_axis"].append(c)
+        elif near(x0, R) and near(x1, R):
+            facets["far_side"].append(c)
+        elif near(y0, -Z) and near(y1, -Z):
+            facets["bottom"].append(c)
+        elif near(y0, -D) and near(y1, -D) and x1 <= a + eps:
+            facets["contact"].append(c)
+        elif near(y0, 0.0) and near(y1, 0.0) and x0 >= a - eps:
+            facets["surface"].append(c)
+        elif is_wall(x0, x1, y0, y1):
+            touches_soil = D > 0 and near(xm, a) and ym < 0.0
+            facets["wall_embedded" if touches_soil else "wall"].append(c)
+        elif D > 0 and near(x0, a) and near(x1, a) and -D - eps <= ym <= eps:
+            facets["embedded_face"].append(c)
+        else:
+            facets["void_boundary"].append(c)
+
+    for name, ents in cells.items():
+        if ents:
+            gmsh.model.addPhysicalGroup(2, ents, CELL_TAGS[name], name=name)
+    for name, ents in facets.items():
+        if ents:
+            gmsh.model.addPhysicalGroup(1, ents, FACET_TAGS[name], name=name)
+
+
+def _size_field(g: DomainGeometry, gmsh, singular) -> None:
+    """size = edge_size + growth * (distance to the nearest singular point)."""
+    fields = gmsh.model.mesh.field
+    points = [gmsh.model.occ.addPoint(x, y, 0.0) for (x, y) in singular]
+    gmsh.model.occ.synchronize()  # the distance points are not part of the geometry's mesh
+    dist = fields.add("Distance")
+    fields.setNumbers(dist, "PointsList", points)
+    f = fields.add("MathEval")
+    fields.setString(f, "F", f"{g.edge_size!r} + {g.growth!r}*F{dist}")
+    ids = [f]
+    if g.wall_radius is not None and g.wall_size is not None:
+        # the wall's bending boundary layer needs its own resolution along the whole meridian
+        w = fields.add("MathEval")
+        fields.setString(w, "F", f"{g.wall_size!r} + {g.growth!r}*abs(x-{g.wall_radius!r})")
+        ids.append(w)
+    if g.near_size is not None:
+        # the near field, where soil stresses are reported, gets a uniform cap
+        o = gmsh.model.occ.addPoint(0.0, -g.embedment, 0.0)
+        gmsh.model.occ.synchronize()
+        d0 = fields.add("Distance")
+        fields.setNumbers(d0, "PointsList", [o])
+        n = fields.add("MathEval")
+        fields.setString(n, "F", f"{g.near_size!r} + {g.growth!r}*max(0, F{d0}-{g.near_radius!r})")
+        ids.append(n)
+    m = fields.add("Min")
+    fields.setNumbers(m, "FieldsList", ids)
+    fields.setAsBackgroundMesh(m)
+
+
+def _main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--load-radius", type=float, default=1.0)
+    p.add_argument("--domain-radius", type=float, default=None)
+    p.add_argument("--domain-depth", type=float, default=None)
+    p.add_argument("--embedment", type=float, default=0.0)
+    p.add_argument("--wall-radius", type=float, default=None)
+    p.add_argument("--wall-height", type=float, default=0.0)
+    p.add_argument("--edge-size", type=float, default=None)
+    p.add_argument("--growth", type=float, default=0.2)
+    p.add_argument("--output", default=None, help="write the mesh to this .msh file")
+    p.add_argument("--gui", action="store_true", help="open the mesh in gmsh's window")
+    args = p.parse_args()
+    a = args.load_radius
+    R = args.domain_radius or 20 * a
+    geom = DomainGeometry(
+        load_radius=a, domain_radius=R, domain_depth=args.domain_depth or R,
+        embedment=args.embedment, wall_radius=args.wall_radius, wall_height=args.wall_height,
+        edge_size=args.edge_size or 0.05 * a, growth=args.growth)
+    import gmsh
+
+    gmsh.initialize()
+    build_model(geom, gmsh)
+    if args.output:
+        gmsh.write(args.output)
+    if args.gui:
+        gmsh.fltk.run()
+    gmsh.finalize()
+    print(f"{geom}: {'written to ' + args.output if args.output else 'meshed'}")
+
+
+if __name__ == "__main__":
+    _main()

@@ -1,0 +1,111 @@
+"""Command line: ``tankfx run SCENE.toml --out DIR`` (also ``python -m tankfx run ...``).
+
+Writes ``DIR/results.json`` and ``DIR/tankfx.log``. A bad scene, an existing result that
+would be overwritten, or a failed solve ends with a one-paragraph message and a non-zero
+exit code, never a Python traceback.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import os
+import sys
+from pathlib import Path
+
+__all__ = ["main", "write_json"]
+
+EXIT_BAD_INPUT = 2
+EXIT_NOT_CONVERGED = 3
+
+
+def write_json(path: Path, data: dict) -> None:
+    """Write atomically: a reader never sees a half-written file."""
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    with tmp.open("w") as f:
+        json.dump(data, f, indent=1, allow_nan=False)
+        f.write("\n")
+    os.replace(tmp, path)
+
+
+def _setup_logging(out: Path | None, rank: int) -> None:
+    logger = logging.getLogger("tankfx")
+    logger.setLevel(logging.INFO)
+    logger.handlers.clear()
+    logger.propagate = False
+    if rank != 0:
+        logger.addHandler(logging.NullHandler())
+        return
+    console = logging.StreamHandler(sys.stdout)
+    console.setFormatter(logging.Formatter("tankfx: %(message)s"))
+    logger.addHandler(console)
+    if out is not None:
+        fh = logging.FileHandler(out / "tankfx.log", mode="w")
+        fh.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
+        logger.addHandler(fh)
+
+
+def _fail(msg: str, code: int) -> int:
+    print(f"tankfx: error: {msg}", file=sys.stderr)
+    return code
+
+
+def cmd_run(args) -> int:
+    from mpi4py import MPI
+
+    from .scene import SceneError, load_scene
+
+    comm = MPI.COMM_WORLD
+    out = Path(args.out)
+    # every check that can refuse happens before any work, identically on all ranks
+    try:
+        scene = load_scene(args.scene)
+    except SceneError as e:
+        return _fail(f"{args.scene}: {e}", EXIT_BAD_INPUT)
+    target = out / "results.json"
+    if target.exists() and not args.force:
+        return _fail(f"{target} exists; choose another --out or add --force to overwrite it",
+                     EXIT_BAD_INPUT)
+    if comm.rank == 0:
+        out.mkdir(parents=True, exist_ok=True)
+    comm.barrier()
+    _setup_logging(out, comm.rank)
+
+    from .analysis import analyse
+    from .solve import SolveError
+
+    try:
+        solution = analyse(scene, comm)
+    except SolveError as e:
+        if comm.rank == 0:
+            write_json(target, {"title": scene.title, "converged": False, "error": str(e)})
+        logging.getLogger("tankfx").error("not converged: %s", e)
+        return _fail(f"the analysis did not converge: {e}", EXIT_NOT_CONVERGED)
+    r = solution.results
+    if comm.rank == 0:
+        write_json(target, r)
+    log = logging.getLogger("tankfx")
+    log.info("w0 = %.6g m, w_edge = %.6g m, wd = %.6g m (nondim w0 = %.5g)", r["w0"],
+             r["w_edge"], r["wd"], r["nondim"]["w0"])
+    log.info("equilibrium: reaction %.6g N for %.6g N applied (relative error %.1e)",
+             r["equilibrium"]["reaction"], r["equilibrium"]["applied_load"],
+             r["equilibrium"]["relative_error"])
+    log.info("results: %s; log: %s", target, out / "tankfx.log")
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="tankfx", description="Axisymmetric tank-foundation-"
+                                     "soil analysis (Zaman & Mahmood's method on FEniCSx).")
+    sub = parser.add_subparsers(dest="command", required=True)
+    run = sub.add_parser("run", help="analyse one scene file")
+    run.add_argument("scene", help="scene file (TOML)")
+    run.add_argument("--out", required=True, help="directory for results.json and the log")
+    run.add_argument("--force", action="store_true",
+                     help="overwrite an existing DIR/results.json")
+    args = parser.parse_args(argv)
+    return {"run": cmd_run}[args.command](args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

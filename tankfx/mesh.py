@@ -1,0 +1,94 @@
+"""From a scene to a distributed DOLFINx mesh with named cell and facet tags.
+
+The geometry itself lives in ``meshes/axisymmetric_domain.py`` (installed as
+``tankfx.meshes.axisymmetric_domain``) so that it can be opened in gmsh on its own. The mesh
+is generated on rank 0 and distributed; interior-facet integrals (the interface on facets
+that have soil on one side and the tank's void on the other) need the ``shared_facet`` ghost
+mode, which is therefore always used.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import dolfinx_solver  # noqa: F401  (loads MPI before dolfinx / petsc4py)
+
+import numpy as np
+from dolfinx import graph
+from dolfinx import mesh as dmesh
+from dolfinx.io import gmsh as dgmsh
+from mpi4py import MPI
+
+from .meshes.axisymmetric_domain import CELL_TAGS, FACET_TAGS, DomainGeometry, build_model
+from .scene import Scene
+
+#: The near field, where soil stresses are reported, extends this many foundation radii
+#: from the foundation centre.
+NEAR_RADIUS = 6.0
+
+__all__ = ["Domain", "geometry_of", "build_domain", "CELL_TAGS", "FACET_TAGS"]
+
+
+@dataclass
+class Domain:
+    """The parent (r, z) mesh and its tags. ``geometry`` records what was meshed."""
+
+    mesh: dmesh.Mesh
+    cell_tags: dmesh.MeshTags
+    facet_tags: dmesh.MeshTags
+    geometry: DomainGeometry
+
+    def facets(self, *names: str) -> np.ndarray:
+        """Local indices of the facets carrying any of the named tags."""
+        ids = [FACET_TAGS[n] for n in names]
+        return np.sort(self.facet_tags.indices[np.isin(self.facet_tags.values, ids)])
+
+    def cells(self, name: str) -> np.ndarray:
+        return self.cell_tags.find(CELL_TAGS[name])
+
+    @property
+    def has_void(self) -> bool:
+        return self.geometry.wall_radius is not None
+
+
+def geometry_of(scene: Scene) -> DomainGeometry:
+    """The meshed geometry a scene asks for."""
+    wall = scene.wall
+    return DomainGeometry(
+        load_radius=scene.foundation_radius,
+        domain_radius=scene.domain.radius,
+        domain_depth=scene.domain.depth,
+        embedment=scene.embedment,
+        wall_radius=None if wall is None else wall.radius,
+        wall_height=0.0 if wall is None else wall.height,
+        edge_size=scene.mesh.edge_size,
+        growth=scene.mesh.growth,
+        near_size=scene.mesh.near_size,
+        near_radius=NEAR_RADIUS * scene.foundation_radius,
+    )
+
+
+def build_domain(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD,
+                 geometry: DomainGeometry | None = None) -> Domain:
+    """Mesh the scene on rank 0 with gmsh and distribute it over ``comm``."""
+    import gmsh
+
+    geom = geometry or geometry_of(scene)
+    # gmsh keeps global state: initialise only if nobody (e.g. a user's script) did already
+    owns_gmsh = not gmsh.isInitialized()
+    if owns_gmsh:
+        gmsh.initialize(interruptible=False)
+    gmsh.option.setNumber("General.Terminal", 0)
+    try:
+        if comm.rank == 0:
+            build_model(geom, gmsh, name=f"tankfx-{id(geom)}")
+        partitioner = dmesh.create_cell_partitioner(graph.partitioner(), dmesh.GhostMode.shared_facet, 2)
+        data = dgmsh.model_to_mesh(gmsh.model, comm, 0, gdim=2, partitioner=partitioner)
+        if comm.rank == 0:
+            gmsh.model.remove()
+    finally:
+        if owns_gmsh:
+            gmsh.finalize()
+    msh = data.mesh
+    msh.topology.create_connectivity(1, 2)
+    return Domain(mesh=msh, cell_tags=data.cell_tags, facet_tags=data.facet_tags,
+                  geometry=geom)

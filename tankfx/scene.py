@@ -1,0 +1,488 @@
+"""The scene: one validated description of a tank-foundation-soil problem.
+
+A scene is read from a TOML file (see ``README.md`` for every key) into frozen dataclasses.
+All checks happen here, before any mesh is built, and all problems found are reported in one
+:class:`SceneError` whose message names each offending key and how to fix it.
+
+Units are SI throughout: metres, pascals, newtons per cubic metre.
+"""
+from __future__ import annotations
+
+import difflib
+import math
+import tomllib
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any
+
+__all__ = ["SceneError", "Soil", "Plate", "Wall", "Interface", "Load", "DomainSize",
+           "MeshOptions", "Scene", "load_scene", "plate_thickness_from_Kp", "Kp_from_thickness"]
+
+#: Default domain size, in multiples of the foundation radius. The truncation error of the
+#: centre settlement falls like 1/R (measured: -0.073 % at 1000 a for a homogeneous half-space,
+#: see README "Truncation of the half-space"); 2000 a keeps it below 0.04 %.
+DEFAULT_DOMAIN_FACTOR = 2000.0
+
+
+#: Default element sizes, in multiples of the foundation radius: at the foundation edge (the
+#: stress singularity) and the cap over the near field (6 radii around the centre). Measured
+#: on the flexible load (README "Mesh defaults"): with P2 these keep the centre and edge
+#: settlements within 0.1 % and sigma_zz on the axis within 1 % up to nu = 0.45.
+DEFAULT_EDGE_SIZE = 0.05
+DEFAULT_NEAR_SIZE = 0.1
+
+
+class SceneError(ValueError):
+    """A scene that cannot be run; the message lists every problem and its fix."""
+
+    def __init__(self, problems: list[str]):
+        self.problems = list(problems)
+        lines = "\n".join(f"  - {p}" for p in self.problems)
+        super().__init__(f"the scene has {len(self.problems)} problem(s):\n{lines}")
+
+
+# --------------------------------------------------------------------------- dataclasses
+@dataclass(frozen=True)
+class Soil:
+    E: float                 #: Young's modulus at the ground surface, Pa
+    nu: float                #: Poisson's ratio
+    E_gradient: float = 0.0  #: lambda, 1/m: E(h) = E (1 + lambda h), h = depth below surface
+    model: str = "linear"    #: "linear" ("hyperbolic" is planned)
+    hyperbolic_a: float | None = None  #: 1/a = initial tangent modulus (hyperbolic model)
+    hyperbolic_b: float | None = None  #: 1/b = ultimate deviator stress (hyperbolic model)
+
+
+@dataclass(frozen=True)
+class Plate:
+    radius: float            #: a_p, m
+    thickness: float         #: t_p, m (given, or derived from Kp by Eq. 21)
+    E: float                 #: Pa
+    nu: float
+    embedment: float = 0.0   #: depth of the underside below the ground surface, m
+    unit_weight: float = 0.0  #: N/m^3, used only when load.self_weight is true
+
+
+@dataclass(frozen=True)
+class Wall:
+    radius: float            #: a_t, m (<= plate radius)
+    thickness: float         #: t_t, m (given, or derived from Kt by Eq. 22)
+    height: float            #: H, m, measured from the plate
+    E: float
+    nu: float
+    unit_weight: float = 0.0
+
+
+@dataclass(frozen=True)
+class Interface:
+    condition: str = "bonded"   #: "bonded" | "smooth" | "mohr_coulomb"
+    cohesion: float = 0.0       #: Pa
+    tan_phi: float | None = None
+    normal_stiffness: float | None = None  #: Pa/m
+    shear_stiffness: float | None = None   #: Pa/m
+
+
+@dataclass(frozen=True)
+class Load:
+    pressure: float = 0.0            #: uniform pressure, Pa, positive downward
+    load_radius: float | None = None  #: m; the plate radius when there is a plate
+    liquid_unit_weight: float = 0.0  #: N/m^3
+    liquid_height: float = 0.0       #: m
+    self_weight: bool = False
+
+
+@dataclass(frozen=True)
+class DomainSize:
+    radius: float   #: m, outer radius of the soil domain
+    depth: float    #: m, depth of the rigid base
+
+
+@dataclass(frozen=True)
+class MeshOptions:
+    degree: int = 2            #: Lagrange degree of the soil displacement
+    edge_size: float = 0.0     #: element size at the foundation edge, m (resolved default)
+    growth: float = 0.2        #: rate at which the element size grows with distance
+    near_size: float = 0.0     #: element size cap within 6 radii of the centre, m (resolved)
+
+
+@dataclass(frozen=True)
+class Scene:
+    soil: Soil
+    load: Load
+    domain: DomainSize
+    mesh: MeshOptions
+    plate: Plate | None = None
+    wall: Wall | None = None
+    interface: Interface = field(default_factory=Interface)
+    title: str = "tankfx scene"
+
+    @property
+    def foundation_radius(self) -> float:
+        """Radius of the plate, or of the flexible load where there is no plate, m."""
+        return self.plate.radius if self.plate is not None else self.load.load_radius
+
+    @property
+    def embedment(self) -> float:
+        return self.plate.embedment if self.plate is not None else 0.0
+
+    @property
+    def Kp(self) -> float | None:
+        """Relative rigidity of the plate-soil system, Eq. 21 (surface soil modulus)."""
+        if self.plate is None:
+            return None
+        return Kp_from_thickness(self.plate.thickness, self.plate.radius, self.plate.E,
+                                 self.soil.E, self.soil.nu)
+
+    @property
+    def Kt(self) -> float | None:
+        """Relative rigidity of the wall-soil system, Eq. 22 (surface soil modulus)."""
+        if self.wall is None:
+            return None
+        return Kp_from_thickness(self.wall.thickness, self.wall.radius, self.wall.E,
+                                 self.soil.E, self.soil.nu)
+
+    def with_changes(self, **sections: dict[str, Any]) -> "Scene":
+        """A new scene with some keys of some sections changed, e.g.
+        ``scene.with_changes(mesh={"degree": 1})``; the result is validated again."""
+        d = self.to_dict()
+        for sec, changes in sections.items():
+            if isinstance(changes, dict):
+                d.setdefault(sec, {}).update(changes)
+            else:
+                d[sec] = changes
+        return Scene.from_dict(d)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The scene as a plain dict, re-readable by :meth:`from_dict` (resolved values)."""
+        out: dict[str, Any] = {"title": self.title}
+        for name in ("soil", "plate", "wall", "interface", "load", "domain", "mesh"):
+            part = getattr(self, name)
+            if part is not None:
+                out[name] = {f.name: getattr(part, f.name) for f in fields(part)
+                             if getattr(part, f.name) is not None}
+        return out
+
+    @staticmethod
+    def from_dict(data: dict[str, Any]) -> "Scene":
+        return _parse(data)
+
+    @staticmethod
+    def from_toml(path: str | Path) -> "Scene":
+        return load_scene(path)
+
+
+# --------------------------------------------------------------------------- relations
+def Kp_from_thickness(t: float, a: float, E: float, E_s: float, nu_s: float) -> float:
+    """Eqs. 21-22: K = (1 - nu_s^2) (E / E_s) (t / a)^3."""
+    return (1.0 - nu_s**2) * (E / E_s) * (t / a) ** 3
+
+
+def plate_thickness_from_Kp(K: float, a: float, E: float, E_s: float, nu_s: float) -> float:
+    """Inverse of Eqs. 21-22: the thickness that gives relative rigidity K."""
+    return a * (K * E_s / ((1.0 - nu_s**2) * E)) ** (1.0 / 3.0)
+
+
+# --------------------------------------------------------------------------- parsing
+_SPEC: dict[str, dict[str, tuple[type, bool]]] = {
+    # section: key -> (type, required)
+    "soil": {"E": (float, True), "nu": (float, True), "E_gradient": (float, False),
+             "model": (str, False), "hyperbolic_a": (float, False),
+             "hyperbolic_b": (float, False)},
+    "plate": {"radius": (float, True), "thickness": (float, False), "Kp": (float, False),
+              "E": (float, True), "nu": (float, True), "embedment": (float, False),
+              "unit_weight": (float, False)},
+    "wall": {"radius": (float, True), "thickness": (float, False), "Kt": (float, False),
+             "height": (float, True), "E": (float, True), "nu": (float, True),
+             "unit_weight": (float, False)},
+    "interface": {"condition": (str, False), "cohesion": (float, False),
+                  "tan_phi": (float, False), "friction_angle": (float, False),
+                  "normal_stiffness": (float, False), "shear_stiffness": (float, False)},
+    "load": {"pressure": (float, False), "load_radius": (float, False),
+             "liquid_unit_weight": (float, False), "liquid_height": (float, False),
+             "self_weight": (bool, False)},
+    "domain": {"radius": (float, False), "depth": (float, False)},
+    "mesh": {"degree": (int, False), "edge_size": (float, False), "growth": (float, False),
+             "near_size": (float, False)},
+}
+_TOP = {"title": str}
+_REQUIRED_SECTIONS = ("soil", "load")
+_SOIL_MODELS = ("linear", "hyperbolic")
+_CONDITIONS = ("bonded", "smooth", "mohr_coulomb")
+
+
+def _suggest(name: str, valid) -> str:
+    close = difflib.get_close_matches(name, list(valid), n=1, cutoff=0.5)
+    return f" (did you mean '{close[0]}'?)" if close else f" (valid: {', '.join(valid)})"
+
+
+class _Reader:
+    """Collects every problem of a scene dict instead of stopping at the first."""
+
+    def __init__(self, data: dict[str, Any]):
+        self.data = data
+        self.problems: list[str] = []
+
+    def bad(self, msg: str) -> None:
+        self.problems.append(msg)
+
+    def section(self, name: str) -> dict[str, Any] | None:
+        sec = self.data.get(name)
+        if sec is None:
+            return None
+        if not isinstance(sec, dict):
+            self.bad(f"[{name}] must be a table (a '[{name}]' header followed by keys), "
+                     f"not {type(sec).__name__}")
+            return None
+        out = {}
+        for key, value in sec.items():
+            spec = _SPEC[name].get(key)
+            if spec is None:
+                self.bad(f"{name}.{key}: unknown key{_suggest(key, _SPEC[name])}")
+                continue
+            typ, _ = spec
+            checked = self._typed(f"{name}.{key}", value, typ)
+            if checked is not None:
+                out[key] = checked
+        for key, (_, required) in _SPEC[name].items():
+            if required and key not in sec:
+                self.bad(f"{name}.{key}: missing; add '{key} = ...' under [{name}]")
+        return out
+
+    def _typed(self, where: str, value, typ):
+        if typ is float:
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                self.bad(f"{where}: expected a number, got {value!r}")
+                return None
+            if not math.isfinite(value):
+                self.bad(f"{where}: must be a finite number, got {value!r}")
+                return None
+            return float(value)
+        if typ is int:
+            if isinstance(value, bool) or not isinstance(value, int):
+                self.bad(f"{where}: expected an integer, got {value!r}")
+                return None
+            return value
+        if typ is bool:
+            if not isinstance(value, bool):
+                self.bad(f"{where}: expected true or false, got {value!r}")
+                return None
+            return value
+        if not isinstance(value, str):
+            self.bad(f"{where}: expected a string, got {value!r}")
+            return None
+        return value
+
+    def positive(self, sec: dict, name: str, key: str, *, allow_zero: bool = False) -> None:
+        v = sec.get(key)
+        if v is None:
+            return
+        if v < 0 or (v == 0 and not allow_zero):
+            need = ">= 0" if allow_zero else "> 0"
+            self.bad(f"{name}.{key} = {v!r}: must be {need}")
+
+    def poisson(self, sec: dict, name: str, key: str = "nu") -> None:
+        v = sec.get(key)
+        if v is not None and not (-1.0 < v < 0.5):
+            self.bad(f"{name}.{key} = {v!r}: Poisson's ratio must lie in (-1, 0.5); the "
+                     f"displacement formulation cannot take 0.5 (use e.g. 0.49)")
+
+
+def _parse(data: dict[str, Any]) -> Scene:
+    if not isinstance(data, dict):
+        raise SceneError([f"a scene must be a table of sections, got {type(data).__name__}"])
+    rd = _Reader(data)
+    for key, value in data.items():
+        if key in _TOP:
+            if not isinstance(value, _TOP[key]):
+                rd.bad(f"{key}: expected a string, got {value!r}")
+        elif key not in _SPEC:
+            rd.bad(f"[{key}]: unknown section{_suggest(key, list(_SPEC) + list(_TOP))}")
+    for name in _REQUIRED_SECTIONS:
+        if name not in data:
+            rd.bad(f"[{name}]: missing section; add a '[{name}]' table (see README)")
+    secs = {name: rd.section(name) for name in _SPEC}
+
+    soil = secs["soil"]
+    if soil is not None:
+        rd.positive(soil, "soil", "E")
+        rd.poisson(soil, "soil")
+        rd.positive(soil, "soil", "E_gradient", allow_zero=True)
+        model = soil.get("model", "linear")
+        if model not in _SOIL_MODELS:
+            rd.bad(f"soil.model = {model!r}: unknown model{_suggest(model, _SOIL_MODELS)}")
+        elif model == "hyperbolic":
+            rd.bad("soil.model = 'hyperbolic': Kondner's hyperbolic soil is not available in "
+                   "this version of tankfx; use model = \"linear\"")
+        for key in ("hyperbolic_a", "hyperbolic_b"):
+            if key in soil and model == "linear":
+                rd.bad(f"soil.{key}: only used with model = \"hyperbolic\"; remove it")
+
+    plate = secs["plate"]
+    if plate is not None:
+        for key in ("radius", "E", "thickness", "Kp"):
+            rd.positive(plate, "plate", key)
+        rd.positive(plate, "plate", "embedment", allow_zero=True)
+        rd.positive(plate, "plate", "unit_weight", allow_zero=True)
+        rd.poisson(plate, "plate")
+        if "thickness" in plate and "Kp" in plate:
+            rd.bad("plate.thickness and plate.Kp: give one of them, not both "
+                   "(Kp fixes the thickness through Eq. 21)")
+        elif "thickness" not in plate and "Kp" not in plate:
+            rd.bad("plate.thickness: missing; give 'thickness = ...' (m) or 'Kp = ...'")
+
+    wall = secs["wall"]
+    if wall is not None:
+        for key in ("radius", "E", "thickness", "Kt", "height"):
+            rd.positive(wall, "wall", key)
+        rd.positive(wall, "wall", "unit_weight", allow_zero=True)
+        rd.poisson(wall, "wall")
+        if "thickness" in wall and "Kt" in wall:
+            rd.bad("wall.thickness and wall.Kt: give one of them, not both "
+                   "(Kt fixes the thickness through Eq. 22)")
+        elif "thickness" not in wall and "Kt" not in wall:
+            rd.bad("wall.thickness: missing; give 'thickness = ...' (m) or 'Kt = ...'")
+        if "plate" not in data:
+            rd.bad("[wall]: a wall needs a foundation plate to stand on; add a [plate] table")
+        elif plate is not None and "radius" in wall and "radius" in plate \
+                and wall["radius"] > plate["radius"]:
+            rd.bad(f"wall.radius = {wall['radius']!r} is wider than plate.radius = "
+                   f"{plate['radius']!r}: the wall must stand on the plate "
+                   f"(wall.radius <= plate.radius)")
+
+    interface = secs["interface"] or {}
+    cond = interface.get("condition", "bonded")
+    if cond not in _CONDITIONS:
+        rd.bad(f"interface.condition = {cond!r}: unknown{_suggest(cond, _CONDITIONS)}")
+    if "tan_phi" in interface and "friction_angle" in interface:
+        rd.bad("interface.tan_phi and interface.friction_angle: give one of them, not both")
+    rd.positive(interface, "interface", "tan_phi", allow_zero=True)
+    rd.positive(interface, "interface", "cohesion", allow_zero=True)
+    rd.positive(interface, "interface", "normal_stiffness")
+    rd.positive(interface, "interface", "shear_stiffness")
+    fa = interface.get("friction_angle")
+    if fa is not None and not (0.0 <= fa < 90.0):
+        rd.bad(f"interface.friction_angle = {fa!r}: degrees, must lie in [0, 90)")
+    if cond == "mohr_coulomb":
+        rd.bad("interface.condition = 'mohr_coulomb': the Mohr-Coulomb interface is not "
+               "available in this version of tankfx; use \"bonded\" or \"smooth\"")
+
+    load = secs["load"]
+    if load is not None:
+        rd.positive(load, "load", "pressure", allow_zero=True)
+        rd.positive(load, "load", "load_radius")
+        rd.positive(load, "load", "liquid_unit_weight", allow_zero=True)
+        rd.positive(load, "load", "liquid_height", allow_zero=True)
+        if "plate" not in data:
+            if "load_radius" not in load:
+                rd.bad("load.load_radius: missing; without a [plate] the load is a flexible "
+                       "uniform pressure on r <= load_radius; add 'load_radius = ...' (m)")
+            for key in ("liquid_unit_weight", "liquid_height", "self_weight"):
+                if key in load:
+                    rd.bad(f"load.{key}: needs a [plate] (and for liquid a [wall]); remove it "
+                           f"or add the structure")
+        elif plate is not None and "load_radius" in load and "radius" in plate \
+                and load["load_radius"] != plate["radius"]:
+            rd.bad(f"load.load_radius = {load['load_radius']!r}: with a [plate] the pressure "
+                   f"acts on the whole plate (radius {plate.get('radius')!r}); remove "
+                   f"load.load_radius")
+        if load.get("liquid_height", 0.0) > 0 and "wall" not in data:
+            rd.bad("load.liquid_height: a liquid needs a [wall] to hold it; add a [wall] table")
+        if wall is not None and "height" in wall and load.get("liquid_height", 0.0) > wall["height"]:
+            rd.bad(f"load.liquid_height = {load['liquid_height']!r} is higher than wall.height = "
+                   f"{wall['height']!r}: the tank would overflow; lower the liquid")
+        if load.get("pressure", 0.0) == 0.0 and load.get("liquid_height", 0.0) * \
+                load.get("liquid_unit_weight", 0.0) == 0.0 and not load.get("self_weight", False):
+            rd.bad("[load]: no load is applied; give load.pressure > 0 (Pa), a liquid, or "
+                   "self_weight = true")
+
+    mesh = secs["mesh"] or {}
+    deg = mesh.get("degree", 2)
+    if deg not in (1, 2, 3):
+        rd.bad(f"mesh.degree = {deg!r}: must be 1, 2 or 3 (2 is the default)")
+    rd.positive(mesh, "mesh", "edge_size")
+    rd.positive(mesh, "mesh", "near_size")
+    g = mesh.get("growth")
+    if g is not None and not (0.0 < g <= 1.0):
+        rd.bad(f"mesh.growth = {g!r}: must lie in (0, 1] (element size grows by this "
+               f"fraction of the distance from the foundation edge)")
+
+    domain = secs["domain"] or {}
+    rd.positive(domain, "domain", "radius")
+    rd.positive(domain, "domain", "depth")
+
+    if "plate" in data:
+        # validated above so that later versions only drop this refusal
+        rd.bad("[plate]: the foundation plate and tank wall (structural elements) are not "
+               "available in this version of tankfx; remove [plate] and [wall] to analyse a "
+               "flexible load on r <= load.load_radius")
+
+    if rd.problems:
+        raise SceneError(rd.problems)
+
+    # ---- resolve defaults, now that every value is known to be sane
+    soil_dc = Soil(E=soil["E"], nu=soil["nu"], E_gradient=soil.get("E_gradient", 0.0),
+                   model=soil.get("model", "linear"), hyperbolic_a=soil.get("hyperbolic_a"),
+                   hyperbolic_b=soil.get("hyperbolic_b"))
+    plate_dc = None
+    if plate is not None:
+        t = plate.get("thickness") or plate_thickness_from_Kp(
+            plate["Kp"], plate["radius"], plate["E"], soil_dc.E, soil_dc.nu)
+        plate_dc = Plate(radius=plate["radius"], thickness=t, E=plate["E"], nu=plate["nu"],
+                         embedment=plate.get("embedment", 0.0),
+                         unit_weight=plate.get("unit_weight", 0.0))
+    wall_dc = None
+    if wall is not None:
+        t = wall.get("thickness") or plate_thickness_from_Kp(
+            wall["Kt"], wall["radius"], wall["E"], soil_dc.E, soil_dc.nu)
+        wall_dc = Wall(radius=wall["radius"], thickness=t, height=wall["height"], E=wall["E"],
+                       nu=wall["nu"], unit_weight=wall.get("unit_weight", 0.0))
+    tan_phi = interface.get("tan_phi")
+    if "friction_angle" in interface:
+        tan_phi = math.tan(math.radians(interface["friction_angle"]))
+    interface_dc = Interface(condition=cond, cohesion=interface.get("cohesion", 0.0),
+                             tan_phi=tan_phi,
+                             normal_stiffness=interface.get("normal_stiffness"),
+                             shear_stiffness=interface.get("shear_stiffness"))
+    a = plate_dc.radius if plate_dc is not None else load["load_radius"]
+    load_dc = Load(pressure=load.get("pressure", 0.0), load_radius=a,
+                   liquid_unit_weight=load.get("liquid_unit_weight", 0.0),
+                   liquid_height=load.get("liquid_height", 0.0),
+                   self_weight=load.get("self_weight", False))
+    D = plate_dc.embedment if plate_dc is not None else 0.0
+    size = DEFAULT_DOMAIN_FACTOR * a
+    domain_dc = DomainSize(radius=domain.get("radius", size), depth=domain.get("depth", size))
+    problems = []
+    if domain_dc.radius <= 2.0 * a:
+        problems.append(f"domain.radius = {domain_dc.radius!r} m: must exceed twice the "
+                        f"foundation radius ({2 * a!r} m) for the soil to surround the "
+                        f"structure; omit it for the half-space default ({size:g} m)")
+    if domain_dc.depth <= D + a:
+        problems.append(f"domain.depth = {domain_dc.depth!r} m: must exceed the embedment plus "
+                        f"the foundation radius ({D + a!r} m); omit it for the half-space "
+                        f"default ({size:g} m)")
+    edge = mesh.get("edge_size", DEFAULT_EDGE_SIZE * a)
+    if edge > 0.5 * a:
+        problems.append(f"mesh.edge_size = {edge!r} m: larger than half the foundation radius "
+                        f"({0.5 * a!r} m); the foundation would not be resolved")
+    if D > 0 and edge > 0.5 * D:
+        edge = 0.5 * D  # the pit side needs at least two elements
+    if problems:
+        raise SceneError(problems)
+    mesh_dc = MeshOptions(degree=deg, edge_size=edge, growth=mesh.get("growth", 0.2),
+                          near_size=mesh.get("near_size", DEFAULT_NEAR_SIZE * a))
+    return Scene(soil=soil_dc, load=load_dc, domain=domain_dc, mesh=mesh_dc, plate=plate_dc,
+                 wall=wall_dc, interface=interface_dc,
+                 title=data.get("title", "tankfx scene"))
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a TOML scene file."""
+    p = Path(path)
+    if not p.is_file():
+        raise SceneError([f"{p}: no such scene file"])
+    try:
+        with p.open("rb") as f:
+            data = tomllib.load(f)
+    except tomllib.TOMLDecodeError as e:
+        raise SceneError([f"{p}: not valid TOML: {e}"]) from None
+    return _parse(data)
+
