@@ -121,14 +121,16 @@ def _tag_entities(g: DomainGeometry, gmsh) -> None:
 
     cells: dict[str, list[int]] = {"soil": [], "void": []}
     for _, s in gmsh.model.getEntities(2):
-        x0, y0, _, x1, y1, _ = gmsh.model.getBoundingBox(2, s)
+        xm, ym, _ = gmsh.model.occ.getCenterOfMass(2, s)
         # the void is the only region above the ground or inside the pit
-        inside_pit = x1 <= a + eps and y0 >= -D - eps
-        cells["void" if (y1 > eps or (D > 0 and inside_pit)) else "soil"].append(s)
+        in_void = ym > 0.0 or (D > 0 and xm < a and ym > -D)
+        cells["void" if in_void else "soil"].append(s)
 
     facets: dict[str, list[int]] = {k: [] for k in FACET_TAGS}
     for _, c in gmsh.model.getEntities(1):
-        x0, y0, _, x1, y1, _ = gmsh.model.getBoundingBox(1, c)
+        # exact end points (OCC bounding boxes are padded by a tolerance)
+        ends = [gmsh.model.getValue(0, p, []) for _, p in gmsh.model.getBoundary([(1, c)])]
+        (x0, x1), (y0, y1) = sorted(e[0] for e in ends), sorted(e[1] for e in ends)
         xm, ym = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
         if near(x0, 0.0) and near(x1, 0.0):
             facets["axis" if ym < -D else "void_axis"].append(c)

@@ -23,7 +23,7 @@ from mpi4py import MPI
 
 from . import soil as soil_forms
 from .mesh import CELL_TAGS, FACET_TAGS, Domain, build_domain
-from .post import evaluate_at, nodal_values_on_facets
+from .post import assemble_scalar, evaluate_at, nodal_values_on_facets
 from .scene import Scene
 from .solve import DirectSolver, reaction_force
 
@@ -193,6 +193,11 @@ def _results(scene: Scene, domain: Domain, problem: SoilProblem, sigma_zz) -> di
     z_axis = np.linspace(D, D + 10.0 * a, 201)
     sz = evaluate_at(sigma_zz, np.column_stack([np.zeros_like(z_axis), -z_axis]))[:, 0]
 
+    # mean settlement under the foundation: the tank codes' "uniform settlement"
+    ds = ufl.Measure("ds", domain=domain.mesh, subdomain_data=domain.facet_tags)
+    w_mean = assemble_scalar(-u[1] * 2.0 * math.pi * problem.r * ds(FACET_TAGS["contact"]),
+                             domain.mesh.comm) / (math.pi * a**2)
+
     applied = problem.applied_load
     reaction = reaction_force(problem.a, problem.L, u, 1, domain.facets("far_side", "bottom"))
     scale = p * a / E_s if p > 0 else float("nan")
@@ -202,6 +207,7 @@ def _results(scene: Scene, domain: Domain, problem: SoilProblem, sigma_zz) -> di
         "w0": float(w0),
         "w_edge": float(w_edge),
         "wd": wd,
+        "w_mean": float(w_mean),
         "M0": None,
         "nondim": {"w0": float(w0 / scale), "wd": float(wd / scale), "M0": None,
                    "Kp": scene.Kp, "Kt": scene.Kt},

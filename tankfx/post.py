@@ -10,12 +10,17 @@ import numpy as np
 from dolfinx import fem, geometry
 from mpi4py import MPI
 
-__all__ = ["allsum", "evaluate_at", "nodal_values_on_facets"]
+__all__ = ["allsum", "assemble_scalar", "evaluate_at", "nodal_values_on_facets"]
 
 
 def allsum(comm: MPI.Comm, value: float) -> float:
     """Sum of a rank-local scalar over all ranks."""
     return comm.allreduce(float(value), op=MPI.SUM)
+
+
+def assemble_scalar(integrand, comm: MPI.Comm) -> float:
+    """A functional assembled on every rank and summed: the same value everywhere."""
+    return allsum(comm, fem.assemble_scalar(fem.form(integrand)))
 
 
 def evaluate_at(func: fem.Function, points: np.ndarray) -> np.ndarray:

@@ -376,7 +376,7 @@ def _parse(data: dict[str, Any]) -> Scene:
                 rd.bad("load.load_radius: missing; without a [plate] the load is a flexible "
                        "uniform pressure on r <= load_radius; add 'load_radius = ...' (m)")
             for key in ("liquid_unit_weight", "liquid_height", "self_weight"):
-                if key in load:
+                if load.get(key):
                     rd.bad(f"load.{key}: needs a [plate] (and for liquid a [wall]); remove it "
                            f"or add the structure")
         elif plate is not None and "load_radius" in load and "radius" in plate \
@@ -408,6 +408,22 @@ def _parse(data: dict[str, Any]) -> Scene:
     domain = secs["domain"] or {}
     rd.positive(domain, "domain", "radius")
     rd.positive(domain, "domain", "depth")
+    # sizes relative to the foundation, where the foundation's size is known
+    a = (plate or {}).get("radius") if "plate" in data else (load or {}).get("load_radius")
+    D = (plate or {}).get("embedment", 0.0) if "plate" in data else 0.0
+    if a is not None and a > 0:
+        default = DEFAULT_DOMAIN_FACTOR * a
+        if domain.get("radius", default) <= 2.0 * a:
+            rd.bad(f"domain.radius = {domain['radius']!r} m: must exceed twice the foundation "
+                   f"radius ({2 * a!r} m) for the soil to surround the structure; omit it for "
+                   f"the half-space default ({default:g} m)")
+        if domain.get("depth", default) <= D + a:
+            rd.bad(f"domain.depth = {domain.get('depth', default)!r} m: must exceed the "
+                   f"embedment plus the foundation radius ({D + a!r} m); deepen the domain or "
+                   f"omit domain.depth for the half-space default ({default:g} m)")
+        if mesh.get("edge_size", 0.0) > 0.5 * a:
+            rd.bad(f"mesh.edge_size = {mesh['edge_size']!r} m: larger than half the foundation "
+                   f"radius ({0.5 * a!r} m); the foundation would not be resolved")
 
     if "plate" in data:
         # validated above so that later versions only drop this refusal
@@ -450,23 +466,9 @@ def _parse(data: dict[str, Any]) -> Scene:
     D = plate_dc.embedment if plate_dc is not None else 0.0
     size = DEFAULT_DOMAIN_FACTOR * a
     domain_dc = DomainSize(radius=domain.get("radius", size), depth=domain.get("depth", size))
-    problems = []
-    if domain_dc.radius <= 2.0 * a:
-        problems.append(f"domain.radius = {domain_dc.radius!r} m: must exceed twice the "
-                        f"foundation radius ({2 * a!r} m) for the soil to surround the "
-                        f"structure; omit it for the half-space default ({size:g} m)")
-    if domain_dc.depth <= D + a:
-        problems.append(f"domain.depth = {domain_dc.depth!r} m: must exceed the embedment plus "
-                        f"the foundation radius ({D + a!r} m); omit it for the half-space "
-                        f"default ({size:g} m)")
     edge = mesh.get("edge_size", DEFAULT_EDGE_SIZE * a)
-    if edge > 0.5 * a:
-        problems.append(f"mesh.edge_size = {edge!r} m: larger than half the foundation radius "
-                        f"({0.5 * a!r} m); the foundation would not be resolved")
-    if D > 0 and edge > 0.5 * D:
-        edge = 0.5 * D  # the pit side needs at least two elements
-    if problems:
-        raise SceneError(problems)
+    if D > 0 and "edge_size" not in mesh:
+        edge = min(edge, 0.5 * D)  # the side of the pit needs at least two elements
     mesh_dc = MeshOptions(degree=deg, edge_size=edge, growth=mesh.get("growth", 0.2),
                           near_size=mesh.get("near_size", DEFAULT_NEAR_SIZE * a))
     return Scene(soil=soil_dc, load=load_dc, domain=domain_dc, mesh=mesh_dc, plate=plate_dc,

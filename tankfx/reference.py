@@ -1,0 +1,46 @@
+"""Closed-form reference solutions used by the tests, benchmarks and demos.
+
+All for a linear elastic, homogeneous, isotropic half-space (modulus E, Poisson's ratio nu)
+under a uniform pressure p on a circle of radius a (Boussinesq's flexible load; Poulos &
+Davis, "Elastic solutions for soil and rock mechanics", 1974, Table 3.1 and Eq. 3.1).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["flexible_centre_settlement", "flexible_edge_settlement",
+           "flexible_mean_settlement", "flexible_axis_stress", "point_load_displacement"]
+
+
+def flexible_centre_settlement(p, a, E, nu):
+    """w(0) = 2 p a (1 - nu^2) / E."""
+    return 2.0 * p * a * (1.0 - nu**2) / E
+
+
+def flexible_edge_settlement(p, a, E, nu):
+    """w(a) = 4 p a (1 - nu^2) / (pi E)."""
+    return 4.0 * p * a * (1.0 - nu**2) / (math.pi * E)
+
+
+def flexible_mean_settlement(p, a, E, nu):
+    """Mean over the loaded circle, 16 p a (1 - nu^2) / (3 pi E) (= 0.849 w(0))."""
+    return 16.0 * p * a * (1.0 - nu**2) / (3.0 * math.pi * E)
+
+
+def flexible_axis_stress(p, a, depth):
+    """Vertical stress on the axis (compression positive), p [1 - z^3 / (a^2 + z^2)^1.5]."""
+    z = np.asarray(depth, dtype=float)
+    return p * (1.0 - z**3 / (a**2 + z**2) ** 1.5)
+
+
+def point_load_displacement(P, E, nu, r, depth):
+    """Boussinesq's displacement (u_r outward, w downward) under a downward point force P
+    at the surface of a half-space, at radius r and depth h >= 0 (not both zero)."""
+    G = E / (2.0 * (1.0 + nu))
+    rho = np.hypot(r, depth)
+    c = P / (4.0 * math.pi * G * rho)
+    w = c * (2.0 * (1.0 - nu) + depth**2 / rho**2)
+    u_r = c * (r * depth / rho**2 - (1.0 - 2.0 * nu) * r / (rho + depth))
+    return u_r, w

@@ -1,0 +1,65 @@
+"""Flexible uniform circular load on a homogeneous elastic half-space against Boussinesq's
+closed forms (Poulos & Davis 1974): centre settlement 2 p a (1 - nu^2) / E, edge settlement
+4 p a (1 - nu^2) / (pi E), mean settlement 16 p a (1 - nu^2) / (3 pi E), and the vertical
+stress on the axis p [1 - z^3 / (a^2 + z^2)^1.5]; global equilibrium to round-off."""
+import numpy as np
+import pytest
+
+from conftest import flexible_scene
+from tankfx import analyse
+from tankfx import reference as ref
+
+P, A, E = 100e3, 1.0, 10e6
+
+
+@pytest.fixture(scope="module", params=[0.0, 0.3, 0.45])
+def solved(request):
+    nu = request.param
+    return nu, analyse(flexible_scene(nu=nu)).results
+
+
+def test_centre_and_edge_settlement_at_default_settings(solved):
+    nu, r = solved
+    assert r["converged"]
+    assert r["w0"] == pytest.approx(ref.flexible_centre_settlement(P, A, E, nu), rel=2e-3)
+    assert r["w_edge"] == pytest.approx(ref.flexible_edge_settlement(P, A, E, nu), rel=2e-3)
+    assert r["w_mean"] == pytest.approx(ref.flexible_mean_settlement(P, A, E, nu), rel=2e-3)
+    # the non-dimensional form of Eq. 23: w0 = p a w_bar / E_s
+    assert r["nondim"]["w0"] == pytest.approx(2 * (1 - nu**2), rel=2e-3)
+    assert r["wd"] == pytest.approx(r["w0"] - r["w_edge"], rel=1e-9)
+
+
+def test_axis_stress_within_one_percent(solved):
+    _, r = solved
+    z = np.array(r["profiles"]["axis"]["z"])
+    s = np.array(r["profiles"]["axis"]["sigma_zz"])
+    window = (z >= 0.25 * A) & (z <= 5 * A)
+    assert window.sum() > 50
+    exact = ref.flexible_axis_stress(P, A, z[window])
+    np.testing.assert_allclose(s[window], exact, rtol=1e-2)
+
+
+def test_global_equilibrium(solved):
+    _, r = solved
+    eq = r["equilibrium"]
+    assert eq["applied_load"] == pytest.approx(P * np.pi * A**2, rel=1e-14)
+    assert eq["relative_error"] < 1e-8
+
+
+def test_surface_profile_is_continuous_and_sorted(solved):
+    """The surface profile starts at the centre, passes the edge value at r = a and decays."""
+    _, r = solved
+    prof = r["profiles"]["surface"]
+    rr, w = np.array(prof["r"]), np.array(prof["w"])
+    assert abs(rr[0]) < 1e-12 and np.all(np.diff(rr) > 0)
+    assert w[0] == pytest.approx(r["w0"], rel=1e-12)
+    assert np.interp(A, rr, w) == pytest.approx(r["w_edge"], rel=1e-9)
+    assert np.all(np.diff(w) < 0), "settlement must fall monotonically with r"
+
+
+def test_default_domain_truncation_below_0p1_percent():
+    """A domain ten times larger changes the centre settlement by less than 0.1 %: the default
+    truncation error is below that (it falls like 1/R)."""
+    base = analyse(flexible_scene(nu=0.3)).results["w0"]
+    wide = analyse(flexible_scene(nu=0.3, domain={"radius": 20000.0, "depth": 20000.0}))
+    assert abs(base / wide.results["w0"] - 1) < 1e-3

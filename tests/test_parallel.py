@@ -1,0 +1,37 @@
+"""Serial and parallel runs of one scene give the same numbers (1e-8 relative): the mesh is
+made on rank 0 and distributed, so both solve the same discrete problem.
+
+Run on two ranks by `make test-mpi`; each rank also solves the scene alone on COMM_SELF
+for the serial reference."""
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+from conftest import flexible_scene
+from tankfx import analyse
+
+pytestmark = pytest.mark.mpi
+
+
+def _numbers(results):
+    """Every number of results.json that must not depend on the partition."""
+    out = {k: results[k] for k in ("w0", "w_edge", "wd", "w_mean")}
+    out["reaction"] = results["equilibrium"]["reaction"]
+    for name, prof in results["profiles"].items():
+        for key, values in prof.items():
+            out[f"{name}.{key}"] = np.asarray(values)
+    return out
+
+
+@pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="needs mpiexec -n 2 (make test-mpi)")
+@pytest.mark.parametrize("soil", [{"nu": 0.3}, {"nu": 0.45, "E_gradient": 0.5}])
+def test_parallel_equals_serial(soil):
+    scene = flexible_scene(**{"soil": soil})
+    parallel = analyse(scene, MPI.COMM_WORLD).results
+    serial = analyse(scene, MPI.COMM_SELF).results
+    assert parallel["mpi_ranks"] == MPI.COMM_WORLD.size and serial["mpi_ranks"] == 1
+    assert parallel["dofs"] == serial["dofs"]
+    p, s = _numbers(parallel), _numbers(serial)
+    for key in s:
+        scale = np.max(np.abs(s[key]))
+        np.testing.assert_allclose(p[key], s[key], rtol=1e-8, atol=1e-8 * scale, err_msg=key)
