@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-__all__ = ["flexible_centre_settlement", "flexible_edge_settlement",
+__all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settlement", "flexible_edge_settlement",
            "flexible_mean_settlement", "flexible_axis_stress", "point_load_displacement"]
 
 
@@ -27,6 +27,38 @@ def flexible_edge_settlement(p, a, E, nu):
 def flexible_mean_settlement(p, a, E, nu):
     """Mean over the loaded circle, 16 p a (1 - nu^2) / (3 pi E) (= 0.849 w(0))."""
     return 16.0 * p * a * (1.0 - nu**2) / (3.0 * math.pi * E)
+
+
+def elliptic_K_E(k):
+    """Complete elliptic integrals K(k) and E(k) of modulus k (0 <= k < 1), by the
+    arithmetic-geometric mean (converged to round-off)."""
+    k = np.asarray(k, dtype=float)
+    a, b = np.ones_like(k), np.sqrt(1.0 - k**2)
+    c_sum = 0.5 * k**2
+    power = 0.5
+    for _ in range(40):
+        c = 0.5 * (a - b)
+        a, b = 0.5 * (a + b), np.sqrt(a * b)
+        power *= 2.0
+        c_sum = c_sum + power * c**2
+    K = np.pi / (2.0 * a)
+    return K, K * (1.0 - c_sum)
+
+
+def flexible_surface_settlement(p, a, E, nu, r):
+    """Surface settlement of the flexible circular load at radius r (Poulos & Davis Eq. 3.1):
+    w = 4 p a (1 - nu^2) / (pi E) * E(r/a) inside, and
+    w = 4 p a (1 - nu^2) / (pi E) * (r/a) [E(a/r) - (1 - a^2/r^2) K(a/r)] outside."""
+    r = np.atleast_1d(np.asarray(r, dtype=float))
+    c = 4.0 * p * a * (1.0 - nu**2) / (math.pi * E)
+    w = np.empty_like(r)
+    inside = r <= a
+    _, Ei = elliptic_K_E(np.minimum(r[inside] / a, 1.0 - 1e-16))
+    w[inside] = c * Ei
+    k = a / r[~inside]
+    Ko, Eo = elliptic_K_E(k)
+    w[~inside] = c * (Eo - (1.0 - k**2) * Ko) / k
+    return w
 
 
 def flexible_axis_stress(p, a, depth):

@@ -63,3 +63,14 @@ def test_default_domain_truncation_below_0p1_percent():
     base = analyse(flexible_scene(nu=0.3)).results["w0"]
     wide = analyse(flexible_scene(nu=0.3, domain={"radius": 20000.0, "depth": 20000.0}))
     assert abs(base / wide.results["w0"] - 1) < 1e-3
+
+
+def test_whole_surface_profile(solved):
+    """Settlement along the surface out to 5 a against the elliptic-integral closed form,
+    within 0.3 % of the centre settlement."""
+    nu, r = solved
+    prof = r["profiles"]["surface"]
+    rr, w = np.array(prof["r"]), np.array(prof["w"])
+    exact = ref.flexible_surface_settlement(P, A, E, nu, rr)
+    w0 = ref.flexible_centre_settlement(P, A, E, nu)
+    assert np.max(np.abs(w - exact)) / w0 < 3e-3
