@@ -40,7 +40,7 @@ say(f"{scene.title}: p = {p / 1e3:g} kPa on a = {a:g} m, E = {E / 1e6:g} MPa, nu
 
 # ## Solve
 # tankfx meshes the (r, z) half-plane with gmsh on rank 0 (graded from the load edge out to
-# 2000 a, so the truncated domain costs < 0.04 % of the settlement), distributes it, and
+# 10000 a, so the truncated domain costs < 0.01 % of the settlement), distributes it, and
 # solves the axisymmetric elasticity problem with P2 elements and MUMPS.
 
 solution = analyse(scene, comm)

@@ -36,7 +36,7 @@ def test_defaults_are_resolved():
     assert s.foundation_radius == 1.0
     assert s.soil.model == "linear" and s.soil.E_gradient == 0.0
     assert s.mesh.degree == 2 and s.mesh.edge_size == pytest.approx(0.05)
-    assert s.domain.radius == s.domain.depth == pytest.approx(2000.0)
+    assert s.domain.radius == s.domain.depth == pytest.approx(10000.0)
     assert s.Kp is None and s.Kt is None
     assert Scene.from_dict(s.to_dict()) == s
 
@@ -76,7 +76,8 @@ def test_Kp_and_thickness_are_inverse():
     (with_(plate=PLATE, wall=WALL | {"radius": 1.2}), "wall.radius", "wider than plate.radius"),
     (with_(wall=WALL), "[wall]", "needs a foundation plate"),
     (with_(wall=WALL | {"Kt": 0.1}), "wall.thickness and wall.Kt", "not both"),
-    (with_(plate=PLATE | {"embedment": 3000.0}), "domain.depth", "embedment"),
+    (with_(plate=PLATE | {"embedment": 3000.0}, domain={"depth": 2000.0}), "domain.depth",
+     "embedment"),
     (with_(plate=PLATE, wall=WALL, load={"liquid_height": 6.0, "liquid_unit_weight": 1e4}),
      "load.liquid_height", "higher than wall.height"),
     (with_(interface={"condition": "rough"}), "interface.condition", "valid"),
