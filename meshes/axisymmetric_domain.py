@@ -55,7 +55,7 @@ class DomainGeometry:
     wall_height: float = 0.0
     edge_size: float = 0.05
     growth: float = 0.2
-    wall_size: float | None = None
+    wall_size: float | None = None    #: element size at the wall foot
     near_size: float | None = None    #: size cap in the near field (soil stresses reported)
     near_radius: float = 0.0          #: extent of the near field around the foundation
 
@@ -169,9 +169,14 @@ def _size_field(g: DomainGeometry, gmsh, singular) -> None:
     fields.setString(f, "F", f"{g.edge_size!r} + {g.growth!r}*F{dist}")
     ids = [f]
     if g.wall_radius is not None and g.wall_size is not None:
-        # the wall's bending boundary layer needs its own resolution along the whole meridian
+        # the wall's bending boundary layer (decay length 1/beta) needs its own resolution,
+        # growing slowly from the wall foot
+        foot = gmsh.model.occ.addPoint(g.wall_radius, -g.embedment, 0.0)
+        gmsh.model.occ.synchronize()
+        d_foot = fields.add("Distance")
+        fields.setNumbers(d_foot, "PointsList", [foot])
         w = fields.add("MathEval")
-        fields.setString(w, "F", f"{g.wall_size!r} + {g.growth!r}*abs(x-{g.wall_radius!r})")
+        fields.setString(w, "F", f"{g.wall_size!r} + {min(g.growth, 0.1)!r}*F{d_foot}")
         ids.append(w)
     if g.near_size is not None:
         # the near field, where soil stresses are reported, gets a uniform cap

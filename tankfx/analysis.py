@@ -38,7 +38,19 @@ CONVENTIONS = {
     "profiles.axis.z": "depth below the ground surface, positive downward",
     "sigma_zz": "vertical soil stress, positive in compression",
     "nondim": "Eqs. 21-23 of Zaman & Mahmood: w = p a w_bar / E_s, M = p a^2 M_bar, "
-              "E_s = soil modulus at the ground surface, a = plate (or load) radius",
+              "E_s = soil modulus at the ground surface, a = plate (or load) radius, "
+              "p = reference_pressure = load.pressure + liquid pressure on the plate floor",
+    "M_r, M_theta, M_z": "bending moments per unit length, positive when the plate's "
+                         "underside (the wall's outer face) is in tension: sagging plate "
+                         "moment positive",
+    "N_theta": "hoop force per unit length, tension positive",
+    "Q_r, Q": "transverse shear force per unit length on a section facing +r (plate) or +z "
+              "(wall), positive upward on the plate and inward on the wall",
+    "rotation": "counter-clockwise rotation of the meridian in the (r, z) plane, rad",
+    "contact_normal": "interface normal stress, positive in compression, Pa",
+    "contact_shear": "interface shear stress exerted by the soil on the structure, positive "
+                     "outward (+r) under the plate and upward on the wall, Pa",
+    "profiles.wall.z": "height above the plate underside (the wall base), m",
     "reaction": "upward force of the supports on the soil, N",
 }
 
@@ -52,6 +64,7 @@ class Solution:
     u: fem.Function
     sigma_zz: fem.Function
     results: dict
+    model: object = None
 
 
 def _versions() -> dict[str, str]:
@@ -68,8 +81,8 @@ def _versions() -> dict[str, str]:
     return out
 
 
-class SoilProblem:
-    """The linear soil problem of a scene without structure: a flexible uniform load."""
+class SoilBlock:
+    """The soil field on the parent mesh: its space, modulus, stiffness form and supports."""
 
     def __init__(self, scene: Scene, domain: Domain):
         msh = domain.mesh
@@ -82,16 +95,21 @@ class SoilProblem:
         self.E_s = fem.Constant(msh, s.E)
         self.nu = fem.Constant(msh, s.nu)
         self.gradient = fem.Constant(msh, s.E_gradient)
-        self.pressure = fem.Constant(msh, scene.load.pressure)
-        r = soil_forms.radius(msh)
-        self.r = r
+        self.r = soil_forms.radius(msh)
         self.E = soil_forms.modulus_with_depth(self.E_s, self.gradient, soil_forms.depth(msh))
-        dx = ufl.Measure("dx", domain=msh, subdomain_data=domain.cell_tags)(CELL_TAGS["soil"])
-        ds = ufl.Measure("ds", domain=msh, subdomain_data=domain.facet_tags)
-        w, v = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
-        self.a = soil_forms.stiffness_form(w, v, self.E, self.nu, r, dx)
-        self.L = -self.pressure * v[1] * 2.0 * math.pi * r * ds(FACET_TAGS["contact"])
+        self.dx = ufl.Measure("dx", domain=msh, subdomain_data=domain.cell_tags)(
+            CELL_TAGS["soil"])
+        self.trial, self.test = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
+        self.a = soil_forms.stiffness_form(self.trial, self.test, self.E, self.nu, self.r,
+                                           self.dx)
+        if domain.has_void:
+            # A zero term over the void: it puts the void's dofs in the sparsity pattern, so
+            # that their Dirichlet rows get a diagonal (it adds nothing to any value).
+            dx_void = ufl.Measure("dx", domain=msh, subdomain_data=domain.cell_tags)(
+                CELL_TAGS["void"])
+            self.a += fem.Constant(msh, 0.0) * ufl.inner(self.trial, self.test) * dx_void
         self.bcs = self._supports()
+        self.supported_facets = domain.facets("far_side", "bottom")
 
     def _supports(self) -> list[fem.DirichletBC]:
         V, dom = self.V, self.domain
@@ -109,12 +127,6 @@ class SoilProblem:
             bcs.append(fem.dirichletbc(zero, np.setdiff1d(void, soil), V))
         return bcs
 
-    @property
-    def applied_load(self) -> float:
-        """Resultant of the applied pressure, N (closed form, independent of the mesh)."""
-        a = self.scene.foundation_radius
-        return self.scene.load.pressure * math.pi * a**2
-
     def vertical_stress(self) -> fem.Function:
         """sigma_zz (compression positive), L2-projected (r-weighted) onto the continuous
         displacement space: point values of the raw stress on the axis, a boundary of the
@@ -122,8 +134,6 @@ class SoilProblem:
         msh = self.domain.mesh
         Q = fem.functionspace(msh, ("Lagrange", self.scene.mesh.degree))
         s, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
-        dx = ufl.Measure("dx", domain=msh, subdomain_data=self.domain.cell_tags)(
-            CELL_TAGS["soil"])
         sigma = -soil_forms.stress(soil_forms.strain(self.u, self.r), self.E, self.nu)[1, 1]
         out = fem.Function(Q, name="sigma_zz")
         bcs = []
@@ -131,9 +141,63 @@ class SoilProblem:
             void = fem.locate_dofs_topological(Q, 2, self.domain.cells("void"))
             soil = fem.locate_dofs_topological(Q, 2, self.domain.cells("soil"))
             bcs = [fem.dirichletbc(0.0, np.setdiff1d(void, soil), Q)]
-        DirectSolver(s * q * self.r * dx, sigma * q * self.r * dx, bcs, out,
-                     name="projection").solve()
+        a = s * q * self.r * self.dx
+        if self.domain.has_void:
+            dx_void = ufl.Measure("dx", domain=msh, subdomain_data=self.domain.cell_tags)(
+                CELL_TAGS["void"])
+            a += fem.Constant(msh, 0.0) * s * q * dx_void
+        DirectSolver(a, sigma * q * self.r * self.dx, bcs, out, name="projection").solve()
         return out
+
+
+class FlexibleLoad:
+    """A uniform pressure on r <= load_radius of the bare soil (no structure)."""
+
+    def __init__(self, scene: Scene, domain: Domain):
+        self.scene, self.domain = scene, domain
+        self.soil = soil = SoilBlock(scene, domain)
+        self.pressure = fem.Constant(domain.mesh, scene.load.pressure)
+        ds = ufl.Measure("ds", domain=domain.mesh, subdomain_data=domain.facet_tags)
+        self.L = -self.pressure * soil.test[1] * 2.0 * math.pi * soil.r * ds(
+            FACET_TAGS["contact"])
+        self.a, self.bcs, self.unknowns, self.entity_maps = soil.a, soil.bcs, soil.u, None
+
+    @property
+    def applied_load(self) -> float:
+        """Resultant of the applied pressure, N (closed form, independent of the mesh)."""
+        return self.scene.load.pressure * math.pi * self.scene.foundation_radius**2
+
+    @property
+    def reference_pressure(self) -> float:
+        return self.scene.load.pressure
+
+    def dofs(self) -> dict[str, int]:
+        im = self.soil.V.dofmap.index_map
+        return {"soil": im.size_global * self.soil.V.dofmap.index_map_bs}
+
+    def soil_residual(self):
+        return ufl.action(self.a, self.soil.u) - self.L
+
+    def foundation_results(self) -> dict:
+        """w0, w_edge, wd, w_mean of the loaded area (on the soil surface)."""
+        a, u = self.scene.foundation_radius, self.soil.u
+        ce = evaluate_at(u, np.array([[0.0, 0.0], [a, 0.0]]))
+        x, vals = nodal_values_on_facets(u, self.domain.facets("contact"))
+        w = -vals[:, 1]
+        ds = ufl.Measure("ds", domain=self.domain.mesh, subdomain_data=self.domain.facet_tags)
+        w_mean = assemble_scalar(-u[1] * 2.0 * math.pi * self.soil.r * ds(
+            FACET_TAGS["contact"]), self.domain.mesh.comm) / (math.pi * a**2)
+        return {"w0": float(-ce[0, 1]), "w_edge": float(-ce[1, 1]),
+                "wd": float(w.max() - w.min()), "w_mean": float(w_mean), "M0": None}
+
+
+def build_model(scene: Scene, domain: Domain):
+    """The model a scene needs: only the parts it uses are built."""
+    if scene.plate is None:
+        return FlexibleLoad(scene, domain)
+    from .coupled import TankModel
+
+    return TankModel(scene, domain)
 
 
 def analyse(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> Solution:
@@ -149,74 +213,73 @@ def analyse(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> Solution:
     log.info("mesh: %d cells in %.2f s", ncells, timings["mesh"])
 
     t = time.perf_counter()
-    problem = SoilProblem(scene, domain)
-    solver = DirectSolver(problem.a, problem.L, problem.bcs, problem.u, name="soil")
+    model = build_model(scene, domain)
+    solver = DirectSolver(model.a, model.L, model.bcs, model.unknowns,
+                          entity_maps=model.entity_maps, name="tank")
     timings["forms"] = time.perf_counter() - t
-    ndofs = problem.V.dofmap.index_map.size_global * problem.V.dofmap.index_map_bs
-    log.info("soil: %d dofs (P%d); assembling and solving with MUMPS", ndofs,
-             scene.mesh.degree)
+    dofs = model.dofs()
+    log.info("dofs: %s (soil P%d); assembling and solving with MUMPS",
+             ", ".join(f"{k} {v}" for k, v in dofs.items()), scene.mesh.degree)
     t = time.perf_counter()
     solver.solve()
     timings["assemble_solve"] = time.perf_counter() - t
     log.info("solved in %.2f s", timings["assemble_solve"])
 
     t = time.perf_counter()
-    sigma_zz = problem.vertical_stress()
-    results = _results(scene, domain, problem, sigma_zz)
+    sigma_zz = model.soil.vertical_stress()
+    results = _results(scene, domain, model, sigma_zz)
     timings["post"] = time.perf_counter() - t
     timings["total"] = time.perf_counter() - t_start
-    results["dofs"] = {"soil": ndofs, "total": solver.matrix_size}
+    results["dofs"] = dofs | {"total": solver.matrix_size}
     results["timings_s"] = timings
     results["mpi_ranks"] = comm.size
     results["versions"] = _versions()
-    return Solution(scene=scene, domain=domain, u=problem.u, sigma_zz=sigma_zz,
-                    results=results)
+    return Solution(scene=scene, domain=domain, u=model.soil.u, sigma_zz=sigma_zz,
+                    results=results, model=model)
 
 
-def _results(scene: Scene, domain: Domain, problem: SoilProblem, sigma_zz) -> dict:
+def _results(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
     a = scene.foundation_radius
     D = scene.embedment
-    p = scene.load.pressure
+    p = model.reference_pressure
     E_s = scene.soil.E
-    u = problem.u
+    u = model.soil.u
+    found = model.foundation_results()
 
-    centre_edge = evaluate_at(u, np.array([[0.0, -D], [a, -D]]))
-    w0, w_edge = -centre_edge[0, 1], -centre_edge[1, 1]
-
-    # ground-surface profile (the loaded area and the free surface out to 5 a), nodal values
+    # ground-surface profile (the loaded area or plate underside, and the free surface out to
+    # 5 a), nodal values of the soil
     x, vals = nodal_values_on_facets(u, domain.facets("contact", "surface"))
     keep = x[:, 0] <= 5.0 * a + 1e-12
-    r_s, w_s, ur_s = x[keep, 0], -vals[keep, 1], vals[keep, 0]
-    under = r_s <= a * (1 + 1e-12)
-    wd = float(w_s[under].max() - w_s[under].min())
+    surface = {"r": x[keep, 0].tolist(), "w": (-vals[keep, 1]).tolist(),
+               "u_r": vals[keep, 0].tolist()}
 
     z_axis = np.linspace(D, D + 10.0 * a, 201)
-    sz = evaluate_at(sigma_zz, np.column_stack([np.zeros_like(z_axis), -z_axis]))[:, 0]
+    sz = evaluate_at(sigma_zz, np.column_stack([np.zeros_like(z_axis), -z_axis]),
+                     cells=domain.cells("soil"))[:, 0]
 
-    # mean settlement under the foundation: the tank codes' "uniform settlement"
-    ds = ufl.Measure("ds", domain=domain.mesh, subdomain_data=domain.facet_tags)
-    w_mean = assemble_scalar(-u[1] * 2.0 * math.pi * problem.r * ds(FACET_TAGS["contact"]),
-                             domain.mesh.comm) / (math.pi * a**2)
-
-    applied = problem.applied_load
-    reaction = reaction_force(problem.a, problem.L, u, 1, domain.facets("far_side", "bottom"))
-    scale = p * a / E_s if p > 0 else float("nan")
-    return {
+    applied = model.applied_load
+    reaction = reaction_force(model.soil_residual(), model.soil.V, 1,
+                              model.soil.supported_facets, entity_maps=model.entity_maps)
+    w_scale = p * a / E_s if p > 0 else float("nan")
+    m_scale = p * a**2 if p > 0 else float("nan")
+    out = {
         "title": scene.title,
         "converged": True,
-        "w0": float(w0),
-        "w_edge": float(w_edge),
-        "wd": wd,
-        "w_mean": float(w_mean),
-        "M0": None,
-        "nondim": {"w0": float(w0 / scale), "wd": float(wd / scale), "M0": None,
+        **found,
+        "nondim": {"w0": found["w0"] / w_scale, "wd": found["wd"] / w_scale,
+                   "M0": None if found["M0"] is None else found["M0"] / m_scale,
                    "Kp": scene.Kp, "Kt": scene.Kt},
-        "profiles": {
-            "surface": {"r": r_s.tolist(), "w": w_s.tolist(), "u_r": ur_s.tolist()},
-            "axis": {"z": z_axis.tolist(), "sigma_zz": sz.tolist()},
-        },
+        "reference_pressure": p,
+        "profiles": {"surface": surface,
+                     "axis": {"z": z_axis.tolist(), "sigma_zz": sz.tolist()}},
         "equilibrium": {"applied_load": applied, "reaction": reaction,
                         "relative_error": abs(reaction - applied) / abs(applied)},
         "conventions": CONVENTIONS,
         "scene": scene.to_dict(),
     }
+    if hasattr(model, "structure_results"):
+        extra = model.structure_results()
+        out["profiles"].update(extra.pop("profiles"))
+        out["equilibrium"].update(extra.pop("equilibrium"))
+        out.update(extra)
+    return out

@@ -20,10 +20,14 @@ from mpi4py import MPI
 
 from .meshes.axisymmetric_domain import CELL_TAGS, FACET_TAGS, DomainGeometry, build_model
 from .scene import Scene
+from .structure import wall_beta
 
 #: The near field, where soil stresses are reported, extends this many foundation radii
 #: from the foundation centre.
 NEAR_RADIUS = 6.0
+
+#: Element size at the wall foot, as a fraction of the bending decay length 1/beta.
+WALL_ELEMENTS_PER_DECAY = 0.25
 
 __all__ = ["Domain", "geometry_of", "build_domain", "CELL_TAGS", "FACET_TAGS"]
 
@@ -53,6 +57,11 @@ class Domain:
 def geometry_of(scene: Scene) -> DomainGeometry:
     """The meshed geometry a scene asks for."""
     wall = scene.wall
+    wall_size = None
+    if wall is not None:
+        # resolve the wall's bending boundary layer, decay length 1/beta
+        wall_size = min(scene.mesh.edge_size,
+                        WALL_ELEMENTS_PER_DECAY / wall_beta(wall.radius, wall.thickness, wall.nu))
     return DomainGeometry(
         load_radius=scene.foundation_radius,
         domain_radius=scene.domain.radius,
@@ -62,6 +71,7 @@ def geometry_of(scene: Scene) -> DomainGeometry:
         wall_height=0.0 if wall is None else wall.height,
         edge_size=scene.mesh.edge_size,
         growth=scene.mesh.growth,
+        wall_size=wall_size,
         near_size=scene.mesh.near_size,
         near_radius=NEAR_RADIUS * scene.foundation_radius,
     )

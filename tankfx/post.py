@@ -1,13 +1,14 @@
 """Post-processing that is safe under MPI: every value returned here is the same on all ranks.
 
-Point values are taken from one cell chosen the same way whatever the partition (the cell of
-smallest original index that contains the point), so that a discontinuous field (a stress)
-evaluates identically in serial and in parallel.
+Point values are taken from one cell chosen the same way whatever the partition (the cell
+with the lexicographically smallest midpoint among those containing the point), so that a
+discontinuous field (a stress, a moment) evaluates identically in serial and in parallel.
 """
 from __future__ import annotations
 
 import numpy as np
 from dolfinx import fem, geometry
+from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 __all__ = ["allsum", "assemble_scalar", "evaluate_at", "nodal_values_on_facets"]
@@ -23,10 +24,14 @@ def assemble_scalar(integrand, comm: MPI.Comm) -> float:
     return allsum(comm, fem.assemble_scalar(fem.form(integrand)))
 
 
-def evaluate_at(func: fem.Function, points: np.ndarray) -> np.ndarray:
-    """Values of ``func`` at ``points`` (shape (n, 2) or (n, 3)), on every rank.
+def evaluate_at(func, points: np.ndarray, cells: np.ndarray | None = None) -> np.ndarray:
+    """Values of the Function ``func`` at ``points``
+    (shape (n, 2) or (n, 3)), the same on every rank.
 
-    Raises ValueError if a point lies outside the mesh.
+    ``cells`` restricts the search to those (local) cells, e.g. the plate's cells only at the
+    wall-plate junction. Where several cells contain a point, the one whose midpoint is
+    lexicographically smallest is used, on whatever rank it lives: the choice does not depend
+    on the partition. Raises ValueError if a point lies in none of the cells.
     """
     msh = func.function_space.mesh
     comm = msh.comm
@@ -34,28 +39,39 @@ def evaluate_at(func: fem.Function, points: np.ndarray) -> np.ndarray:
     pts[:, : np.shape(points)[1]] = points
     tdim = msh.topology.dim
     n_owned = msh.topology.index_map(tdim).size_local
-    tree = geometry.bb_tree(msh, tdim, entities=np.arange(n_owned, dtype=np.int32))
-    candidates = geometry.compute_collisions_points(tree, pts)
-    colliding = geometry.compute_colliding_cells(msh, candidates, pts)
-    original = msh.topology.original_cell_index
+    candidates = np.arange(n_owned, dtype=np.int32) if cells is None else \
+        np.asarray(cells, dtype=np.int32)[np.asarray(cells) < n_owned]
     vsize = func.function_space.value_size
-    key = np.full(len(pts), np.iinfo(np.int64).max, dtype=np.int64)
+    keys = np.full((len(pts), 2), np.inf)
     values = np.zeros((len(pts), vsize))
-    for i in range(len(pts)):
-        cells = colliding.links(i)
-        cells = cells[cells < n_owned]
-        if len(cells) == 0:
-            continue
-        c = cells[np.argmin(original[cells])]
-        key[i] = original[c]
-        values[i] = func.eval(pts[i], np.array([c], dtype=np.int32))
-    keys = comm.allgather(key)
-    vals = comm.allgather(values)
-    best = np.argmin(np.stack(keys), axis=0)
-    if np.any(np.min(np.stack(keys), axis=0) == np.iinfo(np.int64).max):
-        missing = pts[np.min(np.stack(keys), axis=0) == np.iinfo(np.int64).max]
-        raise ValueError(f"points outside the mesh: {missing[:3, :2].tolist()} ...")
-    return np.stack(vals)[best, np.arange(len(pts))]
+    if len(candidates):
+        tree = geometry.bb_tree(msh, tdim, entities=candidates)
+        colliding = geometry.compute_colliding_cells(
+            msh, geometry.compute_collisions_points(tree, pts), pts)
+        mids = dmesh.compute_midpoints(msh, tdim, candidates)[:, :2]
+        mid_of = dict(zip(candidates.tolist(), map(tuple, mids)))
+        allowed = set(candidates.tolist())
+        for i in range(len(pts)):
+            found = [c for c in colliding.links(i) if c in allowed]
+            if not found:
+                continue
+            c = min(found, key=lambda c: mid_of[c])
+            keys[i] = mid_of[c]
+            values[i] = func.eval(pts[i], np.array([c], dtype=np.int32))
+    all_keys = np.stack(comm.allgather(keys))       # (ranks, n, 2)
+    all_vals = np.stack(comm.allgather(values))
+    best = np.zeros(len(pts), dtype=int)
+    for k in range(1, comm.size):
+        better = (all_keys[k, :, 0] < all_keys[best, np.arange(len(pts)), 0]) | (
+            (all_keys[k, :, 0] == all_keys[best, np.arange(len(pts)), 0])
+            & (all_keys[k, :, 1] < all_keys[best, np.arange(len(pts)), 1]))
+        best[better] = k
+    chosen = all_keys[best, np.arange(len(pts))]
+    if np.any(np.isinf(chosen[:, 0])):
+        missing = pts[np.isinf(chosen[:, 0])]
+        raise ValueError(f"points outside the mesh (or the given cells): "
+                         f"{missing[:3, :2].tolist()}")
+    return all_vals[best, np.arange(len(pts))]
 
 
 def nodal_values_on_facets(func: fem.Function, facets: np.ndarray):

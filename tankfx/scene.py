@@ -30,7 +30,7 @@ DEFAULT_DOMAIN_FACTOR = 10000.0
 #: stress singularity) and the cap over the near field (6 radii around the centre). Measured
 #: on the flexible load (README "Mesh defaults"): with P2 these keep the centre and edge
 #: settlements within 0.1 % and sigma_zz on the axis within 1 % up to nu = 0.45.
-DEFAULT_EDGE_SIZE = 0.05
+DEFAULT_EDGE_SIZE = 0.002
 DEFAULT_NEAR_SIZE = 0.1
 
 
@@ -381,6 +381,9 @@ def _parse(data: dict[str, Any]) -> Scene:
                 if load.get(key):
                     rd.bad(f"load.{key}: needs a [plate] (and for liquid a [wall]); remove it "
                            f"or add the structure")
+        if load.get("liquid_height", 0.0) > 0 and load.get("liquid_unit_weight", 0.0) == 0:
+            rd.bad("load.liquid_unit_weight: missing for a liquid of load.liquid_height; add "
+                   "it (N/m^3, e.g. 9810 for water)")
         elif plate is not None and "load_radius" in load and "radius" in plate \
                 and load["load_radius"] != plate["radius"]:
             rd.bad(f"load.load_radius = {load['load_radius']!r}: with a [plate] the pressure "
@@ -426,12 +429,6 @@ def _parse(data: dict[str, Any]) -> Scene:
         if mesh.get("edge_size", 0.0) > 0.5 * a:
             rd.bad(f"mesh.edge_size = {mesh['edge_size']!r} m: larger than half the foundation "
                    f"radius ({0.5 * a!r} m); the foundation would not be resolved")
-
-    if "plate" in data:
-        # validated above so that later versions only drop this refusal
-        rd.bad("[plate]: the foundation plate and tank wall (structural elements) are not "
-               "available in this version of tankfx; remove [plate] and [wall] to analyse a "
-               "flexible load on r <= load.load_radius")
 
     if rd.problems:
         raise SceneError(rd.problems)

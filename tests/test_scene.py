@@ -35,7 +35,7 @@ def test_defaults_are_resolved():
     s = Scene.from_dict(GOOD)
     assert s.foundation_radius == 1.0
     assert s.soil.model == "linear" and s.soil.E_gradient == 0.0
-    assert s.mesh.degree == 2 and s.mesh.edge_size == pytest.approx(0.05)
+    assert s.mesh.degree == 2 and s.mesh.edge_size == pytest.approx(0.002)
     assert s.domain.radius == s.domain.depth == pytest.approx(10000.0)
     assert s.Kp is None and s.Kt is None
     assert Scene.from_dict(s.to_dict()) == s
@@ -93,10 +93,22 @@ def test_all_problems_are_reported_at_once():
     assert "soil.E" in msg and "soil.nu" in msg and "load.presure" in msg
 
 
-def test_structure_is_refused_until_it_exists():
-    """Plates and walls are validated, then refused with a clear message (not ignored)."""
-    msg = problems(with_(plate=PLATE))
-    assert "[plate]" in msg and "not available" in msg
+def test_unfinished_models_are_refused_not_ignored():
+    """The Mohr-Coulomb interface and the hyperbolic soil are validated, then refused with a
+    clear message until they exist (never silently run as something else)."""
+    msg = problems(with_(plate=PLATE, interface={"condition": "mohr_coulomb"}))
+    assert "interface.condition" in msg and "not" in msg and "available" in msg
+    msg = problems(with_(soil={"model": "hyperbolic"}))
+    assert "soil.model" in msg and "not available" in msg
+
+
+def test_plate_and_wall_are_resolved_from_Kp_and_Kt():
+    s = Scene.from_dict(with_(load=None, plate={"radius": 2.0, "Kp": 0.5, "E": 30e9, "nu": 0.2},
+                              wall={"radius": 2.0, "Kt": 0.01, "height": 6.0, "E": 200e9,
+                                    "nu": 0.3})
+                        | {"load": {"pressure": 1e5}})
+    assert s.Kp == pytest.approx(0.5, rel=1e-12) and s.Kt == pytest.approx(0.01, rel=1e-12)
+    assert s.foundation_radius == 2.0 and s.load.load_radius == 2.0
 
 
 def test_toml_file_with_nan_and_unknown_key(tmp_path):

@@ -1,0 +1,329 @@
+"""The tank: soil, foundation plate and wall in one block system.
+
+Block 0 is the soil displacement on the parent (r, z) mesh; block 1 the structure (u, beta, Q
+of :mod:`tankfx.structure`) on the facet submesh made of the plate's underside facets and, if
+there is a wall, the wall's meridian facets. Plate and wall share the junction vertex, so the
+joint is rigid (continuous u and beta), for a_t = a_p and for a wall inside the plate edge.
+
+The two are tied by the interface penalty of :mod:`tankfx.interface` on the plate underside
+and, for an embedded tank, on the wall's outer face below the ground. Mixed-domain blocks are
+integrated over the parent's facets (``ds`` where the facet is on the outside of the mesh,
+``dS`` where the tank's void lies on its other side); pure structure blocks over the submesh.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from dolfinx import mesh as dmesh
+
+from . import interface
+from . import structure as st
+from .analysis import SoilBlock
+from .mesh import FACET_TAGS, Domain
+from .post import allsum, assemble_scalar, evaluate_at
+from .scene import Scene
+
+__all__ = ["TankModel"]
+
+#: Soil-side facet tags that carry the interface, with the soil's outward normal n and the
+#: tangent t there (the structure's n and t on those cells).
+_INTERFACE = {"contact": ((0.0, 1.0), (1.0, 0.0)), "wall_embedded": ((-1.0, 0.0), (0.0, 1.0))}
+_SUB_TAG = {"contact": st.PLATE, "wall": st.WALL, "wall_embedded": st.WALL_EMBEDDED}
+
+
+class TankModel:
+    def __init__(self, scene: Scene, domain: Domain):
+        self.scene, self.domain = scene, domain
+        parent = domain.mesh
+        self.soil = soil = SoilBlock(scene, domain)
+
+        # ---- structure submesh and its cell tags (plate / wall / embedded wall)
+        names = ["contact"] + (["wall", "wall_embedded"] if scene.wall is not None else [])
+        facets = domain.facets(*names)
+        sub, emap, _, _ = dmesh.create_submesh(parent, 1, facets)
+        sub.topology.create_connectivity(0, 1)
+        self.mesh, self.entity_maps = sub, [emap]
+        n_sub = sub.topology.index_map(1).size_local + sub.topology.index_map(1).num_ghosts
+        parent_facets = emap.sub_topology_to_topology(np.arange(n_sub, dtype=np.int32), False)
+        ftag = np.zeros(parent.topology.index_map(1).size_local
+                        + parent.topology.index_map(1).num_ghosts, dtype=np.int32)
+        ftag[domain.facet_tags.indices] = domain.facet_tags.values
+        by_value = {FACET_TAGS[k]: v for k, v in _SUB_TAG.items()}
+        values = np.array([by_value[v] for v in ftag[parent_facets]], dtype=np.int32)
+        self.cell_tags = dmesh.meshtags(sub, 1, np.arange(n_sub, dtype=np.int32), values)
+        self.plate_cells = self.cell_tags.find(st.PLATE)
+        self.wall_cells = np.sort(np.concatenate([self.cell_tags.find(st.WALL),
+                                                  self.cell_tags.find(st.WALL_EMBEDDED)]))
+
+        # ---- properties per structure cell (DG0): plate and wall differ
+        Q0 = fem.functionspace(sub, ("DG", 0))
+
+        def cellwise(plate_value, wall_value, name):
+            f = fem.Function(Q0, name=name)
+            f.x.array[self.plate_cells] = plate_value
+            f.x.array[self.wall_cells] = wall_value
+            return f
+
+        pl, wa = scene.plate, scene.wall
+        wall_or = (lambda attr: getattr(wa, attr)) if wa is not None else (lambda attr: 0.0)
+        self.E = cellwise(pl.E, wall_or("E"), "E")
+        self.nu = cellwise(pl.nu, wall_or("nu"), "nu")
+        self.thickness = cellwise(pl.thickness, wall_or("thickness"), "thickness")
+        self.k_n, self.k_s = self._penalty(Q0, values)
+
+        # ---- spaces, unknowns, forms
+        self.W = st.structure_space(sub, 3)
+        self.w = fem.Function(self.W, name="structure")
+        self.unknowns = [soil.u, self.w]
+        self.r_b = ufl.SpatialCoordinate(sub)[0]
+        self.t_b = st.tangent(sub)
+        self.dx_b = ufl.Measure("dx", domain=sub, subdomain_data=self.cell_tags)
+        self.a = self._bilinear_forms()
+        self.L = self._loads()
+        self.bcs = soil.bcs + self._symmetry()
+
+    # ------------------------------------------------------------------ set-up
+    def _penalty(self, Q0, values):
+        """k_n, k_s = factor E_soil(depth) / h on the cells in contact with soil."""
+        s = self.scene
+        sub = self.mesh
+        cells = np.arange(len(values), dtype=np.int32)
+        mid = dmesh.compute_midpoints(sub, 1, cells)
+        h = sub.h(1, cells)
+        depth = np.maximum(-mid[:, 1], 0.0)
+        E_soil = s.soil.E * (1.0 + s.soil.E_gradient * depth)
+        contact = (values == st.PLATE) | (values == st.WALL_EMBEDDED)
+        k = np.where(contact, interface.PENALTY_FACTOR * E_soil / h, 0.0)
+        k_n, k_s = fem.Function(Q0, name="k_n"), fem.Function(Q0, name="k_s")
+        k_n.x.array[:] = k
+        k_s.x.array[:] = k if s.interface.condition == "bonded" else 0.0
+        return k_n, k_s
+
+    def _interface_measures(self):
+        """(tag name, normal, tangent, [(measure, restriction)]) of each interface part."""
+        msh, dom = self.domain.mesh, self.domain
+        ds = ufl.Measure("ds", domain=msh, subdomain_data=dom.facet_tags)
+        dS = ufl.Measure("dS", domain=msh, subdomain_data=dom.facet_tags)
+        parts = []
+        for name, (n, t) in _INTERFACE.items():
+            if name == "wall_embedded" and (self.scene.wall is None
+                                            or self.scene.embedment == 0.0):
+                continue
+            tag = FACET_TAGS[name]
+            pieces = [(ds(tag), lambda f: f)]
+            if dom.has_void:
+                pieces.append((dS(tag), lambda f: f("+")))
+            parts.append((name, ufl.as_vector(n), ufl.as_vector(t), pieces))
+        return parts
+
+    def _bilinear_forms(self):
+        soil, r_b, t_b = self.soil, self.r_b, self.t_b
+        u_b, beta, Q = ufl.TrialFunctions(self.W)
+        v_b, gamma, P = ufl.TestFunctions(self.W)
+        th = self.thickness
+        # structure: shell energy, Kirchhoff constraint, and the interface on its side
+        a_bb = (st.shell_stiffness(u_b, beta, v_b, gamma, r_b, t_b, self.E, self.nu, th,
+                                   self.dx_b)
+                + st.kirchhoff_constraint(Q, gamma, v_b, t_b, r_b, self.dx_b)
+                + st.kirchhoff_constraint(P, beta, u_b, t_b, r_b, self.dx_b))
+        n_b = st.normal(t_b)
+        uf, vf = (st.face_displacement(u_b, beta, t_b, th),
+                  st.face_displacement(v_b, gamma, t_b, th))
+        a_bb += interface.penalty_form(uf, vf, n_b, t_b, self.k_n, self.k_s, r_b,
+                                       self.dx_b((st.PLATE, st.WALL_EMBEDDED)))
+        a_ss, a_sb, a_bs = soil.a, 0, 0
+        r = soil.r
+        for _, n, t, pieces in self._interface_measures():
+            for measure, R in pieces:
+                uf_R = R(u_b) + 0.5 * R(th) * R(beta) * t
+                vf_R = R(v_b) + 0.5 * R(th) * R(gamma) * t
+                kn, ks = R(self.k_n), R(self.k_s)
+                a_ss += interface.penalty_form(R(soil.trial), R(soil.test), n, t, kn, ks, r,
+                                               measure)
+                a_sb -= interface.penalty_form(uf_R, R(soil.test), n, t, kn, ks, r, measure)
+                a_bs -= interface.penalty_form(R(soil.trial), vf_R, n, t, kn, ks, r, measure)
+        return [[a_ss, a_sb], [a_bs, a_bb]]
+
+    def _loads(self):
+        s, r_b = self.scene, self.r_b
+        v_b, _, _ = ufl.TestFunctions(self.W)
+        x = ufl.SpatialCoordinate(self.mesh)
+        zero_soil = ufl.inner(fem.Constant(self.domain.mesh, (0.0, 0.0)), self.soil.test) * \
+            self.soil.dx
+        w = 2.0 * math.pi * r_b
+        dx_p = self.dx_b(st.PLATE)
+        dx_w = self.dx_b((st.WALL, st.WALL_EMBEDDED))
+        load = -fem.Constant(self.mesh, s.load.pressure) * v_b[1] * w * dx_p
+        gl, hl = s.load.liquid_unit_weight, s.load.liquid_height
+        if gl * hl > 0.0:
+            at = s.wall.radius
+            inside = ufl.conditional(ufl.lt(r_b, at), 1.0, 0.0)
+            load += -gl * hl * inside * v_b[1] * w * dx_p
+            height = x[1] + s.embedment          # above the wall base
+            p_wall = gl * ufl.max_value(hl - height, 0.0)
+            load += p_wall * v_b[0] * w * dx_w      # outward on the wall
+        if s.load.self_weight:
+            load += -s.plate.unit_weight * s.plate.thickness * v_b[1] * w * dx_p
+            if s.wall is not None:
+                load += -s.wall.unit_weight * s.wall.thickness * v_b[1] * w * dx_w
+        return [zero_soil, load]
+
+    def _symmetry(self):
+        """u_r = 0 and beta = 0 at the plate centre."""
+        sub = self.mesh
+        centre = dmesh.locate_entities(sub, 0, lambda x: np.isclose(x[0], 0.0))
+        bcs = []
+        for space in (self.W.sub(0).sub(0), self.W.sub(1)):
+            V, _ = space.collapse()
+            dofs = fem.locate_dofs_topological((space, V), 0, centre)
+            bcs.append(fem.dirichletbc(fem.Function(V), dofs, space))
+        return bcs
+
+    # ------------------------------------------------------------------ quantities
+    @property
+    def reference_pressure(self) -> float:
+        """p of Eq. 23: the uniform pressure on the plate, plus the liquid's on its floor."""
+        ld = self.scene.load
+        return ld.pressure + ld.liquid_unit_weight * ld.liquid_height
+
+    @property
+    def applied_load(self) -> float:
+        """Downward resultant of all applied loads, N (closed form)."""
+        s = self.scene
+        ap = s.plate.radius
+        P = s.load.pressure * math.pi * ap**2
+        if s.wall is not None:
+            P += s.load.liquid_unit_weight * s.load.liquid_height * math.pi * s.wall.radius**2
+        if s.load.self_weight:
+            P += s.plate.unit_weight * s.plate.thickness * math.pi * ap**2
+            if s.wall is not None:
+                P += s.wall.unit_weight * s.wall.thickness * 2 * math.pi * s.wall.radius * \
+                    s.wall.height
+        return P
+
+    def dofs(self) -> dict[str, int]:
+        im = self.W.dofmap.index_map
+        return {"soil": self.soil.V.dofmap.index_map.size_global * 2,
+                "structure": im.size_global * self.W.dofmap.index_map_bs}
+
+    def soil_residual(self):
+        a_ss, a_sb = self.a[0]
+        return ufl.action(a_ss, self.soil.u) + ufl.action(a_sb, self.w) - self.L[0]
+
+    def contact_resultant(self) -> float:
+        """Upward resultant of the interface tractions on the structure, N."""
+        total = 0.0
+        u_b, beta, _ = ufl.split(self.w)
+        for _, n, t, pieces in self._interface_measures():
+            for measure, R in pieces:
+                jump = R(self.soil.u) - (R(u_b) + 0.5 * R(self.thickness) * R(beta) * t)
+                sn, tau = interface.tractions(jump, n, t, R(self.k_n), R(self.k_s))
+                fz = sn * n[1] + tau * t[1]
+                total += fem.assemble_scalar(fem.form(fz * 2.0 * math.pi * self.soil.r *
+                                                      measure, entity_maps=self.entity_maps))
+        return allsum(self.domain.mesh.comm, total)
+
+    def _fields(self):
+        """Structure resultants interpolated cell-wise (DG2), for point evaluation."""
+        u_b, beta, Q = ufl.split(self.w)
+        r, t = self.r_b, self.t_b
+        e = st.shell_strains(u_b, beta, r, t, on_axis=True)
+        N_s, N_th = st.membrane_forces(e[0], e[1], self.E, self.nu, self.thickness)
+        M_s, M_th = st.bending_moments(e[2], e[3], self.E, self.nu, self.thickness)
+        D = fem.functionspace(self.mesh, ("DG", 2))
+        out = {}
+        for name, expr in {"M_s": M_s, "M_theta": M_th, "N_s": N_s, "N_theta": N_th,
+                           "Q": -Q}.items():
+            f = fem.Function(D, name=name)
+            f.interpolate(fem.Expression(expr, D.element.interpolation_points))
+            out[name] = f
+        out["u"] = self.w.sub(0).collapse()
+        out["beta"] = self.w.sub(1).collapse()
+        out["k_n"], out["k_s"], out["thickness"] = self.k_n, self.k_s, self.thickness
+        return out
+
+    def _stations(self, cells):
+        """Sorted, gathered vertex and midpoint coordinates of the given structure cells."""
+        sub = self.mesh
+        owned = cells[cells < sub.topology.index_map(1).size_local]
+        conn = sub.topology.connectivity(1, 0)
+        verts = np.unique(np.concatenate([conn.links(c) for c in owned])) if len(owned) \
+            else np.empty(0, dtype=np.int32)
+        x = dmesh.compute_midpoints(sub, 0, verts.astype(np.int32))[:, :2] if len(verts) \
+            else np.empty((0, 2))
+        mids = dmesh.compute_midpoints(sub, 1, owned)[:, :2] if len(owned) \
+            else np.empty((0, 2))
+        pts = np.concatenate(self.mesh.comm.allgather(np.concatenate([x, mids])))
+        pts = np.unique(np.round(pts, 12), axis=0)
+        return pts[np.lexsort((pts[:, 0], pts[:, 1]))] if len(pts) else pts
+
+    def _contact(self, F, pts, cells, n, t):
+        """Interface tractions at points from the soil and structure values there."""
+        us = evaluate_at(self.soil.u, pts)
+        u = evaluate_at(F["u"], pts, cells)
+        beta = evaluate_at(F["beta"], pts, cells)[:, 0]
+        th = evaluate_at(F["thickness"], pts, cells)[:, 0]
+        kn = evaluate_at(F["k_n"], pts, cells)[:, 0]
+        ks = evaluate_at(F["k_s"], pts, cells)[:, 0]
+        jump = us - (u + 0.5 * th[:, None] * beta[:, None] * np.asarray(t)[None, :])
+        return kn * (jump @ np.asarray(n)), ks * (jump @ np.asarray(t))
+
+    def foundation_results(self) -> dict:
+        F = self._fields()
+        self._F = F
+        s = self.scene
+        pts = self._stations(self.plate_cells)
+        pts = pts[np.argsort(pts[:, 0])]
+        cells = self.plate_cells
+        u = evaluate_at(F["u"], pts, cells)
+        w = -u[:, 1]
+        M_r = evaluate_at(F["M_s"], pts, cells)[:, 0]
+        ap = s.plate.radius
+        dx_p = self.dx_b(st.PLATE)
+        u_b = ufl.split(self.w)[0]
+        w_mean = assemble_scalar(-u_b[1] * 2.0 * math.pi * self.r_b * dx_p, self.mesh.comm) / \
+            (math.pi * ap**2)
+        return {"w0": float(w[0]), "w_edge": float(w[-1]), "wd": float(w.max() - w.min()),
+                "w_mean": float(w_mean), "M0": float(M_r[0])}
+
+    def structure_results(self) -> dict:
+        F, s = self._F, self.scene
+        n_p, t_p = _INTERFACE["contact"]
+        pts = self._stations(self.plate_cells)
+        pts = pts[np.argsort(pts[:, 0])]
+        cells = self.plate_cells
+        u = evaluate_at(F["u"], pts, cells)
+        sn, tau = self._contact(F, pts, cells, n_p, t_p)
+        plate = {"r": pts[:, 0].tolist(), "w": (-u[:, 1]).tolist(), "u_r": u[:, 0].tolist(),
+                 "rotation": evaluate_at(F["beta"], pts, cells)[:, 0].tolist(),
+                 "M_r": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist(),
+                 "M_theta": evaluate_at(F["M_theta"], pts, cells)[:, 0].tolist(),
+                 "Q_r": evaluate_at(F["Q"], pts, cells)[:, 0].tolist(),
+                 "contact_normal": sn.tolist(), "contact_shear": tau.tolist()}
+        profiles = {"plate": plate}
+        if s.wall is not None:
+            cells = self.wall_cells
+            pts = self._stations(cells)
+            pts = pts[np.argsort(pts[:, 1])]
+            u = evaluate_at(F["u"], pts, cells)
+            wall = {"z": (pts[:, 1] + s.embedment).tolist(), "u_r": u[:, 0].tolist(),
+                    "u_z": u[:, 1].tolist(),
+                    "rotation": evaluate_at(F["beta"], pts, cells)[:, 0].tolist(),
+                    "M_z": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist(),
+                    "N_theta": evaluate_at(F["N_theta"], pts, cells)[:, 0].tolist(),
+                    "Q": evaluate_at(F["Q"], pts, cells)[:, 0].tolist()}
+            if s.embedment > 0.0:
+                n_w, t_w = _INTERFACE["wall_embedded"]
+                sn, tau = self._contact(F, pts, cells, n_w, t_w)
+                below = pts[:, 1] <= 1e-12
+                wall["contact_normal"] = np.where(below, sn, 0.0).tolist()
+                wall["contact_shear"] = np.where(below, tau, 0.0).tolist()
+            profiles["wall"] = wall
+        applied = self.applied_load
+        contact = self.contact_resultant()
+        return {"profiles": profiles,
+                "equilibrium": {"contact_resultant": contact,
+                                "contact_relative_error": abs(contact - applied) / applied}}
