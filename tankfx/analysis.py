@@ -250,8 +250,8 @@ def _results(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
     # 5 a), nodal values of the soil
     x, vals = nodal_values_on_facets(u, domain.facets("contact", "surface"))
     keep = x[:, 0] <= 5.0 * a + 1e-12
-    surface = {"r": x[keep, 0].tolist(), "w": (-vals[keep, 1]).tolist(),
-               "u_r": vals[keep, 0].tolist()}
+    surface = {"r": x[keep, 0].tolist(), "z": x[keep, 1].tolist(),
+               "w": (-vals[keep, 1]).tolist(), "u_r": vals[keep, 0].tolist()}
 
     z_axis = np.linspace(D, D + 10.0 * a, 201)
     sz = evaluate_at(sigma_zz, np.column_stack([np.zeros_like(z_axis), -z_axis]),

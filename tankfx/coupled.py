@@ -35,8 +35,9 @@ _SUB_TAG = {"contact": st.PLATE, "wall": st.WALL, "wall_embedded": st.WALL_EMBED
 
 
 class TankModel:
-    def __init__(self, scene: Scene, domain: Domain):
+    def __init__(self, scene: Scene, domain: Domain, face_offset: bool = True):
         self.scene, self.domain = scene, domain
+        self.face_offset = face_offset
         parent = domain.mesh
         self.soil = soil = SoilBlock(scene, domain)
 
@@ -72,6 +73,10 @@ class TankModel:
         self.E = cellwise(pl.E, wall_or("E"), "E")
         self.nu = cellwise(pl.nu, wall_or("nu"), "nu")
         self.thickness = cellwise(pl.thickness, wall_or("thickness"), "thickness")
+        # the mesh lines are the faces in contact with the soil; the mid-surfaces lie half a
+        # thickness inside (face_offset=False puts them on the mesh lines, for comparison)
+        self.offset = cellwise(0.5 * pl.thickness if face_offset else 0.0,
+                               0.5 * wall_or("thickness") if face_offset else 0.0, "offset")
         self.k_n, self.k_s = self._penalty(Q0, values)
 
         # ---- spaces, unknowns, forms
@@ -126,30 +131,28 @@ class TankModel:
         th = self.thickness
         # structure: shell energy, Kirchhoff constraint, and the interface on its side
         a_bb = (st.shell_stiffness(u_b, beta, v_b, gamma, r_b, t_b, self.E, self.nu, th,
-                                   self.dx_b)
+                                   self.dx_b, self.offset)
                 + st.kirchhoff_constraint(Q, gamma, v_b, t_b, r_b, self.dx_b)
                 + st.kirchhoff_constraint(P, beta, u_b, t_b, r_b, self.dx_b))
-        n_b = st.normal(t_b)
-        uf, vf = (st.face_displacement(u_b, beta, t_b, th),
-                  st.face_displacement(v_b, gamma, t_b, th))
-        a_bb += interface.penalty_form(uf, vf, n_b, t_b, self.k_n, self.k_s, r_b,
+        a_bb += interface.penalty_form(u_b, v_b, st.normal(t_b), t_b, self.k_n, self.k_s, r_b,
                                        self.dx_b((st.PLATE, st.WALL_EMBEDDED)))
         a_ss, a_sb, a_bs = soil.a, 0, 0
         r = soil.r
         for _, n, t, pieces in self._interface_measures():
             for measure, R in pieces:
-                uf_R = R(u_b) + 0.5 * R(th) * R(beta) * t
-                vf_R = R(v_b) + 0.5 * R(th) * R(gamma) * t
                 kn, ks = R(self.k_n), R(self.k_s)
                 a_ss += interface.penalty_form(R(soil.trial), R(soil.test), n, t, kn, ks, r,
                                                measure)
-                a_sb -= interface.penalty_form(uf_R, R(soil.test), n, t, kn, ks, r, measure)
-                a_bs -= interface.penalty_form(R(soil.trial), vf_R, n, t, kn, ks, r, measure)
+                a_sb -= interface.penalty_form(R(u_b), R(soil.test), n, t, kn, ks, r, measure)
+                a_bs -= interface.penalty_form(R(soil.trial), R(v_b), n, t, kn, ks, r, measure)
         return [[a_ss, a_sb], [a_bs, a_bb]]
 
     def _loads(self):
         s, r_b = self.scene, self.r_b
-        v_b, _, _ = ufl.TestFunctions(self.W)
+        v_f, gamma, _ = ufl.TestFunctions(self.W)
+        # loads act on the mid-surface (for pressures normal to the wall or plate it is the
+        # same as on the face; it matters for the wall's self-weight)
+        v_b = st.mid_surface_displacement(v_f, gamma, self.t_b, self.offset)
         x = ufl.SpatialCoordinate(self.mesh)
         zero_soil = ufl.inner(fem.Constant(self.domain.mesh, (0.0, 0.0)), self.soil.test) * \
             self.soil.dx
@@ -219,7 +222,7 @@ class TankModel:
         u_b, beta, _ = ufl.split(self.w)
         for _, n, t, pieces in self._interface_measures():
             for measure, R in pieces:
-                jump = R(self.soil.u) - (R(u_b) + 0.5 * R(self.thickness) * R(beta) * t)
+                jump = R(self.soil.u) - R(u_b)
                 sn, tau = interface.tractions(jump, n, t, R(self.k_n), R(self.k_s))
                 fz = sn * n[1] + tau * t[1]
                 total += fem.assemble_scalar(fem.form(fz * 2.0 * math.pi * self.soil.r *
@@ -230,7 +233,7 @@ class TankModel:
         """Structure resultants interpolated cell-wise (DG2), for point evaluation."""
         u_b, beta, Q = ufl.split(self.w)
         r, t = self.r_b, self.t_b
-        e = st.shell_strains(u_b, beta, r, t, on_axis=True)
+        e = st.shell_strains(u_b, beta, r, t, self.offset, on_axis=True)
         N_s, N_th = st.membrane_forces(e[0], e[1], self.E, self.nu, self.thickness)
         M_s, M_th = st.bending_moments(e[2], e[3], self.E, self.nu, self.thickness)
         D = fem.functionspace(self.mesh, ("DG", 2))
@@ -242,7 +245,7 @@ class TankModel:
             out[name] = f
         out["u"] = self.w.sub(0).collapse()
         out["beta"] = self.w.sub(1).collapse()
-        out["k_n"], out["k_s"], out["thickness"] = self.k_n, self.k_s, self.thickness
+        out["k_n"], out["k_s"], out["offset"] = self.k_n, self.k_s, self.offset
         return out
 
     def _stations(self, cells):
@@ -264,11 +267,9 @@ class TankModel:
         """Interface tractions at points from the soil and structure values there."""
         us = evaluate_at(self.soil.u, pts)
         u = evaluate_at(F["u"], pts, cells)
-        beta = evaluate_at(F["beta"], pts, cells)[:, 0]
-        th = evaluate_at(F["thickness"], pts, cells)[:, 0]
         kn = evaluate_at(F["k_n"], pts, cells)[:, 0]
         ks = evaluate_at(F["k_s"], pts, cells)[:, 0]
-        jump = us - (u + 0.5 * th[:, None] * beta[:, None] * np.asarray(t)[None, :])
+        jump = us - u
         return kn * (jump @ np.asarray(n)), ks * (jump @ np.asarray(t))
 
     def foundation_results(self) -> dict:
@@ -324,6 +325,33 @@ class TankModel:
             profiles["wall"] = wall
         applied = self.applied_load
         contact = self.contact_resultant()
-        return {"profiles": profiles,
-                "equilibrium": {"contact_resultant": contact,
-                                "contact_relative_error": abs(contact - applied) / applied}}
+        out = {"profiles": profiles,
+               "equilibrium": {"contact_resultant": contact,
+                               "contact_relative_error": abs(contact - applied) / applied}}
+        if s.wall is not None:
+            out["junction"] = self._junction(F)
+        return out
+
+    def _junction(self, F) -> dict:
+        """Moments at the wall-plate joint, N m/m. The mesh vertex is the joint's outer
+        corner (where the faces meet); about it the membrane forces of the mid-surfaces, half
+        a thickness away, add to the moments, and the members balance:
+        sum over plate sides of +-(M_r - N_r t_p / 2) = M_z - N_z t_t / 2."""
+        s = self.scene
+        corner = np.array([[s.wall.radius, -s.embedment]])
+        mids = dmesh.compute_midpoints(self.mesh, 1, self.plate_cells)[:, 0]
+        inner = self.plate_cells[mids < s.wall.radius]
+        outer = self.plate_cells[mids > s.wall.radius]
+        e_p, e_w = 0.5 * s.plate.thickness, 0.5 * s.wall.thickness
+
+        def about_corner(cells, e):
+            if self.mesh.comm.allreduce(len(cells)) == 0:
+                return 0.0, 0.0
+            M = evaluate_at(F["M_s"], corner, cells)[0, 0]
+            return M, M - evaluate_at(F["N_s"], corner, cells)[0, 0] * e
+
+        M_in, Mc_in = about_corner(inner, e_p)
+        M_out, Mc_out = about_corner(outer, e_p)
+        M_w, Mc_w = about_corner(self.wall_cells, e_w)
+        return {"M_plate": M_in, "M_plate_outside": M_out, "M_wall": M_w,
+                "M_plate_about_corner": Mc_in - Mc_out, "M_wall_about_corner": Mc_w}

@@ -45,7 +45,10 @@ def evaluate_at(func, points: np.ndarray, cells: np.ndarray | None = None) -> np
     keys = np.full((len(pts), 2), np.inf)
     values = np.zeros((len(pts), vsize))
     if len(candidates):
-        tree = geometry.bb_tree(msh, tdim, entities=candidates)
+        # a little padding: the boxes of the 1D cells along z = const are flat, and a point
+        # at a shared vertex may sit a rounding error outside one of them
+        pad = 1e-10 * max(1.0, float(np.abs(msh.geometry.x).max()))
+        tree = geometry.bb_tree(msh, tdim, entities=candidates, padding=pad)
         colliding = geometry.compute_colliding_cells(
             msh, geometry.compute_collisions_points(tree, pts), pts)
         mids = dmesh.compute_midpoints(msh, tdim, candidates)[:, :2]
@@ -86,5 +89,9 @@ def nodal_values_on_facets(func: fem.Function, facets: np.ndarray):
     vals = func.x.array.reshape(-1, bs)[nodes]
     x = np.concatenate(comm.allgather(x))
     vals = np.concatenate(comm.allgather(vals))
-    order = np.lexsort((x[:, 1], x[:, 0]))
+    # coordinates tabulated from different cells differ by round-off: sort on rounded ones,
+    # so that every partition lists the nodes in the same order
+    scale = max(1.0, float(np.abs(x).max())) if len(x) else 1.0
+    key = np.round(x / scale, 12)
+    order = np.lexsort((key[:, 1], key[:, 0]))
     return x[order], vals[order]

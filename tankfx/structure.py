@@ -5,7 +5,8 @@ the soil's parent mesh made of the plate's underside and the wall's meridian). E
 straight meridian segment with unit tangent ``t`` (oriented towards +r on the plate and +z on
 the wall) and normal ``n = (-t_z, t_r)`` (up on the plate, inward on the wall).
 
-Unknowns: the mid-surface displacement ``u = (u_r, u_z)``, the rotation ``beta`` of the
+Unknowns: the displacement ``u = (u_r, u_z)`` of the line the mesh follows, the rotation
+``beta`` of the
 meridian (counter-clockwise in the (r, z) plane: one field for plate and wall, so a shared
 vertex is a rigid joint), and the transverse shear force ``Q``, the Lagrange multiplier of the
 Kirchhoff constraint ``beta = d(u.n)/ds``. With ``u`` in P3, ``beta`` in P2 and ``Q`` in DG2 the
@@ -15,6 +16,11 @@ constraint holds exactly, cell by cell: ``u.n`` is a C1 piecewise cubic, the thi
 Strains of a conical shell element (Kraus 1967; plate: t = (1, 0), wall: t = (0, 1)):
 
     eps_s = d(u.t)/ds,  eps_theta = u_r / r,  kappa_s = d beta/ds,  kappa_theta = beta t_r / r
+
+In a tank the mesh lines are the faces in contact with the soil (the plate's underside, the
+wall's outer face), so the interface acts on ``u`` itself and the strains are those of the
+mid-surface, half a thickness away (``offset``); plate and wall then meet at the outer
+corner of a rigid joint, and the two faces share that corner's displacement.
 
 Resultants per unit length: ``N = E t/(1 - nu^2) [eps_s + nu eps_theta, ...]`` and
 ``M = D [kappa_s + nu kappa_theta, ...]``, D = E t^3 / (12 (1 - nu^2)). A positive moment puts
@@ -33,7 +39,7 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 __all__ = ["tangent", "normal", "arc_derivative", "shell_strains", "membrane_forces",
-           "bending_moments", "face_displacement", "shell_stiffness", "kirchhoff_constraint",
+           "bending_moments", "mid_surface_displacement", "shell_stiffness", "kirchhoff_constraint",
            "structure_space", "line_mesh", "flexural_rigidity", "wall_beta"]
 
 #: Cell tags of the structure mesh.
@@ -58,20 +64,29 @@ def arc_derivative(f, t):
     return ufl.dot(ufl.grad(f), t)
 
 
-def shell_strains(u, beta, r, t, on_axis: bool = False):
+def mid_surface_displacement(u, beta, t, offset):
+    """Mid-surface displacement of a shell whose unknown ``u`` is the displacement of its face
+    opposite n, ``offset`` (half the thickness) away: u_mid = u - offset beta t."""
+    return u - offset * beta * t
+
+
+def shell_strains(u, beta, r, t, offset=0.0, on_axis: bool = False):
     """(eps_s, eps_theta, kappa_s, kappa_theta) of the axisymmetric shell.
 
-    ``on_axis`` replaces the hoop terms by their limits at r = 0 (u_r / r -> du_r/dr,
-    beta / r -> d beta/dr), for point evaluation there; quadrature points never lie on r = 0.
+    ``u`` is the displacement of the line the mesh follows: the mid-surface (``offset`` 0) or
+    the face opposite n, ``offset`` = thickness / 2 from the mid-surface (then the membrane
+    strains are those of the mid-surface, u - offset beta t). ``on_axis`` replaces the hoop
+    terms by their limits at r = 0 (u_r / r -> du_r/dr, beta / r -> d beta/dr), for point
+    evaluation there; quadrature points never lie on r = 0.
     """
-    du_ds = arc_derivative(u, t)
-    eps_s = ufl.dot(du_ds, t)
+    um = mid_surface_displacement(u, beta, t, offset)
     kappa_s = arc_derivative(beta, t)
+    eps_s = ufl.dot(arc_derivative(u, t), t) - offset * kappa_s
     if on_axis:
-        eps_th = ufl.conditional(ufl.gt(r, 0.0), u[0] / r, eps_s)
+        eps_th = ufl.conditional(ufl.gt(r, 0.0), um[0] / r, eps_s)
         kappa_th = ufl.conditional(ufl.gt(r, 0.0), beta * t[0] / r, kappa_s * t[0] * t[0])
     else:
-        eps_th = u[0] / r
+        eps_th = um[0] / r
         kappa_th = beta * t[0] / r
     return eps_s, eps_th, kappa_s, kappa_th
 
@@ -93,16 +108,11 @@ def bending_moments(kappa_s, kappa_th, E, nu, thickness):
     return D * (kappa_s + nu * kappa_th), D * (kappa_th + nu * kappa_s)
 
 
-def face_displacement(u, beta, t, thickness):
-    """Displacement of the face opposite n (the plate's underside, the wall's outer face),
-    half a thickness from the mid-surface: u - zeta beta t with zeta = -thickness / 2."""
-    return u + 0.5 * thickness * beta * t
-
-
-def shell_stiffness(u, beta, v, gamma, r, t, E, nu, thickness, dx):
-    """Bilinear form of membrane and bending energy, with the 2 pi r weight."""
-    e = shell_strains(u, beta, r, t)
-    ev = shell_strains(v, gamma, r, t)
+def shell_stiffness(u, beta, v, gamma, r, t, E, nu, thickness, dx, offset=0.0):
+    """Bilinear form of membrane and bending energy, with the 2 pi r weight (``offset``: see
+    :func:`shell_strains`)."""
+    e = shell_strains(u, beta, r, t, offset)
+    ev = shell_strains(v, gamma, r, t, offset)
     N_s, N_th = membrane_forces(e[0], e[1], E, nu, thickness)
     M_s, M_th = bending_moments(e[2], e[3], E, nu, thickness)
     work = N_s * ev[0] + N_th * ev[1] + M_s * ev[2] + M_th * ev[3]
@@ -151,3 +161,56 @@ def line_mesh(comm: MPI.Comm, points: np.ndarray, tags: np.ndarray | None = None
     values = tag_of[np.argmin(d, axis=1)]
     ct = dmesh.meshtags(msh, 1, np.arange(ncells, dtype=np.int32), values)
     return msh, ct
+
+
+class StandaloneShell:
+    """A plate or wall on its own, on rigid supports: for verification against plate and
+    shell theory, and for benchmarks. ``supports`` maps a vertex predicate ``f(x) -> bool``
+    to the constrained components among "u_r", "u_z", "beta"; ``load(v, x)`` returns the
+    work density of the applied load on the test displacement v (per unit meridian area)."""
+
+    def __init__(self, points, E, nu, thickness, supports, load, comm=MPI.COMM_WORLD):
+        from .solve import DirectSolver
+
+        self.mesh, self.cell_tags = line_mesh(comm, points)
+        msh = self.mesh
+        msh.topology.create_connectivity(0, 1)
+        self.W = structure_space(msh)
+        self.E, self.nu, self.thickness = (fem.Constant(msh, float(v)) for v in (E, nu, thickness))
+        x = ufl.SpatialCoordinate(msh)
+        self.r, self.t = x[0], tangent(msh)
+        dx = ufl.Measure("dx", domain=msh)
+        u, b, Q = ufl.TrialFunctions(self.W)
+        v, g, P = ufl.TestFunctions(self.W)
+        a = (shell_stiffness(u, b, v, g, self.r, self.t, self.E, self.nu, self.thickness, dx)
+             + kirchhoff_constraint(Q, g, v, self.t, self.r, dx)
+             + kirchhoff_constraint(P, b, u, self.t, self.r, dx))
+        L = load(v, x) * 2.0 * math.pi * self.r * dx
+        spaces = {"u_r": self.W.sub(0).sub(0), "u_z": self.W.sub(0).sub(1),
+                  "beta": self.W.sub(1)}
+        bcs = []
+        for where, comps in supports.items():
+            verts = dmesh.locate_entities(msh, 0, where)
+            for c in comps:
+                V, _ = spaces[c].collapse()
+                dofs = fem.locate_dofs_topological((spaces[c], V), 0, verts)
+                bcs.append(fem.dirichletbc(fem.Function(V), dofs, spaces[c]))
+        self.w = fem.Function(self.W)
+        DirectSolver(a, L, bcs, self.w, name="shell").solve()
+
+    def resultants(self) -> dict:
+        """M_s, M_theta, N_s, N_theta, Q (DG2 fields) and u, beta, as in the coupled model."""
+        u, b, Q = ufl.split(self.w)
+        e = shell_strains(u, b, self.r, self.t, on_axis=True)
+        N_s, N_th = membrane_forces(e[0], e[1], self.E, self.nu, self.thickness)
+        M_s, M_th = bending_moments(e[2], e[3], self.E, self.nu, self.thickness)
+        D = fem.functionspace(self.mesh, ("DG", 2))
+        out = {}
+        for name, expr in {"M_s": M_s, "M_theta": M_th, "N_s": N_s, "N_theta": N_th,
+                           "Q": -Q}.items():
+            f = fem.Function(D, name=name)
+            f.interpolate(fem.Expression(expr, D.element.interpolation_points))
+            out[name] = f
+        out["u"] = self.w.sub(0).collapse()
+        out["beta"] = self.w.sub(1).collapse()
+        return out

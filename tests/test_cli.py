@@ -30,7 +30,7 @@ def test_run_writes_results_and_log_and_refuses_to_overwrite(tmp_path):
     r = json.loads((out / "results.json").read_text())
     assert KEYS <= set(r)
     assert set(r["nondim"]) == {"w0", "wd", "M0", "Kp", "Kt"}
-    assert set(r["profiles"]["surface"]) == {"r", "w", "u_r"}
+    assert set(r["profiles"]["surface"]) == {"r", "z", "w", "u_r"}
     assert set(r["profiles"]["axis"]) == {"z", "sigma_zz"}
     assert r["converged"] is True and r["M0"] is None
     assert "solved" in (out / "tankfx.log").read_text()
