@@ -27,7 +27,7 @@ $(STAMP): pyproject.toml
 	@touch $(STAMP)
 
 demo: $(STAMP)
-	$(PY) demos/flexible_load.py
+	$(PY) demos/embedded_tank.py
 
 test: test-serial test-mpi
 

@@ -13,7 +13,7 @@ import os
 import sys
 from pathlib import Path
 
-__all__ = ["main", "write_json"]
+__all__ = ["main", "write_json", "setup_logging"]
 
 EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
@@ -28,7 +28,7 @@ def write_json(path: Path, data: dict) -> None:
     os.replace(tmp, path)
 
 
-def _setup_logging(out: Path | None, rank: int) -> None:
+def setup_logging(out: Path | None, rank: int) -> None:
     logger = logging.getLogger("tankfx")
     logger.setLevel(logging.INFO)
     logger.handlers.clear()
@@ -69,7 +69,7 @@ def cmd_run(args) -> int:
     if comm.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
     comm.barrier()
-    _setup_logging(out, comm.rank)
+    setup_logging(out, comm.rank)
 
     from .analysis import analyse
     from .solve import SolveError

@@ -73,9 +73,11 @@ def _vertex_values(g: fem.Function, msh) -> np.ndarray:
 
 def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, extent: float,
                  depth_offset: float = 0.0, label: str = "sigma_zz [kPa]",
-                 scalar_scale: float = 1e-3, title: str = "", soil_cells=None) -> Path | None:
+                 scalar_scale: float = 1e-3, title: str = "", soil_cells=None,
+                 structure: dict | None = None) -> Path | None:
     """The (r, z) section within ``extent`` of the foundation centre, deformed (the scale is
-    printed on the figure) and coloured by ``scalar``. Returns the PNG path on rank 0."""
+    printed on the figure) and coloured by ``scalar``; ``structure`` (a gathered
+    results dict) adds the plate and wall as thick lines. Returns the PNG path on rank 0."""
     grid = gather_grid({"u": u, "s": scalar}, soil_cells)
     if grid is None:
         return None
@@ -85,11 +87,30 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
     disp[:, :2] = near.point_data["u"]
     umax = float(np.abs(disp).max()) or 1.0
     scale = 0.1 * extent / umax
+    members = []
+    if structure is not None and "plate" in structure["profiles"]:
+        # (undeformed points, displacements) of the plate and the wall
+        pl, z0 = structure["profiles"]["plate"], -depth_offset
+        members.append((np.column_stack([pl["r"], np.full(len(pl["r"]), z0)]),
+                        np.column_stack([pl["u_r"], -np.asarray(pl["w"])])))
+        if "wall" in structure["profiles"]:
+            wa = structure["profiles"]["wall"]
+            at = structure["scene"]["wall"]["radius"]
+            members.append((np.column_stack([np.full(len(wa["z"]), at),
+                                             z0 + np.asarray(wa["z"])]),
+                            np.column_stack([wa["u_r"], wa["u_z"]])))
     near.points = near.points + scale * disp
     near.point_data[label] = near.point_data["s"] * scalar_scale
     p = pv.Plotter(off_screen=True, window_size=(1100, 900))
+    # the colour range leaves out the singular peaks at the foundation edge (1 % of nodes)
+    clim = np.percentile(near.point_data[label], [0.5, 99.5])
     p.add_mesh(near, scalars=label, cmap="viridis", show_edges=True, edge_color="grey",
-               line_width=0.3, scalar_bar_args={"title": label, "vertical": True})
+               line_width=0.3, clim=clim, above_color="yellow",
+               scalar_bar_args={"title": label, "vertical": True})
+    for line in members:
+        # the plate and wall, displaced with the same scale
+        pts = np.column_stack([line[0] + scale * line[1], np.zeros(len(line[0]))])
+        p.add_mesh(pv.lines_from_points(pts), color="black", line_width=6)
     p.add_text(f"{title}\ndisplacements x {scale:.3g}", font_size=11)
     p.view_xy()
     p.show_bounds(xtitle="r [m]", ytitle="z [m]", location="outer", font_size=10)
@@ -122,6 +143,120 @@ def plot_surface_settlement(results: dict, path: str | Path, *, reference=None,
                       label="closed form")
     p = pv.Plotter(off_screen=True, window_size=(900, 600))
     p.add_chart(chart)
+    path = Path(path)
+    p.screenshot(str(path))
+    p.close()
+    return path
+
+
+def _member_diagram(pv, base, direction, normal, s, values, scale, color_pos, color_neg):
+    """Filled diagram of ``values`` along a member: base + s*direction, offset along normal."""
+    pts_base = base[None, :] + s[:, None] * direction[None, :]
+    pts_top = pts_base + (scale * values)[:, None] * normal[None, :]
+    meshes = []
+    for i in range(len(s) - 1):
+        quad = np.array([pts_base[i], pts_base[i + 1], pts_top[i + 1], pts_top[i]])
+        quad3 = np.column_stack([quad, np.zeros(4)])
+        poly = pv.PolyData(quad3, faces=[4, 0, 1, 2, 3])
+        poly.cell_data["sign"] = [1.0 if values[i] + values[i + 1] >= 0 else -1.0]
+        meshes.append(poly)
+    diagram = meshes[0].merge(meshes[1:]) if len(meshes) > 1 else meshes[0]
+    outline = pv.lines_from_points(np.column_stack([pts_top, np.zeros(len(s))]))
+    return diagram, outline
+
+
+def plot_moment_diagrams(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """The engineer's moment diagram drawn on the structure: M_r along the plate (drawn below
+    it when sagging) and M_z along the wall (drawn outside it when the outer face is in
+    tension), from the gathered profiles of ``results``. Rank 0 writes the PNG."""
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank != 0:
+        return None
+    pv = _pyvista()
+    sc = results["scene"]
+    a, D = sc["plate"]["radius"], sc["plate"].get("embedment", 0.0)
+    plate = results["profiles"]["plate"]
+    wall = results["profiles"].get("wall")
+    mmax = max(np.abs(plate["M_r"]).max(), np.abs(wall["M_z"]).max() if wall else 0.0) or 1.0
+    scale = 0.25 * a / mmax
+    p = pv.Plotter(off_screen=True, window_size=(1200, 800))
+    r = np.asarray(plate["r"])
+    diag, outline = _member_diagram(pv, np.array([0.0, -D]), np.array([1.0, 0.0]),
+                                    np.array([0.0, -1.0]), r, np.asarray(plate["M_r"]),
+                                    scale, "tab:blue", "tab:red")
+    p.add_mesh(diag, scalars="sign", cmap=["tab:red", "tab:blue"], show_scalar_bar=False,
+               opacity=0.6)
+    p.add_mesh(outline, color="black", line_width=2)
+    members = [np.array([[0.0, -D, 0.0], [a, -D, 0.0]])]
+    if wall is not None:
+        at = sc["wall"]["radius"]
+        z = np.asarray(wall["z"])
+        diag, outline = _member_diagram(pv, np.array([at, -D]), np.array([0.0, 1.0]),
+                                        np.array([1.0, 0.0]), z, np.asarray(wall["M_z"]),
+                                        scale, "tab:blue", "tab:red")
+        p.add_mesh(diag, scalars="sign", cmap=["tab:red", "tab:blue"], show_scalar_bar=False,
+                   opacity=0.6)
+        p.add_mesh(outline, color="black", line_width=2)
+        members.append(np.array([[at, -D, 0.0], [at, -D + z.max(), 0.0]]))
+        p.add_point_labels(np.array([[at + 0.05 * a, -D + 0.05 * a, 0.0]]),
+                           [f"M_z(base) = {wall['M_z'][0] / 1e3:.3g} kN m/m"], font_size=14,
+                           shape_opacity=0.3)
+    for m in members:
+        p.add_mesh(pv.Line(m[0], m[1]), color="grey", line_width=8)
+    p.add_point_labels(np.array([[0.0, -D - scale * plate["M_r"][0], 0.0]]),
+                       [f"M0 = {plate['M_r'][0] / 1e3:.3g} kN m/m"], font_size=14,
+                       shape_opacity=0.3)
+    ground = pv.Line((0.0, 0.0, 0.0), (1.3 * a, 0.0, 0.0))
+    p.add_mesh(ground, color="saddlebrown", line_width=2)
+    p.add_text(f"{title}\nbending moments (blue: plate underside / wall outer face in "
+               f"tension; red: the other face)\nscale: {scale * 1e3:.3g} m per kN m/m",
+               font_size=11)
+    p.view_xy()
+    p.show_bounds(xtitle="r [m]", ytitle="z [m]", location="outer", font_size=10)
+    path = Path(path)
+    p.screenshot(str(path))
+    p.close()
+    return path
+
+
+def plot_structure_profiles(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """Line charts: plate moments (M_r, M_theta), contact stresses under the plate, and the
+    wall's moment M_z and hoop force N_theta, against position. Rank 0 writes the PNG."""
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank != 0:
+        return None
+    pv = _pyvista()
+    plate = results["profiles"]["plate"]
+    wall = results["profiles"].get("wall")
+    ncol = 3 if wall else 2
+    p = pv.Plotter(off_screen=True, window_size=(600 * ncol, 500), shape=(1, ncol))
+    r = np.asarray(plate["r"])
+    c1 = pv.Chart2D(x_label="r [m]", y_label="moment [kN m/m]")
+    c1.title = f"{title}: plate moments"
+    c1.line(r, np.asarray(plate["M_r"]) / 1e3, color="tab:blue", width=3, label="M_r")
+    c1.line(r, np.asarray(plate["M_theta"]) / 1e3, color="tab:orange", width=3,
+            label="M_theta")
+    p.subplot(0, 0)
+    p.add_chart(c1)
+    c2 = pv.Chart2D(x_label="r [m]", y_label="contact stress [kPa]")
+    c2.title = "contact under the plate (compression +)"
+    c2.line(r, np.asarray(plate["contact_normal"]) / 1e3, color="tab:green", width=3,
+            label="normal")
+    c2.line(r, np.asarray(plate["contact_shear"]) / 1e3, color="tab:purple", width=3,
+            label="shear")
+    p.subplot(0, 1)
+    p.add_chart(c2)
+    if wall:
+        z = np.asarray(wall["z"])
+        c3 = pv.Chart2D(x_label="value", y_label="height above the base z [m]")
+        c3.title = "wall: M_z [kN m/m], N_theta / 10 [kN/m]"
+        c3.line(np.asarray(wall["M_z"]) / 1e3, z, color="tab:blue", width=3, label="M_z")
+        c3.line(np.asarray(wall["N_theta"]) / 1e4, z, color="tab:red", width=3,
+                label="N_theta / 10")
+        p.subplot(0, 2)
+        p.add_chart(c3)
     path = Path(path)
     p.screenshot(str(path))
     p.close()
