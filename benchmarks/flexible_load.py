@@ -6,7 +6,7 @@ element degrees, and the cost of truncating the half-space.
 Part 1 runs each (degree, level) case in a fresh process (`python -m tankfx run`), so "whole
 process" includes start-up, meshing and form compilation (JIT cached after the first run of a
 form). Errors are relative, against the closed forms of tankfx.reference. Level 0 is the
-default mesh (edge_size 0.05 a, near_size 0.1 a); each level up halves both sizes, each level
+default mesh (edge_size 0.002 a, near_size 0.1 a); each level up halves both sizes, each level
 down doubles them.
 
 Part 2 compares two ways of making the truncated domain act as a half-space: a graded mesh out
@@ -41,7 +41,7 @@ pressure = {P}
 load_radius = {A}
 [mesh]
 degree = {degree}
-edge_size = {min(0.05 * f, 0.5) * A}
+edge_size = {min(0.002 * f, 0.5) * A}
 near_size = {0.1 * f * A}
 """
 
@@ -104,7 +104,7 @@ def part2(factors, out: Path) -> list[dict]:
 
     from tankfx import Scene
     from tankfx import reference as ref
-    from tankfx.analysis import SoilProblem
+    from tankfx.analysis import FlexibleLoad
     from tankfx.mesh import build_domain
     from tankfx.post import evaluate_at
     from tankfx.solve import DirectSolver
@@ -121,9 +121,9 @@ def part2(factors, out: Path) -> list[dict]:
                                      "domain": {"radius": R * A, "depth": R * A},
                                      "mesh": {"degree": 3, "edge_size": 0.025, "near_size": 0.05}})
             dom = build_domain(scene, MPI.COMM_WORLD)
-            prob = SoilProblem(scene, dom)
+            prob = FlexibleLoad(scene, dom)
             if kind == "boussinesq":
-                far = fem.Function(prob.V)
+                far = fem.Function(prob.soil.V)
                 load = prob.applied_load
 
                 def field(x):
@@ -131,13 +131,13 @@ def part2(factors, out: Path) -> list[dict]:
                     return np.vstack([ur, -w])
 
                 far.interpolate(field)
-                dofs = fem.locate_dofs_topological(prob.V, 1, dom.facets("far_side", "bottom"))
+                dofs = fem.locate_dofs_topological(prob.soil.V, 1, dom.facets("far_side", "bottom"))
                 prob.bcs[1] = fem.dirichletbc(far, dofs)
             t = time.perf_counter()
-            DirectSolver(prob.a, prob.L, prob.bcs, prob.u).solve()
+            DirectSolver(prob.a, prob.L, prob.bcs, prob.soil.u).solve()
             ts = time.perf_counter() - t
-            w0 = -evaluate_at(prob.u, np.array([[0.0, 0.0]]))[0, 1]
-            ndofs = prob.V.dofmap.index_map.size_global * 2
+            w0 = -evaluate_at(prob.soil.u, np.array([[0.0, 0.0]]))[0, 1]
+            ndofs = prob.soil.V.dofmap.index_map.size_global * 2
             rows.append({"R": R, "boundary": kind, "dofs": ndofs, "solve_s": ts,
                          "err_w0": w0 / w_exact - 1})
             print(f"{R:7g} {kind:>12s} {ndofs:7d} {ts:8.2f} {w0 / w_exact - 1:+9.4%}")

@@ -1,0 +1,136 @@
+"""Plate and wall elements: locking, accuracy against element count, the cost of ignoring the
+plate's face offset, and the coupled raft (Brown 1969) against mesh size and run time.
+
+    python benchmarks/structure.py [--out results/benchmarks]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+import dolfinx_solver  # noqa: F401
+from mpi4py import MPI
+
+from tankfx import Scene, analyse
+from tankfx.coupled import TankModel
+from tankfx.mesh import build_domain
+from tankfx.post import evaluate_at
+from tankfx.solve import DirectSolver
+from tankfx.structure import StandaloneShell, flexural_rigidity, wall_beta
+
+say = print if MPI.COMM_WORLD.rank == 0 else (lambda *a, **k: None)
+
+
+def plate_locking(rows):
+    say("\n1. Clamped circular plate, uniform load (Timoshenko): error against thickness and "
+        "element count")
+    say(f"{'t/a':>7s} {'elements':>8s} {'err w0':>9s} {'err M_r(0)':>10s} {'err M_r(a)':>10s}")
+    a, q, E, nu = 1.0, 1e4, 30e9, 0.3
+    for t in (0.2, 0.1, 1e-2, 1e-3, 1e-4):
+        for n in (6, 12, 24):
+            s = 1.0 - (1.0 - np.linspace(0, 1, n + 1)) ** 1.5
+            shell = StandaloneShell(np.column_stack([s, 0 * s]), E, nu, t,
+                                    {lambda x: np.isclose(x[0], 0): {"u_r", "beta"},
+                                     lambda x: np.isclose(x[0], a): {"u_r", "u_z", "beta"}},
+                                    lambda v, x: -q * v[1])
+            F = shell.resultants()
+            D = flexural_rigidity(E, nu, t)
+            w0 = -evaluate_at(F["u"], np.array([[0.0, 0.0]]))[0, 1]
+            M = evaluate_at(F["M_s"], np.array([[0.0, 0.0], [a, 0.0]]))[:, 0]
+            e = (w0 / (q * a**4 / (64 * D)) - 1, M[0] / ((1 + nu) * q * a**2 / 16) - 1,
+                 M[1] / (-q * a**2 / 8) - 1)
+            rows.append({"case": "clamped plate", "t/a": t, "elements": n,
+                         "err_w0": e[0], "err_M0": e[1], "err_Ma": e[2]})
+            say(f"{t:7.0e} {n:8d} {e[0]:+9.2e} {e[1]:+10.2e} {e[2]:+10.2e}")
+
+
+def wall_base(rows):
+    say("\n2. Wall with a clamped base, full of liquid (long-shell theory)")
+    say(f"{'t/R':>7s} {'beta H':>7s} {'elements':>8s} {'err M0':>9s} {'err Q0':>9s}")
+    R, H, g, nu = 10.0, 8.0, 9810.0, 0.3
+    for tR in (1e-2, 1e-3, 1e-4):
+        t = tR * R
+        beta = wall_beta(R, t, nu)
+        for n in (30, 60):
+            z = H * np.linspace(0, 1, n + 1) ** 2
+            shell = StandaloneShell(np.column_stack([np.full(n + 1, R), z]), 200e9, nu, t,
+                                    {lambda x: np.isclose(x[1], 0): {"u_r", "u_z", "beta"}},
+                                    lambda v, x: g * (H - x[1]) * v[0])
+            F = shell.resultants()
+            M0 = evaluate_at(F["M_s"], np.array([[R, 0.0]]))[0, 0]
+            Q0 = evaluate_at(F["Q"], np.array([[R, 0.0]]))[0, 0]
+            e = (-M0 / (g * (H - 1 / beta) / (2 * beta**2)) - 1,
+                 abs(Q0) / (g * (2 * beta * H - 1) / (2 * beta**2)) - 1)
+            rows.append({"case": "clamped wall", "t/R": tR, "elements": n, "err_M0": e[0],
+                         "err_Q0": e[1]})
+            say(f"{tR:7.0e} {beta * H:7.1f} {n:8d} {e[0]:+9.2e} {e[1]:+9.2e}")
+
+
+def offset_cost(rows):
+    say("\n3. What ignoring the plate's face offset costs (bonded, nu_s = 0.3): change of the "
+        "result when the mid-surfaces are put on the contact lines")
+    say(f"{'Kp':>5s} {'wall':>5s} {'t_p/a':>6s} {'w0':>8s} {'wd':>8s} {'M0':>8s}")
+    for Kp in (0.1, 1.0, 10.0):
+        for wall in (False, True):
+            d = {"soil": {"E": 10e6, "nu": 0.3},
+                 "plate": {"radius": 1.0, "Kp": Kp, "E": 30e9, "nu": 0.2},
+                 "interface": {"condition": "bonded"}, "load": {"pressure": 100e3}}
+            if wall:
+                d["wall"] = {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2}
+            sc = Scene.from_dict(d)
+            out = []
+            for offset in (True, False):
+                m = TankModel(sc, build_domain(sc), face_offset=offset)
+                DirectSolver(m.a, m.L, m.bcs, m.unknowns, entity_maps=m.entity_maps).solve()
+                out.append(m.foundation_results())
+            ch = {k: out[1][k] / out[0][k] - 1 for k in ("w0", "wd", "M0")}
+            rows.append({"case": "offset ignored", "Kp": Kp, "wall": wall, **ch})
+            say(f"{Kp:5g} {str(wall):>5s} {sc.plate.thickness:6.3f} {ch['w0']:+8.2%} "
+                f"{ch['wd']:+8.2%} {ch['M0']:+8.2%}")
+
+
+def brown_raft(rows):
+    say("\n4. Free raft, smooth (Brown 1969, Kp = 10): error against mesh and run time")
+    say(f"{'P':>2s} {'edge/a':>7s} {'near/a':>7s} {'dofs':>8s} {'time s':>7s} {'err w0':>8s} "
+        f"{'err wd':>8s} {'err M0':>8s}")
+    ref = (1.588, 0.02378, 0.07470)
+    for deg, edge, near in ((2, 0.05, 0.1), (2, 0.01, 0.1), (2, 0.002, 0.1), (2, 0.002, 0.05),
+                            (3, 0.002, 0.2), (3, 0.002, 0.1)):
+        sc = Scene.from_dict({"soil": {"E": 10e6, "nu": 0.3},
+                              "plate": {"radius": 1.0, "Kp": 10.0, "E": 30e9, "nu": 0.3},
+                              "interface": {"condition": "smooth"}, "load": {"pressure": 1e5},
+                              "mesh": {"degree": deg, "edge_size": edge, "near_size": near}})
+        t = time.perf_counter()
+        r = analyse(sc).results
+        t = time.perf_counter() - t
+        k = 1e5 * 0.91 / 10e6
+        e = (r["w0"] / k / ref[0] - 1, r["wd"] / k / ref[1] - 1, r["nondim"]["M0"] / ref[2] - 1)
+        rows.append({"case": "Brown raft Kp=10", "degree": deg, "edge_size": edge,
+                     "near_size": near, "dofs": r["dofs"]["total"], "time_s": t,
+                     "err_w0": e[0], "err_wd": e[1], "err_M0": e[2]})
+        say(f"{deg:2d} {edge:7.3f} {near:7.2f} {r['dofs']['total']:8d} {t:7.2f} {e[0]:+8.2%} "
+            f"{e[1]:+8.2%} {e[2]:+8.2%}")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--out", default="results/benchmarks")
+    args = ap.parse_args()
+    rows: list[dict] = []
+    plate_locking(rows)
+    wall_base(rows)
+    offset_cost(rows)
+    brown_raft(rows)
+    if MPI.COMM_WORLD.rank == 0:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "structure.json").write_text(json.dumps(rows, indent=1))
+        say(f"\ntable written to {out / 'structure.json'}")
+
+
+if __name__ == "__main__":
+    main()
