@@ -175,6 +175,9 @@ class FlexibleLoad:
         im = self.soil.V.dofmap.index_map
         return {"soil": im.size_global * self.soil.V.dofmap.index_map_bs}
 
+    def solve(self, solver, log) -> None:
+        solver.solve()
+
     def soil_residual(self):
         return ufl.action(self.a, self.soil.u) - self.L
 
@@ -221,7 +224,7 @@ def analyse(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> Solution:
     log.info("dofs: %s (soil P%d); assembling and solving with MUMPS",
              ", ".join(f"{k} {v}" for k, v in dofs.items()), scene.mesh.degree)
     t = time.perf_counter()
-    solver.solve()
+    model.solve(solver, log)
     timings["assemble_solve"] = time.perf_counter() - t
     log.info("solved in %.2f s", timings["assemble_solve"])
 

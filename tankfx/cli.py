@@ -78,7 +78,8 @@ def cmd_run(args) -> int:
         solution = analyse(scene, comm)
     except SolveError as e:
         if comm.rank == 0:
-            write_json(target, {"title": scene.title, "converged": False, "error": str(e)})
+            write_json(target, {"title": scene.title, "converged": False, "error": str(e),
+                                "history": e.history})
         logging.getLogger("tankfx").error("not converged: %s", e)
         return _fail(f"the analysis did not converge: {e}", EXIT_NOT_CONVERGED)
     r = solution.results

@@ -18,6 +18,7 @@ import numpy as np
 import ufl
 from dolfinx import fem, la
 from dolfinx import mesh as dmesh
+from mpi4py import MPI
 
 from . import interface
 from . import structure as st
@@ -25,6 +26,7 @@ from .analysis import SoilBlock
 from .mesh import FACET_TAGS, Domain
 from .post import allsum, assemble_scalar, evaluate_at
 from .scene import Scene
+from .solve import SolveError
 
 __all__ = ["TankModel"]
 
@@ -61,11 +63,12 @@ class TankModel:
 
         # ---- properties per structure cell (DG0): plate and wall differ
         Q0 = fem.functionspace(sub, ("DG", 0))
+        self.cell_dof = Q0.dofmap.list[:, 0]   # DG0 dof of each local cell
 
         def cellwise(plate_value, wall_value, name):
             f = fem.Function(Q0, name=name)
-            f.x.array[self.plate_cells] = plate_value
-            f.x.array[self.wall_cells] = wall_value
+            f.x.array[self.cell_dof[self.plate_cells]] = plate_value
+            f.x.array[self.cell_dof[self.wall_cells]] = wall_value
             return f
 
         pl, wa = scene.plate, scene.wall
@@ -77,7 +80,7 @@ class TankModel:
         # thickness inside (face_offset=False puts them on the mesh lines, for comparison)
         self.offset = cellwise(0.5 * pl.thickness if face_offset else 0.0,
                                0.5 * wall_or("thickness") if face_offset else 0.0, "offset")
-        self.k_n, self.k_s = self._penalty(Q0, values)
+        self.k_n, self.k_s, self.mu, self.c_s = self._penalty(Q0, values)
 
         # ---- spaces, unknowns, forms
         self.W = st.structure_space(sub, 3)
@@ -92,20 +95,27 @@ class TankModel:
 
     # ------------------------------------------------------------------ set-up
     def _penalty(self, Q0, values):
-        """k_n, k_s = factor E_soil(depth) / h on the cells in contact with soil."""
-        s = self.scene
-        sub = self.mesh
+        """Interface stiffnesses of the contact cells and the DG0 traction coefficients
+        (k_n, k_s, mu, c_s of :mod:`tankfx.interface`) of their current state."""
+        s, sub = self.scene, self.mesh
         cells = np.arange(len(values), dtype=np.int32)
         mid = dmesh.compute_midpoints(sub, 1, cells)
         h = sub.h(1, cells)
         depth = np.maximum(-mid[:, 1], 0.0)
         E_soil = s.soil.E * (1.0 + s.soil.E_gradient * depth)
-        contact = (values == st.PLATE) | (values == st.WALL_EMBEDDED)
-        k = np.where(contact, interface.PENALTY_FACTOR * E_soil / h, 0.0)
-        k_n, k_s = fem.Function(Q0, name="k_n"), fem.Function(Q0, name="k_s")
-        k_n.x.array[:] = k
-        k_s.x.array[:] = k if s.interface.condition == "bonded" else 0.0
-        return k_n, k_s
+        self.in_contact = (values == st.PLATE) | (values == st.WALL_EMBEDDED)
+        default = interface.PENALTY_FACTOR * E_soil / h
+        ifc = s.interface
+        kn = np.full(len(values), ifc.normal_stiffness) if ifc.normal_stiffness else default
+        ks = np.full(len(values), ifc.shear_stiffness) if ifc.shear_stiffness else kn
+        self.stiffness_n = np.where(self.in_contact, kn, 0.0)
+        self.stiffness_s = np.where(self.in_contact, ks, 0.0)
+        fields = [fem.Function(Q0, name=n) for n in ("k_n", "k_s", "mu", "c_s")]
+        fields[0].x.array[self.cell_dof] = self.stiffness_n
+        fields[1].x.array[self.cell_dof] = 0.0 if ifc.condition == "smooth" else \
+            self.stiffness_s
+        self.status = np.where(self.in_contact, interface.STICK, -1)
+        return fields
 
     def _interface_measures(self):
         """(tag name, normal, tangent, [(measure, restriction)]) of each interface part."""
@@ -134,17 +144,21 @@ class TankModel:
                                    self.dx_b, self.offset)
                 + st.kirchhoff_constraint(Q, gamma, v_b, t_b, r_b, self.dx_b)
                 + st.kirchhoff_constraint(P, beta, u_b, t_b, r_b, self.dx_b))
-        a_bb += interface.penalty_form(u_b, v_b, st.normal(t_b), t_b, self.k_n, self.k_s, r_b,
-                                       self.dx_b((st.PLATE, st.WALL_EMBEDDED)))
+        # the interface on the structure's side, -u_b in the jump; the soil's side and the
+        # cross terms are integrated over the parent's facets below
+        a_bb += interface.interface_form(u_b, v_b, st.normal(t_b), t_b, self.k_n, self.k_s,
+                                         self.mu, r_b, self.dx_b((st.PLATE, st.WALL_EMBEDDED)))
         a_ss, a_sb, a_bs = soil.a, 0, 0
         r = soil.r
         for _, n, t, pieces in self._interface_measures():
             for measure, R in pieces:
-                kn, ks = R(self.k_n), R(self.k_s)
-                a_ss += interface.penalty_form(R(soil.trial), R(soil.test), n, t, kn, ks, r,
-                                               measure)
-                a_sb -= interface.penalty_form(R(u_b), R(soil.test), n, t, kn, ks, r, measure)
-                a_bs -= interface.penalty_form(R(soil.trial), R(v_b), n, t, kn, ks, r, measure)
+                kn, ks, mu = R(self.k_n), R(self.k_s), R(self.mu)
+                a_ss += interface.interface_form(R(soil.trial), R(soil.test), n, t, kn, ks, mu,
+                                                 r, measure)
+                a_sb -= interface.interface_form(R(u_b), R(soil.test), n, t, kn, ks, mu, r,
+                                                 measure)
+                a_bs -= interface.interface_form(R(soil.trial), R(v_b), n, t, kn, ks, mu, r,
+                                                 measure)
         return [[a_ss, a_sb], [a_bs, a_bb]]
 
     def _loads(self):
@@ -172,6 +186,14 @@ class TankModel:
             load += -s.plate.unit_weight * s.plate.thickness * v_b[1] * w * dx_p
             if s.wall is not None:
                 load += -s.wall.unit_weight * s.wall.thickness * v_b[1] * w * dx_w
+        if s.interface.condition == "mohr_coulomb":
+            # the cohesion carried by slipping elements, c_s (dj . t), dj = v_soil - v_face
+            load -= interface.interface_load(v_f, self.t_b, self.c_s, r_b,
+                                             self.dx_b((st.PLATE, st.WALL_EMBEDDED)))
+            for _, n, t, pieces in self._interface_measures():
+                for measure, R in pieces:
+                    zero_soil += interface.interface_load(R(self.soil.test), t, R(self.c_s),
+                                                          self.soil.r, measure)
         return [zero_soil, load]
 
     def _symmetry(self):
@@ -212,6 +234,15 @@ class TankModel:
         return {"soil": self.soil.V.dofmap.index_map.size_global * 2,
                 "structure": im.size_global * self.W.dofmap.index_map_bs}
 
+    def solve(self, solver, log) -> None:
+        """One linear solve for bonded and smooth contact; the Mohr-Coulomb iteration
+        otherwise (a scene that does not need the return does not run it)."""
+        self.interface_result = None
+        if self.scene.interface.condition != "mohr_coulomb":
+            solver.solve()
+            return
+        self.interface_result = InterfaceIteration(self).run(solver, log)
+
     def soil_residual(self):
         a_ss, a_sb = self.a[0]
         return ufl.action(a_ss, self.soil.u) + ufl.action(a_sb, self.w) - self.L[0]
@@ -223,7 +254,8 @@ class TankModel:
         for _, n, t, pieces in self._interface_measures():
             for measure, R in pieces:
                 jump = R(self.soil.u) - R(u_b)
-                sn, tau = interface.tractions(jump, n, t, R(self.k_n), R(self.k_s))
+                sn, tau = interface.tractions(jump, n, t, R(self.k_n), R(self.k_s), R(self.mu),
+                                              R(self.c_s))
                 fz = sn * n[1] + tau * t[1]
                 total += fem.assemble_scalar(fem.form(fz * 2.0 * math.pi * self.soil.r *
                                                       measure, entity_maps=self.entity_maps))
@@ -246,6 +278,9 @@ class TankModel:
         out["u"] = self.w.sub(0).collapse()
         out["beta"] = self.w.sub(1).collapse()
         out["sigma_n"], out["tau"] = self.contact_stresses()
+        status = fem.Function(self.k_n.function_space, name="status")
+        status.x.array[self.cell_dof] = self.status
+        out["status"] = status
         return out
 
     def _stations(self, cells):
@@ -274,7 +309,7 @@ class TankModel:
         for _, n, t, pieces in self._interface_measures():
             for measure, R in pieces:
                 sn, tau = interface.tractions(R(self.soil.u) - R(u_b), n, t, R(self.k_n),
-                                              R(self.k_s))
+                                              R(self.k_s), R(self.mu), R(self.c_s))
                 w = 2.0 * math.pi * self.soil.r * R(q)
                 num_n += sn * w * measure
                 num_t += tau * w * measure
@@ -330,7 +365,8 @@ class TankModel:
                  "M_r": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist(),
                  "M_theta": evaluate_at(F["M_theta"], pts, cells)[:, 0].tolist(),
                  "Q_r": evaluate_at(F["Q"], pts, cells)[:, 0].tolist(),
-                 "contact_normal": sn.tolist(), "contact_shear": tau.tolist()}
+                 "contact_normal": sn.tolist(), "contact_shear": tau.tolist(),
+                 "contact_status": self._status_at(F, pts, cells)}
         profiles = {"plate": plate}
         if s.wall is not None:
             cells = self.wall_cells
@@ -349,15 +385,46 @@ class TankModel:
                 below = pts[:, 1] <= 1e-12
                 wall["contact_normal"] = np.where(below, sn, 0.0).tolist()
                 wall["contact_shear"] = np.where(below, tau, 0.0).tolist()
+                wall["contact_status"] = [st_ if b else "none" for st_, b in
+                                          zip(self._status_at(F, pts, cells), below)]
             profiles["wall"] = wall
         applied = self.applied_load
         contact = self.contact_resultant()
         out = {"profiles": profiles,
                "equilibrium": {"contact_resultant": contact,
-                               "contact_relative_error": abs(contact - applied) / applied}}
+                               "contact_relative_error": abs(contact - applied) / applied},
+               "interface": self._interface_summary()}
         if s.wall is not None:
             out["junction"] = self._junction(F)
         return out
+
+    def _status_at(self, F, pts, cells) -> list[str]:
+        """The interface state of the element at each station (vertices: the element on the
+        axis side)."""
+        codes = evaluate_at(F["status"], pts, cells)[:, 0]
+        return [interface.STATUS_NAMES.get(int(round(c)), "none") for c in codes]
+
+    def _interface_summary(self) -> dict:
+        """Lengths in each state (per part), iterations and history of the interface."""
+        comm = self.mesh.comm
+        n_owned = self.mesh.topology.index_map(1).size_local
+        h = self.mesh.h(1, np.arange(n_owned, dtype=np.int32))
+        values = self.cell_tags.values[np.argsort(self.cell_tags.indices)][:n_owned]
+        lengths = {}
+        for name, code in (("stick", interface.STICK), ("slip", interface.SLIP),
+                           ("separated", interface.SEPARATED)):
+            for part, tag in (("plate", st.PLATE), ("wall", st.WALL_EMBEDDED)):
+                mine = (self.status[:n_owned] == code) & (values == tag)
+                lengths.setdefault(f"{name}_length", {})[part] = comm.allreduce(
+                    float(h[mine].sum()))
+        res = self.interface_result or {"converged": True, "iterations": 0, "history": [],
+                                        "criterion": "linear interface: one solve"}
+        return {"condition": self.scene.interface.condition, **res, **lengths,
+                "normal_stiffness_range": [
+                    comm.allreduce(float(self.stiffness_n[self.in_contact].min(initial=np.inf)),
+                                   op=MPI.MIN),
+                    comm.allreduce(float(self.stiffness_n[self.in_contact].max(initial=0.0)),
+                                   op=MPI.MAX)]}
 
     def _junction(self, F) -> dict:
         """Moments at the wall-plate joint, N m/m. The mesh vertex is the joint's outer
@@ -382,3 +449,116 @@ class TankModel:
         M_w, Mc_w = about_corner(self.wall_cells, e_w)
         return {"M_plate": M_in, "M_plate_outside": M_out, "M_wall": M_w,
                 "M_plate_about_corner": Mc_in - Mc_out, "M_wall_about_corner": Mc_w}
+
+
+class InterfaceIteration:
+    """The Mohr-Coulomb active-set iteration of a :class:`TankModel` (Eqs. 6-16).
+
+    Each pass solves the linear system with the current element states, then re-decides every
+    element's state from its average jump (:func:`tankfx.interface.element_states`). The
+    paper instead re-solves with self-equilibrating excess forces (Eqs. 14-16) and the same
+    stiffness; changing the element's stiffness and traction law (stick / slip / separated)
+    reaches the same fixed point in a handful of solves. It stops when no element changes
+    state (every element then satisfies |tau| <= c + sigma_n tan phi and sigma_n >= 0 by
+    construction, and the tractions no longer change), refuses a state that recurs (a cycling
+    active set), and gives up after ``max_iterations`` solves; both failures raise
+    :class:`~tankfx.solve.SolveError` with the history.
+    """
+
+    max_iterations = 50
+
+    def __init__(self, model: "TankModel"):
+        self.model = model
+        m = model
+        Q0 = m.k_n.function_space
+        q = ufl.TestFunction(Q0)
+        u_b = ufl.split(m.w)[0]
+        jn = jt = area = 0
+        for _, n, t, pieces in m._interface_measures():
+            for measure, R in pieces:
+                j = R(m.soil.u) - R(u_b)
+                w = 2.0 * math.pi * m.soil.r * R(q)
+                jn += ufl.dot(j, n) * w * measure
+                jt += ufl.dot(j, t) * w * measure
+                area += w * measure
+        self.forms = [fem.form(f, entity_maps=m.entity_maps) for f in (jn, jt, area)]
+        n_owned = m.mesh.topology.index_map(1).size_local
+        self.owned = np.flatnonzero(m.in_contact[:n_owned])
+        self.history: list[dict] = []
+
+    def _cellwise(self, form) -> np.ndarray:
+        vec = fem.assemble_vector(form)
+        vec.scatter_reverse(la.InsertMode.add)
+        vec.scatter_forward()
+        return vec.array[self.model.cell_dof]
+
+    def element_jumps(self):
+        jn, jt, area = (self._cellwise(f) for f in self.forms)
+        area = np.where(area > 0, area, 1.0)
+        return jn / area, jt / area
+
+    def _global_status(self, status) -> tuple:
+        """The state of every interface element, in an order independent of the partition
+        (by element midpoint), on every rank."""
+        m = self.model
+        mids = dmesh.compute_midpoints(m.mesh, 1, self.owned.astype(np.int32))[:, :2]
+        mids = np.concatenate(m.mesh.comm.allgather(np.round(mids, 12)))
+        vals = np.concatenate(m.mesh.comm.allgather(status[self.owned]))
+        return tuple(vals[np.lexsort((mids[:, 1], mids[:, 0]))].tolist())
+
+    def run(self, solver, log) -> dict:
+        import time
+
+        m, s = self.model, self.model.scene
+        ifc = s.interface
+        tan_phi = ifc.tan_phi if ifc.tan_phi is not None else 0.0
+        comm = m.mesh.comm
+        seen = {self._global_status(m.status): 0}
+        previous = None
+        log.info("Mohr-Coulomb interface: c = %g Pa, tan phi = %g; iterating on the element "
+                 "states", ifc.cohesion, tan_phi)
+        log.info("  it  changed   stick    slip  separ.  traction change   time s")
+        for it in range(1, self.max_iterations + 1):
+            t0 = time.perf_counter()
+            solver.solve()
+            jn, jt = self.element_jumps()
+            # tractions of the state just solved (what the structure actually felt)
+            kn, ks, mu, c = (f.x.array[m.cell_dof] for f in (m.k_n, m.k_s, m.mu, m.c_s))
+            sigma = kn * jn
+            tau = ks * jt + mu * sigma + c
+            traction = np.concatenate([sigma[self.owned], tau[self.owned]])
+            norm = np.sqrt(comm.allreduce(float(traction @ traction)))
+            change = float("inf") if previous is None else np.sqrt(comm.allreduce(
+                float((traction - previous) @ (traction - previous)))) / max(norm, 1e-300)
+            previous = traction
+            status, kn, ks, mu, c = interface.element_states(
+                jn, jt, m.stiffness_n, m.stiffness_s, ifc.cohesion, tan_phi)
+            status = np.where(m.in_contact, status, -1)
+            changed = comm.allreduce(int(np.sum(status[self.owned] != m.status[self.owned])))
+            counts = [comm.allreduce(int(np.sum(status[self.owned] == k)))
+                      for k in (interface.STICK, interface.SLIP, interface.SEPARATED)]
+            row = {"iteration": it, "changed": changed, "stick": counts[0], "slip": counts[1],
+                   "separated": counts[2], "traction_change": change,
+                   "time_s": time.perf_counter() - t0}
+            self.history.append(row)
+            log.info("  %2d %8d %7d %7d %7d %16.3e %8.2f", it, changed, *counts, change,
+                     row["time_s"])
+            if changed == 0:
+                return {"converged": True, "iterations": it, "history": self.history,
+                        "criterion": "no element changed state; traction change "
+                                     f"{change:.1e}"}
+            if counts[0] + counts[1] == 0:
+                raise SolveError("the interface separated everywhere: nothing holds the "
+                                 "foundation (is the net load upward?)", self.history)
+            m.status[:] = status
+            for f, v in zip((m.k_n, m.k_s, m.mu, m.c_s), (kn, ks, mu, c)):
+                f.x.array[m.cell_dof] = np.where(m.in_contact, v, 0.0)
+            key = self._global_status(m.status)
+            if key in seen:
+                raise SolveError(
+                    f"the interface's active set cycles: the states of iteration {it} repeat "
+                    f"those of iteration {seen[key]}; the element states oscillate (try "
+                    f"smaller interface stiffnesses or a finer mesh)", self.history)
+            seen[key] = it
+        raise SolveError(f"the interface iteration did not converge in {self.max_iterations} "
+                         f"solves", self.history)

@@ -161,6 +161,11 @@ class Scene:
             if part is not None:
                 out[name] = {f.name: getattr(part, f.name) for f in fields(part)
                              if getattr(part, f.name) is not None}
+        if self.plate is None:
+            del out["interface"]
+        elif self.interface.condition != "mohr_coulomb":
+            for key in ("cohesion", "tan_phi"):
+                out["interface"].pop(key, None)
         return out
 
     @staticmethod
@@ -363,13 +368,20 @@ def _parse(data: dict[str, Any]) -> Scene:
     fa = interface.get("friction_angle")
     if fa is not None and not (0.0 <= fa < 90.0):
         rd.bad(f"interface.friction_angle = {fa!r}: degrees, must lie in [0, 90)")
-    if cond == "mohr_coulomb":
-        rd.bad("interface.condition = 'mohr_coulomb': the Mohr-Coulomb interface is not "
-               "available in this version of tankfx; use \"bonded\" or \"smooth\"")
+    if cond == "mohr_coulomb" and "tan_phi" not in interface \
+            and "friction_angle" not in interface:
+        rd.bad("interface.tan_phi: missing for condition = \"mohr_coulomb\"; give tan_phi or "
+               "friction_angle (degrees)")
+    if cond != "mohr_coulomb":
+        for key in ("cohesion", "tan_phi", "friction_angle"):
+            if key in interface:
+                rd.bad(f"interface.{key}: only used with condition = \"mohr_coulomb\"; remove "
+                       f"it or change the condition")
+    if "plate" not in data and "interface" in data:
+        rd.bad("[interface]: an interface needs a [plate]; remove it for a flexible load")
 
     load = secs["load"]
     if load is not None:
-        rd.positive(load, "load", "pressure", allow_zero=True)
         rd.positive(load, "load", "load_radius")
         rd.positive(load, "load", "liquid_unit_weight", allow_zero=True)
         rd.positive(load, "load", "liquid_height", allow_zero=True)
@@ -394,6 +406,9 @@ def _parse(data: dict[str, Any]) -> Scene:
         if wall is not None and "height" in wall and load.get("liquid_height", 0.0) > wall["height"]:
             rd.bad(f"load.liquid_height = {load['liquid_height']!r} is higher than wall.height = "
                    f"{wall['height']!r}: the tank would overflow; lower the liquid")
+        if load.get("pressure", 0.0) < 0.0 and "plate" not in data:
+            rd.bad(f"load.pressure = {load['pressure']!r}: a flexible load must press "
+                   f"(>= 0); an upward pressure needs a [plate] to pull on")
         if load.get("pressure", 0.0) == 0.0 and load.get("liquid_height", 0.0) * \
                 load.get("liquid_unit_weight", 0.0) == 0.0 and not load.get("self_weight", False):
             rd.bad("[load]: no load is applied; give load.pressure > 0 (Pa), a liquid, or "
@@ -468,6 +483,20 @@ def _parse(data: dict[str, Any]) -> Scene:
     edge = mesh.get("edge_size", DEFAULT_EDGE_SIZE * a)
     if D > 0 and "edge_size" not in mesh:
         edge = min(edge, 0.5 * D)  # the side of the pit needs at least two elements
+    if interface_dc.condition == "mohr_coulomb":
+        net = load_dc.pressure * math.pi * a**2
+        if wall_dc is not None:
+            net += load_dc.liquid_unit_weight * load_dc.liquid_height * math.pi * wall_dc.radius**2
+        if load_dc.self_weight:
+            net += plate_dc.unit_weight * plate_dc.thickness * math.pi * a**2
+            if wall_dc is not None:
+                net += wall_dc.unit_weight * wall_dc.thickness * 2 * math.pi * wall_dc.radius * \
+                    wall_dc.height
+        if net <= 0.0:
+            raise SceneError([f"[load]: the net vertical load is {net:.4g} N, upward (uplift): "
+                              f"a Mohr-Coulomb interface takes no tension, so nothing would "
+                              f"hold the foundation down; use condition = \"bonded\" for an "
+                              f"anchored foundation, or add downward load"])
     mesh_dc = MeshOptions(degree=deg, edge_size=edge, growth=mesh.get("growth", 0.2),
                           near_size=mesh.get("near_size", DEFAULT_NEAR_SIZE * a))
     return Scene(soil=soil_dc, load=load_dc, domain=domain_dc, mesh=mesh_dc, plate=plate_dc,

@@ -24,7 +24,12 @@ MAX_RELATIVE_RESIDUAL = 1e-6
 
 
 class SolveError(RuntimeError):
-    """A solve that did not converge; its numbers must not be reported as results."""
+    """A solve that did not converge; its numbers must not be reported as results. ``history``
+    holds the iteration history of a nonlinear solve, when there is one."""
+
+    def __init__(self, message: str, history: list | None = None):
+        super().__init__(message)
+        self.history = history or []
 
 
 class DirectSolver:

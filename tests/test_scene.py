@@ -80,8 +80,10 @@ def test_Kp_and_thickness_are_inverse():
      "embedment"),
     (with_(plate=PLATE, wall=WALL, load={"liquid_height": 6.0, "liquid_unit_weight": 1e4}),
      "load.liquid_height", "higher than wall.height"),
-    (with_(interface={"condition": "rough"}), "interface.condition", "valid"),
-    (with_(interface={"tan_phi": 0.5, "friction_angle": 30.0}), "interface.tan_phi", "not both"),
+    (with_(plate=PLATE, interface={"condition": "rough"}), "interface.condition", "valid"),
+    (with_(plate=PLATE, interface={"condition": "mohr_coulomb", "tan_phi": 0.5,
+                                   "friction_angle": 30.0}), "interface.tan_phi", "not both"),
+    (with_(interface={"condition": "smooth"}), "[interface]", "needs a [plate]"),
 ])
 def test_bad_input_is_refused_with_key_and_fix(data, key, fix):
     msg = problems(data)
@@ -94,12 +96,27 @@ def test_all_problems_are_reported_at_once():
 
 
 def test_unfinished_models_are_refused_not_ignored():
-    """The Mohr-Coulomb interface and the hyperbolic soil are validated, then refused with a
-    clear message until they exist (never silently run as something else)."""
-    msg = problems(with_(plate=PLATE, interface={"condition": "mohr_coulomb"}))
-    assert "interface.condition" in msg and "not" in msg and "available" in msg
+    """The hyperbolic soil is validated, then refused with a clear message until it exists
+    (never silently run as linear)."""
     msg = problems(with_(soil={"model": "hyperbolic"}))
     assert "soil.model" in msg and "not available" in msg
+
+
+def test_mohr_coulomb_needs_friction_and_refuses_uplift():
+    plate_scene = with_(load=None, plate=PLATE) | {"load": {"pressure": 1e5}}
+    msg = problems(plate_scene | {"interface": {"condition": "mohr_coulomb"}})
+    assert "interface.tan_phi" in msg and "friction_angle" in msg
+    msg = problems(plate_scene | {"interface": {"condition": "bonded", "tan_phi": 0.5}})
+    assert "interface.tan_phi" in msg and "only used with" in msg
+    uplift = with_(load=None, plate=PLATE) | {"load": {"pressure": -1e4},
+                                              "interface": {"condition": "mohr_coulomb",
+                                                            "tan_phi": 0.5}}
+    msg = problems(uplift)
+    assert "upward" in msg and "no tension" in msg
+    # an anchored (bonded) foundation may be pulled up
+    Scene.from_dict(uplift | {"interface": {"condition": "bonded"}})
+    msg = problems(with_(load={"pressure": -1.0}))
+    assert "load.pressure" in msg and "flexible load must press" in msg
 
 
 def test_plate_and_wall_are_resolved_from_Kp_and_Kt():
