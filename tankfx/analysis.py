@@ -24,10 +24,10 @@ from mpi4py import MPI
 from . import soil as soil_forms
 from .mesh import CELL_TAGS, FACET_TAGS, Domain, build_domain
 from .post import assemble_scalar, evaluate_at, nodal_values_on_facets
-from .scene import Scene
+from .scene import Load, Scene
 from .solve import DirectSolver, reaction_force
 
-__all__ = ["Solution", "analyse", "CONVENTIONS"]
+__all__ = ["Solution", "analyse", "analyse_path", "CONVENTIONS"]
 
 log = logging.getLogger("tankfx")
 
@@ -205,6 +205,18 @@ def build_model(scene: Scene, domain: Domain):
 
 def analyse(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> Solution:
     """Mesh, solve and post-process a scene; returns the solution and its results dict."""
+    return analyse_path(scene, [scene.load], comm)[-1]
+
+
+def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD) -> list[Solution]:
+    """Solve a scene under a sequence of total loads (``Load`` objects or ``[load]`` dicts),
+    on one mesh, carrying the interface's element states from each stage to the next: an
+    element separated at one stage and in contact at the next is reported ``rebonded``.
+    (Each stage is the response to its total load, as in the paper; slip is not
+    accumulated along the path.) Returns one solution per stage."""
+    from dataclasses import replace
+
+    stages = [ld if isinstance(ld, Load) else scene.with_changes(load=ld).load for ld in loads]
     t_start = time.perf_counter()
     timings: dict[str, float] = {}
     log.info("scene '%s': meshing on rank 0, distributing over %d rank(s)", scene.title,
@@ -216,29 +228,38 @@ def analyse(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD) -> Solution:
     log.info("mesh: %d cells in %.2f s", ncells, timings["mesh"])
 
     t = time.perf_counter()
-    model = build_model(scene, domain)
+    model = build_model(replace(scene, load=stages[0]), domain)
     solver = DirectSolver(model.a, model.L, model.bcs, model.unknowns,
                           entity_maps=model.entity_maps, name="tank")
     timings["forms"] = time.perf_counter() - t
     dofs = model.dofs()
     log.info("dofs: %s (soil P%d); assembling and solving with MUMPS",
              ", ".join(f"{k} {v}" for k, v in dofs.items()), scene.mesh.degree)
-    t = time.perf_counter()
-    model.solve(solver, log)
-    timings["assemble_solve"] = time.perf_counter() - t
-    log.info("solved in %.2f s", timings["assemble_solve"])
+    solutions = []
+    for k, load in enumerate(stages):
+        stage_scene = replace(scene, load=load)
+        if k > 0:
+            log.info("load stage %d of %d", k + 1, len(stages))
+            model.set_loads(load)
+        t = time.perf_counter()
+        model.solve(solver, log)
+        timings["assemble_solve"] = time.perf_counter() - t
+        log.info("solved in %.2f s", timings["assemble_solve"])
 
-    t = time.perf_counter()
-    sigma_zz = model.soil.vertical_stress()
-    results = _results(scene, domain, model, sigma_zz)
-    timings["post"] = time.perf_counter() - t
-    timings["total"] = time.perf_counter() - t_start
-    results["dofs"] = dofs | {"total": solver.matrix_size}
-    results["timings_s"] = timings
-    results["mpi_ranks"] = comm.size
-    results["versions"] = _versions()
-    return Solution(scene=scene, domain=domain, u=model.soil.u, sigma_zz=sigma_zz,
-                    results=results, model=model)
+        t = time.perf_counter()
+        sigma_zz = model.soil.vertical_stress()
+        results = _results(stage_scene, domain, model, sigma_zz)
+        timings["post"] = time.perf_counter() - t
+        timings["total"] = time.perf_counter() - t_start
+        results["dofs"] = dofs | {"total": solver.matrix_size}
+        results["timings_s"] = dict(timings)
+        results["mpi_ranks"] = comm.size
+        results["versions"] = _versions()
+        if len(stages) > 1:
+            results["stage"] = k + 1
+        solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,
+                                  sigma_zz=sigma_zz, results=results, model=model))
+    return solutions
 
 
 def _results(scene: Scene, domain: Domain, model, sigma_zz) -> dict:

@@ -173,19 +173,18 @@ class TankModel:
         w = 2.0 * math.pi * r_b
         dx_p = self.dx_b(st.PLATE)
         dx_w = self.dx_b((st.WALL, st.WALL_EMBEDDED))
-        load = -fem.Constant(self.mesh, s.load.pressure) * v_b[1] * w * dx_p
-        gl, hl = s.load.liquid_unit_weight, s.load.liquid_height
-        if gl * hl > 0.0:
-            at = s.wall.radius
-            inside = ufl.conditional(ufl.lt(r_b, at), 1.0, 0.0)
+        # load values are Constants: a load path changes them without recompiling
+        c = self.load_constants = {k: fem.Constant(self.mesh, 0.0) for k in (
+            "pressure", "liquid_unit_weight", "liquid_height", "plate_weight", "wall_weight")}
+        self.set_loads(s.load)
+        load = -(c["pressure"] + c["plate_weight"]) * v_b[1] * w * dx_p
+        if s.wall is not None:
+            inside = ufl.conditional(ufl.lt(r_b, s.wall.radius), 1.0, 0.0)
+            gl, hl = c["liquid_unit_weight"], c["liquid_height"]
             load += -gl * hl * inside * v_b[1] * w * dx_p
             height = x[1] + s.embedment          # above the wall base
-            p_wall = gl * ufl.max_value(hl - height, 0.0)
-            load += p_wall * v_b[0] * w * dx_w      # outward on the wall
-        if s.load.self_weight:
-            load += -s.plate.unit_weight * s.plate.thickness * v_b[1] * w * dx_p
-            if s.wall is not None:
-                load += -s.wall.unit_weight * s.wall.thickness * v_b[1] * w * dx_w
+            load += gl * ufl.max_value(hl - height, 0.0) * v_b[0] * w * dx_w  # outward
+            load += -c["wall_weight"] * v_b[1] * w * dx_w
         if s.interface.condition == "mohr_coulomb":
             # the cohesion carried by slipping elements, c_s (dj . t), dj = v_soil - v_face
             load -= interface.interface_load(v_f, self.t_b, self.c_s, r_b,
@@ -206,6 +205,20 @@ class TankModel:
             dofs = fem.locate_dofs_topological((space, V), 0, centre)
             bcs.append(fem.dirichletbc(fem.Function(V), dofs, space))
         return bcs
+
+    def set_loads(self, load) -> None:
+        """Apply the loads of a ``Load`` (the forms stay; their Constants change)."""
+        from dataclasses import replace
+
+        s = self.scene = replace(self.scene, load=load)
+        c = self.load_constants
+        c["pressure"].value = load.pressure
+        c["liquid_unit_weight"].value = load.liquid_unit_weight if s.wall is not None else 0.0
+        c["liquid_height"].value = load.liquid_height
+        c["plate_weight"].value = s.plate.unit_weight * s.plate.thickness \
+            if load.self_weight else 0.0
+        c["wall_weight"].value = s.wall.unit_weight * s.wall.thickness \
+            if (load.self_weight and s.wall is not None) else 0.0
 
     # ------------------------------------------------------------------ quantities
     @property
@@ -236,8 +249,10 @@ class TankModel:
 
     def solve(self, solver, log) -> None:
         """One linear solve for bonded and smooth contact; the Mohr-Coulomb iteration
-        otherwise (a scene that does not need the return does not run it)."""
+        otherwise (a scene that does not need the return does not run it). The element
+        states of a previous solve (a previous load stage) are the starting guess."""
         self.interface_result = None
+        self.was_separated = self.status == interface.SEPARATED
         if self.scene.interface.condition != "mohr_coulomb":
             solver.solve()
             return
@@ -279,7 +294,9 @@ class TankModel:
         out["beta"] = self.w.sub(1).collapse()
         out["sigma_n"], out["tau"] = self.contact_stresses()
         status = fem.Function(self.k_n.function_space, name="status")
-        status.x.array[self.cell_dof] = self.status
+        closed = (self.status == interface.STICK) | (self.status == interface.SLIP)
+        status.x.array[self.cell_dof] = np.where(self.was_separated & closed,
+                                                 interface.REBONDED, self.status)
         out["status"] = status
         return out
 
@@ -411,10 +428,12 @@ class TankModel:
         h = self.mesh.h(1, np.arange(n_owned, dtype=np.int32))
         values = self.cell_tags.values[np.argsort(self.cell_tags.indices)][:n_owned]
         lengths = {}
+        rebonded = self.was_separated & (self.status != interface.SEPARATED)
         for name, code in (("stick", interface.STICK), ("slip", interface.SLIP),
-                           ("separated", interface.SEPARATED)):
+                           ("separated", interface.SEPARATED), ("rebonded", -2)):
             for part, tag in (("plate", st.PLATE), ("wall", st.WALL_EMBEDDED)):
-                mine = (self.status[:n_owned] == code) & (values == tag)
+                state = rebonded if code == -2 else self.status == code
+                mine = state[:n_owned] & (values == tag)
                 lengths.setdefault(f"{name}_length", {})[part] = comm.allreduce(
                     float(h[mine].sum()))
         res = self.interface_result or {"converged": True, "iterations": 0, "history": [],
@@ -514,10 +533,14 @@ class InterfaceIteration:
         tan_phi = ifc.tan_phi if ifc.tan_phi is not None else 0.0
         comm = m.mesh.comm
         seen = {self._global_status(m.status): 0}
+        states = {0: m.status.copy()}
+        frozen = np.zeros(len(m.status), dtype=bool)
+        forced = m.status.copy()
+        freezes = 0
         previous = None
         log.info("Mohr-Coulomb interface: c = %g Pa, tan phi = %g; iterating on the element "
                  "states", ifc.cohesion, tan_phi)
-        log.info("  it  changed   stick    slip  separ.  traction change   time s")
+        log.info("  it  changed   stick    slip  separ.  frozen  traction change   time s")
         for it in range(1, self.max_iterations + 1):
             t0 = time.perf_counter()
             solver.solve()
@@ -531,34 +554,58 @@ class InterfaceIteration:
             change = float("inf") if previous is None else np.sqrt(comm.allreduce(
                 float((traction - previous) @ (traction - previous)))) / max(norm, 1e-300)
             previous = traction
-            status, kn, ks, mu, c = interface.element_states(
-                jn, jt, m.stiffness_n, m.stiffness_s, ifc.cohesion, tan_phi)
-            status = np.where(m.in_contact, status, -1)
+            status, sign = interface.element_states(jn, jt, m.stiffness_n, m.stiffness_s,
+                                                    ifc.cohesion, tan_phi)
+            status = np.where(frozen, forced, np.where(m.in_contact, status, -1))
             changed = comm.allreduce(int(np.sum(status[self.owned] != m.status[self.owned])))
             counts = [comm.allreduce(int(np.sum(status[self.owned] == k)))
                       for k in (interface.STICK, interface.SLIP, interface.SEPARATED)]
+            n_frozen = comm.allreduce(int(np.sum(frozen[self.owned])))
             row = {"iteration": it, "changed": changed, "stick": counts[0], "slip": counts[1],
-                   "separated": counts[2], "traction_change": change,
+                   "separated": counts[2], "frozen": n_frozen, "traction_change": change,
                    "time_s": time.perf_counter() - t0}
             self.history.append(row)
-            log.info("  %2d %8d %7d %7d %7d %16.3e %8.2f", it, changed, *counts, change,
-                     row["time_s"])
+            log.info("  %2d %8d %7d %7d %7d %7d %16.3e %8.2f", it, changed, *counts, n_frozen,
+                     change, row["time_s"])
             if changed == 0:
+                note = "no element changed state"
+                if n_frozen:
+                    note += (f"; {n_frozen} element(s) at the edge of a contact or slip zone "
+                             f"alternated between states and were held in the weaker one")
                 return {"converged": True, "iterations": it, "history": self.history,
-                        "criterion": "no element changed state; traction change "
-                                     f"{change:.1e}"}
+                        "frozen_elements": n_frozen,
+                        "criterion": f"{note}; traction change {change:.1e}"}
             if counts[0] + counts[1] == 0:
                 raise SolveError("the interface separated everywhere: nothing holds the "
                                  "foundation (is the net load upward?)", self.history)
             m.status[:] = status
-            for f, v in zip((m.k_n, m.k_s, m.mu, m.c_s), (kn, ks, mu, c)):
+            for f, v in zip((m.k_n, m.k_s, m.mu, m.c_s), interface.state_coefficients(
+                    status, sign, m.stiffness_n, m.stiffness_s, ifc.cohesion, tan_phi)):
                 f.x.array[m.cell_dof] = np.where(m.in_contact, v, 0.0)
+            states[it] = m.status.copy()
             key = self._global_status(m.status)
             if key in seen:
-                raise SolveError(
-                    f"the interface's active set cycles: the states of iteration {it} repeat "
-                    f"those of iteration {seen[key]}; the element states oscillate (try "
-                    f"smaller interface stiffnesses or a finer mesh)", self.history)
+                # A cycle: the elements whose state differs along it sit at the edge of a
+                # zone that falls inside one element, where no element state is consistent.
+                # Hold them in the weaker state (separated, else slip) and go on; a second
+                # and third cycle get the same; more is a failure.
+                cycle = [states[k] for k in range(seen[key], it + 1)]
+                differ = np.any([st_ != cycle[0] for st_ in cycle], axis=0)
+                weaker = np.where(np.any([st_ == interface.SEPARATED for st_ in cycle], axis=0),
+                                  interface.SEPARATED, interface.SLIP)
+                n_new = comm.allreduce(int(np.sum(differ[self.owned] & ~frozen[self.owned])))
+                freezes += 1
+                log.info("  the element states cycle (iteration %d repeats %d): holding %d "
+                         "alternating element(s) in the weaker state", it, seen[key], n_new)
+                if freezes > 3 or n_new == 0:
+                    raise SolveError(
+                        f"the interface's active set cycles: the states of iteration {it} "
+                        f"repeat those of iteration {seen[key]} and holding the alternating "
+                        f"elements did not stop it (try a finer mesh at the contact zone's "
+                        f"edge)", self.history)
+                forced = np.where(differ & ~frozen, weaker, forced)
+                frozen |= differ
+                seen = {}
             seen[key] = it
         raise SolveError(f"the interface iteration did not converge in {self.max_iterations} "
                          f"solves", self.history)

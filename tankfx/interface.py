@@ -31,7 +31,8 @@ import numpy as np
 import ufl
 
 __all__ = ["PENALTY_FACTOR", "STICK", "SLIP", "SEPARATED", "REBONDED", "STATUS_NAMES",
-           "interface_form", "interface_load", "tractions", "element_states"]
+           "interface_form", "interface_load", "tractions", "element_states",
+           "state_coefficients"]
 
 #: k = PENALTY_FACTOR * E_soil / h when the scene gives no interface stiffness.
 PENALTY_FACTOR = 1.0e3
@@ -63,17 +64,21 @@ def interface_load(j_test, t, c, r, measure):
 def element_states(jn, jt, k_n, k_s, cohesion, tan_phi):
     """Mohr-Coulomb state of each interface element from its average jump (numpy arrays).
 
-    Returns (status, kn, ks, mu, c): the state and the traction coefficients that realise it.
     An opening jump (j.n < 0) separates the element (no tension); a closed one sticks if the
     trial shear k_s (j.t) is within c + sigma_n tan phi, and slips on that limit otherwise.
+    Returns (status, sign): the state and the sign of the trial shear (the slip direction).
     """
     sigma_n = k_n * jn
     trial = k_s * jt
     limit = cohesion + np.maximum(sigma_n, 0.0) * tan_phi
     status = np.where(jn < 0.0, SEPARATED, np.where(np.abs(trial) <= limit, STICK, SLIP))
-    sign = np.sign(trial)
+    return status, np.sign(trial)
+
+
+def state_coefficients(status, sign, k_n, k_s, cohesion, tan_phi):
+    """The traction coefficients (k_n, k_s, mu, c_s) that realise each element's state."""
     kn = np.where(status == SEPARATED, 0.0, k_n)
     ks = np.where(status == STICK, k_s, 0.0)
     mu = np.where(status == SLIP, sign * tan_phi, 0.0)
     c = np.where(status == SLIP, sign * cohesion, 0.0)
-    return status, kn, ks, mu, c
+    return kn, ks, mu, c
