@@ -278,20 +278,8 @@ class TankModel:
 
     def _fields(self):
         """Structure resultants interpolated cell-wise (DG2), for point evaluation."""
-        u_b, beta, Q = ufl.split(self.w)
-        r, t = self.r_b, self.t_b
-        e = st.shell_strains(u_b, beta, r, t, self.offset, on_axis=True)
-        N_s, N_th = st.membrane_forces(e[0], e[1], self.E, self.nu, self.thickness)
-        M_s, M_th = st.bending_moments(e[2], e[3], self.E, self.nu, self.thickness)
-        D = fem.functionspace(self.mesh, ("DG", 2))
-        out = {}
-        for name, expr in {"M_s": M_s, "M_theta": M_th, "N_s": N_s, "N_theta": N_th,
-                           "Q": -Q}.items():
-            f = fem.Function(D, name=name)
-            f.interpolate(fem.Expression(expr, D.element.interpolation_points))
-            out[name] = f
-        out["u"] = self.w.sub(0).collapse()
-        out["beta"] = self.w.sub(1).collapse()
+        out = st.shell_resultants(self.w, self.r_b, self.t_b, self.E, self.nu, self.thickness,
+                                  self.offset)
         out["sigma_n"], out["tau"] = self.contact_stresses()
         status = fem.Function(self.k_n.function_space, name="status")
         closed = (self.status == interface.STICK) | (self.status == interface.SLIP)
@@ -315,36 +303,48 @@ class TankModel:
         pts = np.unique(np.round(pts, 12), axis=0)
         return pts[np.lexsort((pts[:, 0], pts[:, 1]))] if len(pts) else pts
 
+    def cell_average_forms(self, integrands) -> list:
+        """Compiled forms whose assembled vectors are, per structure cell, the integrals over
+        its interface facet of ``integrands(jump, n, t, R)`` (a list of expressions; R is
+        the facet restriction), followed by the facet's (2 pi r weighted) area."""
+        q = ufl.TestFunction(self.k_n.function_space)
+        u_b = ufl.split(self.w)[0]
+        sums = None
+        for _, n, t, pieces in self._interface_measures():
+            for measure, R in pieces:
+                w = 2.0 * math.pi * self.soil.r * R(q)
+                terms = integrands(R(self.soil.u) - R(u_b), n, t, R) + [1.0]
+                parts = [term * w * measure for term in terms]
+                sums = parts if sums is None else [a + b for a, b in zip(sums, parts)]
+        return [fem.form(f, entity_maps=self.entity_maps) for f in sums]
+
+    def cell_averages(self, forms) -> list[np.ndarray]:
+        """Assemble :meth:`cell_average_forms` and divide by the areas: one value per local
+        structure cell (0 away from the interface)."""
+        values = []
+        for f in forms:
+            vec = fem.assemble_vector(f)
+            vec.scatter_reverse(la.InsertMode.add)
+            vec.scatter_forward()
+            values.append(vec.array[self.cell_dof])
+        area = values.pop()
+        return [np.where(area > 0, v / np.where(area > 0, area, 1.0), 0.0) for v in values]
+
     def contact_stresses(self):
         """Interface tractions averaged over each structure cell (DG0 fields sigma_n, tau):
         the resultant of each facet exactly, without the point-wise wiggles of a penalty jump
         between the soil's and the structure's different polynomial traces."""
-        Q0 = self.k_n.function_space
-        q = ufl.TestFunction(Q0)
-        u_b = ufl.split(self.w)[0]
-        num_n = num_t = area = 0
-        for _, n, t, pieces in self._interface_measures():
-            for measure, R in pieces:
-                sn, tau = interface.tractions(R(self.soil.u) - R(u_b), n, t, R(self.k_n),
-                                              R(self.k_s), R(self.mu), R(self.c_s))
-                w = 2.0 * math.pi * self.soil.r * R(q)
-                num_n += sn * w * measure
-                num_t += tau * w * measure
-                area += w * measure
+        def traction(jump, n, t, R):
+            return list(interface.tractions(jump, n, t, R(self.k_n), R(self.k_s), R(self.mu),
+                                            R(self.c_s)))
+
         out = []
-        den = self._assemble_cellwise(area)
-        for form, name in ((num_n, "sigma_n"), (num_t, "tau")):
-            f = fem.Function(Q0, name=name)
-            val = self._assemble_cellwise(form)
-            f.x.array[:] = np.where(den > 0, val / np.where(den > 0, den, 1.0), 0.0)
+        for values, name in zip(self.cell_averages(self.cell_average_forms(traction)),
+                                ("sigma_n", "tau")):
+            f = fem.Function(self.k_n.function_space, name=name)
+            f.x.array[self.cell_dof] = values
             out.append(f)
         return out
-
-    def _assemble_cellwise(self, form) -> np.ndarray:
-        vec = fem.assemble_vector(fem.form(form, entity_maps=self.entity_maps))
-        vec.scatter_reverse(la.InsertMode.add)
-        vec.scatter_forward()
-        return vec.array.copy()
 
     def _contact(self, F, pts, cells, n, t):
         """Interface tractions (cell averages) at the stations."""
@@ -488,33 +488,15 @@ class InterfaceIteration:
 
     def __init__(self, model: "TankModel"):
         self.model = model
-        m = model
-        Q0 = m.k_n.function_space
-        q = ufl.TestFunction(Q0)
-        u_b = ufl.split(m.w)[0]
-        jn = jt = area = 0
-        for _, n, t, pieces in m._interface_measures():
-            for measure, R in pieces:
-                j = R(m.soil.u) - R(u_b)
-                w = 2.0 * math.pi * m.soil.r * R(q)
-                jn += ufl.dot(j, n) * w * measure
-                jt += ufl.dot(j, t) * w * measure
-                area += w * measure
-        self.forms = [fem.form(f, entity_maps=m.entity_maps) for f in (jn, jt, area)]
-        n_owned = m.mesh.topology.index_map(1).size_local
-        self.owned = np.flatnonzero(m.in_contact[:n_owned])
+        self.forms = model.cell_average_forms(
+            lambda jump, n, t, R: [ufl.dot(jump, n), ufl.dot(jump, t)])
+        n_owned = model.mesh.topology.index_map(1).size_local
+        self.owned = np.flatnonzero(model.in_contact[:n_owned])
         self.history: list[dict] = []
 
-    def _cellwise(self, form) -> np.ndarray:
-        vec = fem.assemble_vector(form)
-        vec.scatter_reverse(la.InsertMode.add)
-        vec.scatter_forward()
-        return vec.array[self.model.cell_dof]
-
     def element_jumps(self):
-        jn, jt, area = (self._cellwise(f) for f in self.forms)
-        area = np.where(area > 0, area, 1.0)
-        return jn / area, jt / area
+        """Average normal and tangential jump of each interface element."""
+        return self.model.cell_averages(self.forms)
 
     def _global_status(self, status) -> tuple:
         """The state of every interface element, in an order independent of the partition

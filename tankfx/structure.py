@@ -40,7 +40,8 @@ from mpi4py import MPI
 
 __all__ = ["tangent", "normal", "arc_derivative", "shell_strains", "membrane_forces",
            "bending_moments", "mid_surface_displacement", "shell_stiffness", "kirchhoff_constraint",
-           "structure_space", "line_mesh", "flexural_rigidity", "wall_beta"]
+           "structure_space", "line_mesh", "flexural_rigidity", "wall_beta", "shell_resultants",
+           "StandaloneShell"]
 
 #: Cell tags of the structure mesh.
 PLATE, WALL, WALL_EMBEDDED = 1, 2, 3
@@ -200,17 +201,24 @@ class StandaloneShell:
 
     def resultants(self) -> dict:
         """M_s, M_theta, N_s, N_theta, Q (DG2 fields) and u, beta, as in the coupled model."""
-        u, b, Q = ufl.split(self.w)
-        e = shell_strains(u, b, self.r, self.t, on_axis=True)
-        N_s, N_th = membrane_forces(e[0], e[1], self.E, self.nu, self.thickness)
-        M_s, M_th = bending_moments(e[2], e[3], self.E, self.nu, self.thickness)
-        D = fem.functionspace(self.mesh, ("DG", 2))
-        out = {}
-        for name, expr in {"M_s": M_s, "M_theta": M_th, "N_s": N_s, "N_theta": N_th,
-                           "Q": -Q}.items():
-            f = fem.Function(D, name=name)
-            f.interpolate(fem.Expression(expr, D.element.interpolation_points))
-            out[name] = f
-        out["u"] = self.w.sub(0).collapse()
-        out["beta"] = self.w.sub(1).collapse()
-        return out
+        return shell_resultants(self.w, self.r, self.t, self.E, self.nu, self.thickness)
+
+
+def shell_resultants(w, r, t, E, nu, thickness, offset=0.0) -> dict:
+    """The resultants of a solved shell ``w`` (mixed u, beta, Q) as cell-wise DG2 fields for
+    point evaluation: M_s, M_theta, N_s, N_theta, the shear force Q (minus the multiplier),
+    and the collapsed u and beta."""
+    u, b, Q = ufl.split(w)
+    e = shell_strains(u, b, r, t, offset, on_axis=True)
+    N_s, N_th = membrane_forces(e[0], e[1], E, nu, thickness)
+    M_s, M_th = bending_moments(e[2], e[3], E, nu, thickness)
+    D = fem.functionspace(w.function_space.mesh, ("DG", 2))
+    out = {}
+    for name, expr in {"M_s": M_s, "M_theta": M_th, "N_s": N_s, "N_theta": N_th,
+                       "Q": -Q}.items():
+        f = fem.Function(D, name=name)
+        f.interpolate(fem.Expression(expr, D.element.interpolation_points))
+        out[name] = f
+    out["u"] = w.sub(0).collapse()
+    out["beta"] = w.sub(1).collapse()
+    return out
