@@ -97,6 +97,13 @@ class SoilBlock:
         self.gradient = fem.Constant(msh, s.E_gradient)
         self.r = soil_forms.radius(msh)
         self.E = soil_forms.modulus_with_depth(self.E_s, self.gradient, soil_forms.depth(msh))
+        if s.model == "hyperbolic":
+            # the secant modulus, one value per cell, starting at the initial tangent modulus
+            # (at the cell's centroid, like the paper's element modulus)
+            Q0 = fem.functionspace(msh, ("DG", 0))
+            modulus = fem.Function(Q0, name="secant_modulus")
+            modulus.interpolate(fem.Expression(self.E, Q0.element.interpolation_points))
+            self.E = modulus
         self.dx = ufl.Measure("dx", domain=msh, subdomain_data=domain.cell_tags)(
             CELL_TAGS["soil"])
         self.trial, self.test = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
@@ -242,7 +249,14 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD) -> 
             log.info("load stage %d of %d", k + 1, len(stages))
             model.set_loads(load)
         t = time.perf_counter()
-        model.solve(solver, log)
+        soil_iteration = None
+        if scene.soil.model == "hyperbolic":
+            from .hyperbolic import HyperbolicIteration
+
+            soil_iteration = HyperbolicIteration(model).run(lambda: model.solve(solver, log),
+                                                            log)
+        else:
+            model.solve(solver, log)
         timings["assemble_solve"] = time.perf_counter() - t
         log.info("solved in %.2f s", timings["assemble_solve"])
 
@@ -257,6 +271,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD) -> 
         results["versions"] = _versions()
         if len(stages) > 1:
             results["stage"] = k + 1
+        results["soil"] = soil_iteration or {"model": "linear", "iterations": 0}
+        results["soil"]["model"] = scene.soil.model
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,
                                   sigma_zz=sigma_zz, results=results, model=model))
     return solutions

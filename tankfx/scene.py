@@ -46,12 +46,14 @@ class SceneError(ValueError):
 # --------------------------------------------------------------------------- dataclasses
 @dataclass(frozen=True)
 class Soil:
-    E: float                 #: Young's modulus at the ground surface, Pa
+    E: float                 #: Young's modulus at the ground surface, Pa (1/a if hyperbolic)
     nu: float                #: Poisson's ratio
     E_gradient: float = 0.0  #: lambda, 1/m: E(h) = E (1 + lambda h), h = depth below surface
-    model: str = "linear"    #: "linear" ("hyperbolic" is planned)
+    model: str = "linear"    #: "linear" or "hyperbolic" (Kondner)
     hyperbolic_a: float | None = None  #: 1/a = initial tangent modulus (hyperbolic model)
     hyperbolic_b: float | None = None  #: 1/b = ultimate deviator stress (hyperbolic model)
+    tolerance: float | None = None     #: Eq. 18's relative deviator misfit (hyperbolic)
+    max_iterations: int | None = None  #: Picard iterations at most (hyperbolic)
 
 
 @dataclass(frozen=True)
@@ -191,9 +193,10 @@ def plate_thickness_from_Kp(K: float, a: float, E: float, E_s: float, nu_s: floa
 # --------------------------------------------------------------------------- parsing
 _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
     # section: key -> (type, required)
-    "soil": {"E": (float, True), "nu": (float, True), "E_gradient": (float, False),
+    "soil": {"E": (float, False), "nu": (float, True), "E_gradient": (float, False),
              "model": (str, False), "hyperbolic_a": (float, False),
-             "hyperbolic_b": (float, False)},
+             "hyperbolic_b": (float, False), "tolerance": (float, False),
+             "max_iterations": (int, False)},
     "plate": {"radius": (float, True), "thickness": (float, False), "Kp": (float, False),
               "E": (float, True), "nu": (float, True), "embedment": (float, False),
               "unit_weight": (float, False)},
@@ -317,11 +320,28 @@ def _parse(data: dict[str, Any]) -> Scene:
         if model not in _SOIL_MODELS:
             rd.bad(f"soil.model = {model!r}: unknown model{_suggest(model, _SOIL_MODELS)}")
         elif model == "hyperbolic":
-            rd.bad("soil.model = 'hyperbolic': Kondner's hyperbolic soil is not available in "
-                   "this version of tankfx; use model = \"linear\"")
-        for key in ("hyperbolic_a", "hyperbolic_b"):
-            if key in soil and model == "linear":
+            for key in ("hyperbolic_a", "hyperbolic_b"):
+                if key not in soil:
+                    rd.bad(f"soil.{key}: missing for model = \"hyperbolic\"; add it (1/Pa: "
+                           f"1/a is the initial tangent modulus, 1/b the ultimate deviator "
+                           f"stress)")
+                rd.positive(soil, "soil", key)
+            a_h = soil.get("hyperbolic_a")
+            if "E" in soil and a_h and a_h > 0 and abs(soil["E"] * a_h - 1.0) > 1e-6:
+                rd.bad(f"soil.E = {soil['E']!r} contradicts soil.hyperbolic_a (1/a = "
+                       f"{1.0 / a_h:.6g} Pa is the surface modulus of a hyperbolic soil); "
+                       f"remove soil.E")
+        if model != "hyperbolic" and "E" not in soil:
+            rd.bad("soil.E: missing; add 'E = ...' under [soil] (Pa)")
+        for key in ("hyperbolic_a", "hyperbolic_b", "tolerance", "max_iterations"):
+            if key in soil and model != "hyperbolic":
                 rd.bad(f"soil.{key}: only used with model = \"hyperbolic\"; remove it")
+        tol = soil.get("tolerance")
+        if tol is not None and not (0.0 < tol < 1.0):
+            rd.bad(f"soil.tolerance = {tol!r}: the relative deviator misfit of Eq. 18 must "
+                   f"lie in (0, 1) (the paper's 0.05 is the default)")
+        if soil.get("max_iterations", 1) < 1:
+            rd.bad("soil.max_iterations: must be >= 1")
 
     plate = secs["plate"]
     if plate is not None:
@@ -449,9 +469,13 @@ def _parse(data: dict[str, Any]) -> Scene:
         raise SceneError(rd.problems)
 
     # ---- resolve defaults, now that every value is known to be sane
-    soil_dc = Soil(E=soil["E"], nu=soil["nu"], E_gradient=soil.get("E_gradient", 0.0),
+    hyperbolic = soil.get("model", "linear") == "hyperbolic"
+    soil_dc = Soil(E=1.0 / soil["hyperbolic_a"] if hyperbolic else soil["E"], nu=soil["nu"],
+                   E_gradient=soil.get("E_gradient", 0.0),
                    model=soil.get("model", "linear"), hyperbolic_a=soil.get("hyperbolic_a"),
-                   hyperbolic_b=soil.get("hyperbolic_b"))
+                   hyperbolic_b=soil.get("hyperbolic_b"),
+                   tolerance=soil.get("tolerance", 0.05) if hyperbolic else None,
+                   max_iterations=soil.get("max_iterations", 40) if hyperbolic else None)
     plate_dc = None
     if plate is not None:
         t = plate.get("thickness") or plate_thickness_from_Kp(

@@ -95,11 +95,20 @@ def test_all_problems_are_reported_at_once():
     assert "soil.E" in msg and "soil.nu" in msg and "load.presure" in msg
 
 
-def test_unfinished_models_are_refused_not_ignored():
-    """The hyperbolic soil is validated, then refused with a clear message until it exists
-    (never silently run as linear)."""
-    msg = problems(with_(soil={"model": "hyperbolic"}))
-    assert "soil.model" in msg and "not available" in msg
+def test_hyperbolic_soil_keys():
+    hyper = {"model": "hyperbolic", "nu": 0.3}
+    msg = problems({"soil": hyper, "load": GOOD["load"]})
+    assert "soil.hyperbolic_a" in msg and "soil.hyperbolic_b" in msg
+    full = hyper | {"hyperbolic_a": 2.1e-7, "hyperbolic_b": 1e-5}
+    s = Scene.from_dict({"soil": full, "load": GOOD["load"]})
+    assert s.soil.E == pytest.approx(1 / 2.1e-7) and s.soil.tolerance == 0.05
+    assert Scene.from_dict(s.to_dict()) == s
+    msg = problems({"soil": full | {"E": 1e7}, "load": GOOD["load"]})
+    assert "soil.E" in msg and "contradicts" in msg
+    msg = problems({"soil": full | {"tolerance": 1.5}, "load": GOOD["load"]})
+    assert "soil.tolerance" in msg
+    msg = problems(with_(soil={"hyperbolic_b": 1e-5}))
+    assert "soil.hyperbolic_b" in msg and "only used with" in msg
 
 
 def test_mohr_coulomb_needs_friction_and_refuses_uplift():
