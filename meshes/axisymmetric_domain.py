@@ -21,7 +21,6 @@ Run it on its own to look at a mesh in gmsh's window, or to write a ``.msh``::
 from __future__ import annotations
 
 import argparse
-import math
 from dataclasses import dataclass
 
 #: Physical tags of the 2D regions.

@@ -346,7 +346,7 @@ class TankModel:
             out.append(f)
         return out
 
-    def _contact(self, F, pts, cells, n, t):
+    def _contact(self, F, pts, cells):
         """Interface tractions (cell averages) at the stations."""
         return (evaluate_at(F["sigma_n"], pts, cells)[:, 0],
                 evaluate_at(F["tau"], pts, cells)[:, 0])
@@ -371,12 +371,11 @@ class TankModel:
 
     def structure_results(self) -> dict:
         F, s = self._F, self.scene
-        n_p, t_p = _INTERFACE["contact"]
         pts = self._stations(self.plate_cells)
         pts = pts[np.argsort(pts[:, 0])]
         cells = self.plate_cells
         u = evaluate_at(F["u"], pts, cells)
-        sn, tau = self._contact(F, pts, cells, n_p, t_p)
+        sn, tau = self._contact(F, pts, cells)
         plate = {"r": pts[:, 0].tolist(), "w": (-u[:, 1]).tolist(), "u_r": u[:, 0].tolist(),
                  "rotation": evaluate_at(F["beta"], pts, cells)[:, 0].tolist(),
                  "M_r": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist(),
@@ -397,8 +396,7 @@ class TankModel:
                     "N_theta": evaluate_at(F["N_theta"], pts, cells)[:, 0].tolist(),
                     "Q": evaluate_at(F["Q"], pts, cells)[:, 0].tolist()}
             if s.embedment > 0.0:
-                n_w, t_w = _INTERFACE["wall_embedded"]
-                sn, tau = self._contact(F, pts, cells, n_w, t_w)
+                sn, tau = self._contact(F, pts, cells)
                 below = pts[:, 1] <= 1e-12
                 wall["contact_normal"] = np.where(below, sn, 0.0).tolist()
                 wall["contact_shear"] = np.where(below, tau, 0.0).tolist()

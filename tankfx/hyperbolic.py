@@ -20,9 +20,10 @@ which is positive and never above the initial modulus; near the ultimate deviato
 zero and is held at a floor, which marks the cell as failing. The iteration stops when no cell
 needs a change (Eq. 20) and the displacement update is below ``DISPLACEMENT_TOLERANCE``;
 unlike the paper, every cell takes its new secant modulus at every iteration, so the result
-does not keep a misfit of up to the tolerance (measured: 2.5 % of w0 at 0.05). Using the principal strain spread rather than the largest principal
-strain keeps the rule well defined for nearly isotropic strain states, where the deviator
-vanishes but a principal strain does not.
+does not keep a misfit of up to the tolerance (measured: 2.5 % of w0 at 0.05). Using the
+principal strain spread rather than the largest principal strain keeps the rule well defined
+for nearly isotropic strain states, where the deviator vanishes but a principal strain does
+not.
 
 Like the paper, the secant approach ignores the in-situ (geostatic) stress: the soil is
 unstressed before the tank is built, and the moduli depend on the strains the tank causes.

@@ -91,7 +91,8 @@ def build_domain(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD,
     try:
         if comm.rank == 0:
             build_model(geom, gmsh, name=f"tankfx-{id(geom)}")
-        partitioner = dmesh.create_cell_partitioner(graph.partitioner(), dmesh.GhostMode.shared_facet, 2)
+        partitioner = dmesh.create_cell_partitioner(graph.partitioner(),
+                                                    dmesh.GhostMode.shared_facet, 2)
         data = dgmsh.model_to_mesh(gmsh.model, comm, 0, gdim=2, partitioner=partitioner)
         if comm.rank == 0:
             gmsh.model.remove()

@@ -10,7 +10,8 @@ import math
 
 import numpy as np
 
-__all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settlement", "flexible_edge_settlement",
+__all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settlement",
+           "flexible_edge_settlement",
            "flexible_mean_settlement", "flexible_axis_stress", "point_load_displacement"]
 
 

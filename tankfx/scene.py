@@ -423,7 +423,8 @@ def _parse(data: dict[str, Any]) -> Scene:
                    f"load.load_radius")
         if load.get("liquid_height", 0.0) > 0 and "wall" not in data:
             rd.bad("load.liquid_height: a liquid needs a [wall] to hold it; add a [wall] table")
-        if wall is not None and "height" in wall and load.get("liquid_height", 0.0) > wall["height"]:
+        if wall is not None and "height" in wall \
+                and load.get("liquid_height", 0.0) > wall["height"]:
             rd.bad(f"load.liquid_height = {load['liquid_height']!r} is higher than wall.height = "
                    f"{wall['height']!r}: the tank would overflow; lower the liquid")
         if load.get("pressure", 0.0) < 0.0 and "plate" not in data:
