@@ -247,16 +247,35 @@ class TankModel:
         return {"soil": self.soil.V.dofmap.index_map.size_global * 2,
                 "structure": im.size_global * self.W.dofmap.index_map_bs}
 
-    def solve(self, solver, log) -> None:
-        """One linear solve for bonded and smooth contact; the Mohr-Coulomb iteration
-        otherwise (a scene that does not need the return does not run it). The element
-        states of a previous solve (a previous load stage) are the starting guess."""
+    def begin_stage(self) -> None:
+        """Start a load stage: the element states so far are the starting guess, and the
+        elements separated now are the ones that can be reported ``rebonded`` later."""
         self.interface_result = None
         self.was_separated = self.status == interface.SEPARATED
+        self._passes = None
+
+    def solve(self, solver, log, single_pass: bool = False) -> int:
+        """One linear solve for bonded and smooth contact; the Mohr-Coulomb iteration
+        otherwise (a scene that does not need the return does not run it). With
+        ``single_pass`` the interface makes one solve and one state update only (for a soil
+        iteration that converges both at once); returns the number of elements that changed
+        state (0 when the interface is converged)."""
         if self.scene.interface.condition != "mohr_coulomb":
             solver.solve()
-            return
-        self.interface_result = InterfaceIteration(self).run(solver, log)
+            return 0
+        if not single_pass:
+            self.interface_result = InterfaceIteration(self).run(solver, log)
+            return 0
+        if self._passes is None:
+            self._passes = InterfaceIteration(self)
+        changed = self._passes.single_pass(solver)
+        self.interface_result = {"converged": changed == 0,
+                                 "iterations": len(self._passes.history),
+                                 "history": self._passes.history,
+                                 "frozen_elements": self._passes.history[-1]["frozen"],
+                                 "criterion": "one state update per soil iteration, until no "
+                                              "element changes state"}
+        return changed
 
     def soil_residual(self):
         a_ss, a_sb = self.a[0]
@@ -483,6 +502,8 @@ class InterfaceIteration:
     """
 
     max_iterations = 50
+    #: state changes after which single_pass holds an element (in run(): a repeated state)
+    MAX_FLIPS = 4
 
     def __init__(self, model: "TankModel"):
         self.model = model
@@ -504,6 +525,38 @@ class InterfaceIteration:
         mids = np.concatenate(m.mesh.comm.allgather(np.round(mids, 12)))
         vals = np.concatenate(m.mesh.comm.allgather(status[self.owned]))
         return tuple(vals[np.lexsort((mids[:, 1], mids[:, 0]))].tolist())
+
+    def single_pass(self, solver) -> int:
+        """One solve and one state update (no cycle handling); returns how many elements
+        changed state."""
+        m, ifc = self.model, self.model.scene.interface
+        tan_phi = ifc.tan_phi if ifc.tan_phi is not None else 0.0
+        solver.solve()
+        jn, jt = self.element_jumps()
+        status, sign = interface.element_states(jn, jt, m.stiffness_n, m.stiffness_s,
+                                                ifc.cohesion, tan_phi)
+        status = np.where(m.in_contact, status, -1)
+        # an element that keeps changing state sits at the edge of a zone inside it: after
+        # MAX_FLIPS changes it is held in the weaker of its last two states, as in run()
+        if not hasattr(self, "flips"):
+            self.flips = np.zeros(len(status), dtype=int)
+            self.held = np.full(len(status), -1)
+        flipped = status != m.status
+        self.flips += flipped
+        hold = (self.flips >= self.MAX_FLIPS) & (self.held < 0) & flipped
+        weaker = np.where((status == interface.SEPARATED) | (m.status == interface.SEPARATED),
+                          interface.SEPARATED, interface.SLIP)
+        self.held = np.where(hold, weaker, self.held)
+        status = np.where(self.held >= 0, self.held, status)
+        changed = m.mesh.comm.allreduce(int(np.sum(status[self.owned] != m.status[self.owned])))
+        m.status[:] = status
+        for f, v in zip((m.k_n, m.k_s, m.mu, m.c_s), interface.state_coefficients(
+                status, sign, m.stiffness_n, m.stiffness_s, ifc.cohesion, tan_phi)):
+            f.x.array[m.cell_dof] = np.where(m.in_contact, v, 0.0)
+        held = m.mesh.comm.allreduce(int(np.sum(self.held[self.owned] >= 0)))
+        self.history.append({"iteration": len(self.history) + 1, "changed": changed,
+                             "frozen": held})
+        return changed
 
     def run(self, solver, log) -> dict:
         import time

@@ -51,8 +51,10 @@ class DirectSolver:
                 # more working memory for pivoting in stiff, contrasted systems
                 "mat_mumps_icntl_14": 80})
         self.u = u
+        self.solves = 0   # linear solves so far (each one an assembly and a factorisation)
 
     def solve(self):
+        self.solves += 1
         u = self.problem.solve()
         ksp = self.problem.solver
         reason = ksp.getConvergedReason()
