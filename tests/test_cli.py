@@ -57,3 +57,15 @@ def test_mpiexec_writes_the_same_numbers(tmp_path):
                                                           rel=1e-8)
     assert rp["profiles"]["axis"]["sigma_zz"] == pytest.approx(
         rs["profiles"]["axis"]["sigma_zz"], rel=1e-8, abs=1e-3)
+
+
+def test_every_shipped_scene_is_valid():
+    """The scenes in demos/scenes load and resolve (the demos run them; the nonlinear one is
+    run on a coarse mesh in test_hyperbolic)."""
+    from tankfx import load_scene
+
+    scenes = sorted((ROOT / "demos" / "scenes").glob("*.toml"))
+    assert len(scenes) >= 4
+    for path in scenes:
+        scene = load_scene(path)
+        assert scene.title

@@ -135,3 +135,23 @@ def test_single_and_nested_loops_agree():
     assert single["profiles"]["plate"]["contact_status"] == \
         nested["profiles"]["plate"]["contact_status"]
     assert single["soil"]["converged"] and single["interface"]["converged"]
+
+
+def test_shipped_nonlinear_tank_scene_runs():
+    """demos/scenes/embedded_tank_nonlinear.toml (hyperbolic soil, Mohr-Coulomb interface),
+    on a coarse mesh: converged, more settlement than on the linear soil of 1/a, in
+    equilibrium."""
+    from pathlib import Path
+
+    from tankfx import load_scene
+
+    path = Path(__file__).resolve().parents[1] / "demos" / "scenes" / \
+        "embedded_tank_nonlinear.toml"
+    scene = load_scene(path).with_changes(mesh={"edge_size": 0.1, "near_size": 2.5,
+                                                "growth": 0.3})
+    r = analyse(scene).results
+    assert r["soil"]["converged"] and r["interface"]["converged"]
+    assert r["equilibrium"]["contact_relative_error"] < 1e-6
+    lin = analyse(linear(scene).with_changes(
+        interface={"condition": "mohr_coulomb", "tan_phi": 0.5})).results
+    assert r["w0"] > lin["w0"]
