@@ -37,6 +37,11 @@ _SUB_TAG = {"contact": st.PLATE, "wall": st.WALL, "wall_embedded": st.WALL_EMBED
 
 
 class TankModel:
+    """Soil, plate and (optional) wall of a scene as one block system: its forms ``a``,
+    ``L``, supports ``bcs`` and unknowns, the interface states, and the structure's results.
+    ``face_offset=False`` puts the shells' mid-surfaces on the contact lines (only for
+    measuring what the offset is worth)."""
+
     def __init__(self, scene: Scene, domain: Domain, face_offset: bool = True):
         self.scene, self.domain = scene, domain
         self.face_offset = face_offset
