@@ -95,6 +95,26 @@ def cmd_run(args) -> int:
     return 0
 
 
+def cmd_sweep(args) -> int:
+    from mpi4py import MPI
+
+    from .scene import SceneError
+    from .sweep import load_sweep, run_sweep
+
+    comm = MPI.COMM_WORLD
+    try:
+        sweep = load_sweep(args.sweep)      # every case validated before any runs
+    except SceneError as e:
+        return _fail(f"{args.sweep}: {e}", EXIT_BAD_INPUT)
+    out = Path(args.out)
+    if comm.rank == 0:
+        out.mkdir(parents=True, exist_ok=True)
+    comm.barrier()
+    setup_logging(out, comm.rank)
+    run_sweep(sweep, out, comm)
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="tankfx", description="Axisymmetric tank-foundation-"
                                      "soil analysis (Zaman & Mahmood's method on FEniCSx).")
@@ -104,8 +124,11 @@ def main(argv: list[str] | None = None) -> int:
     run.add_argument("--out", required=True, help="directory for results.json and the log")
     run.add_argument("--force", action="store_true",
                      help="overwrite an existing DIR/results.json")
+    sweep = sub.add_parser("sweep", help="run a parametric study (resumes where it stopped)")
+    sweep.add_argument("sweep", help="sweep file (TOML): base scene and axes")
+    sweep.add_argument("--out", required=True, help="directory for cases/, table.csv, log")
     args = parser.parse_args(argv)
-    return {"run": cmd_run}[args.command](args)
+    return {"run": cmd_run, "sweep": cmd_sweep}[args.command](args)
 
 
 if __name__ == "__main__":

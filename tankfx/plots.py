@@ -261,3 +261,48 @@ def plot_structure_profiles(results: dict, path: str | Path, title: str = "") ->
     p.screenshot(str(path))
     p.close()
     return path
+
+
+def plot_sweep(rows: list[dict], axes: dict, path: str | Path, title: str = "") -> Path | None:
+    """The non-dimensional results (w0_bar, wd_bar, M0_bar) against the sweep's first
+    numeric axis, one curve per value of the other axes (e.g. per interface condition), as
+    in the paper's figure families. Rank 0 writes the PNG."""
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank != 0 or not rows:
+        return None
+    pv = _pyvista()
+    numeric = [k for k, v in axes.items() if all(isinstance(x, (int, float)) for x in v)]
+    if not numeric:
+        return None
+    x_key = numeric[0]
+    others = [k for k in axes if k != x_key]
+    groups: dict[tuple, list[dict]] = {}
+    for row in rows:
+        if row.get("converged"):
+            groups.setdefault(tuple(row[k] for k in others), []).append(row)
+    values = np.asarray(axes[x_key], dtype=float)
+    use_log = bool(np.all(values > 0) and values.max() / values.min() >= 100)
+    colors = ["tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple", "tab:brown"]
+    p = pv.Plotter(off_screen=True, window_size=(1800, 550), shape=(1, 3))
+    for col, (key, label) in enumerate((("nondim.w0", "w0_bar"), ("nondim.wd", "wd_bar"),
+                                        ("nondim.M0", "M0_bar"))):
+        chart = pv.Chart2D(x_label=("log10 " if use_log else "") + x_key, y_label=label)
+        chart.title = f"{title}: {label}" if col == 0 and title else label
+        for g, (group, members) in enumerate(sorted(groups.items(), key=lambda kv: str(kv[0]))):
+            members = [m for m in members if m.get(key) is not None]
+            if not members:
+                continue
+            members.sort(key=lambda m: m[x_key])
+            x = np.array([m[x_key] for m in members], dtype=float)
+            y = np.array([m[key] for m in members], dtype=float)
+            xs = np.log10(x) if use_log else x
+            name = ", ".join(f"{k}={v}" for k, v in zip(others, group)) or "tankfx"
+            chart.line(xs, y, color=colors[g % len(colors)], width=3, label=name)
+            chart.scatter(xs, y, color=colors[g % len(colors)], size=8)
+        p.subplot(0, col)
+        p.add_chart(chart)
+    path = Path(path)
+    p.screenshot(str(path))
+    p.close()
+    return path
