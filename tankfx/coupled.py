@@ -390,6 +390,7 @@ class TankModel:
         u_b = ufl.split(self.w)[0]
         w_mean = assemble_scalar(-u_b[1] * 2.0 * math.pi * self.r_b * dx_p, self.mesh.comm) / \
             (math.pi * ap**2)
+        self._w_mean = float(w_mean)
         return {"w0": float(w[0]), "w_edge": float(w[-1]), "wd": float(w.max() - w.min()),
                 "w_mean": float(w_mean), "M0": float(M_r[0])}
 
@@ -435,7 +436,24 @@ class TankModel:
                "interface": self._interface_summary()}
         if s.wall is not None:
             out["junction"] = self._junction(F)
+        out["settlement_summary"] = self._settlement_summary(plate)
         return out
+
+    def _settlement_summary(self, plate) -> dict:
+        """What tank codes ask of the foundation (API 653 Annex B style), from the plate
+        profile: the uniform (mean) settlement, the centre-to-edge dish, and the settlement
+        of the shell's edge. An axisymmetric model has no planar tilt or out-of-plane
+        settlement around the shell: those need a 3D model or measured data."""
+        r = np.asarray(plate["r"])
+        w = np.asarray(plate["w"])
+        s = self.scene
+        at = s.wall.radius if s.wall is not None else s.plate.radius
+        w_shell = float(np.interp(at, r, w))
+        return {"uniform_settlement": self._w_mean, "shell_settlement": w_shell,
+                "dish": float(w[0] - w_shell), "dish_over_radius": float((w[0] - w_shell) / at),
+                "planar_tilt": None,
+                "note": "axisymmetric: no planar tilt or differential settlement around the "
+                        "shell"}
 
     def _status_at(self, F, pts, cells) -> list[str]:
         """The interface state of the element at each station (vertices: the element on the

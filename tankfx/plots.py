@@ -306,3 +306,50 @@ def plot_sweep(rows: list[dict], axes: dict, path: str | Path, title: str = "") 
     p.screenshot(str(path))
     p.close()
     return path
+
+
+def plot_contact(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """Contact normal and shear stress along the plate underside (and the embedded wall
+    face), with the Mohr-Coulomb limit c + sigma_n tan phi drawn beside the shear and the
+    slipping and separated elements marked. Rank 0 writes the PNG."""
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank != 0:
+        return None
+    pv = _pyvista()
+    sc = results["scene"]
+    ifc = sc.get("interface", {})
+    mc = ifc.get("condition") == "mohr_coulomb"
+    parts = [("plate", "r [m]", "r")]
+    if "contact_status" in results["profiles"].get("wall", {}):
+        parts.append(("wall", "height above the base z [m]", "z"))
+    p = pv.Plotter(off_screen=True, window_size=(900 * len(parts), 550), shape=(1, len(parts)))
+    for col, (part, xlabel, xkey) in enumerate(parts):
+        prof = results["profiles"][part]
+        x = np.asarray(prof[xkey])
+        status = np.asarray(prof["contact_status"])
+        keep = status != "none"
+        x = x[keep]
+        sn = np.asarray(prof["contact_normal"])[keep] / 1e3
+        tau = np.asarray(prof["contact_shear"])[keep] / 1e3
+        status = status[keep]
+        chart = pv.Chart2D(x_label=xlabel, y_label="stress [kPa]")
+        chart.title = f"{title}: {'plate underside' if part == 'plate' else 'embedded wall face'}"
+        chart.line(x, sn, color="tab:green", width=3, label="normal (compression +)")
+        chart.line(x, tau, color="tab:purple", width=3, label="shear")
+        if mc:
+            limit = ifc.get("cohesion", 0.0) / 1e3 + np.maximum(sn, 0.0) * ifc["tan_phi"]
+            chart.line(x, limit, color="black", width=1, style="--", label="c + sigma_n tan phi")
+            chart.line(x, -limit, color="black", width=1, style="--")
+        for state, color in (("slip", "tab:orange"), ("separated", "tab:gray"),
+                             ("rebonded", "tab:cyan")):
+            sel = status == state
+            if sel.any():
+                chart.scatter(x[sel], np.zeros(sel.sum()), color=color, size=9,
+                              label=f"{state} ({sel.sum()} stations)")
+        p.subplot(0, col)
+        p.add_chart(chart)
+    path = Path(path)
+    p.screenshot(str(path))
+    p.close()
+    return path

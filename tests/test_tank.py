@@ -168,3 +168,13 @@ def test_block_forms_assemble_as_nest_and_mpi_alike():
         parts.append(y_i)
     np.testing.assert_allclose(np.concatenate(parts), y_mono.array, rtol=1e-12,
                                atol=1e-12 * np.abs(y_mono.array).max())
+
+
+def test_settlement_summary_of_the_tank_codes():
+    r = analyse(tank(Kp=1.0, condition="bonded", wall={"radius": 0.8}, load=LIQUID)).results
+    ss, plate = r["settlement_summary"], r["profiles"]["plate"]
+    assert ss["uniform_settlement"] == pytest.approx(r["w_mean"], rel=1e-12)
+    k = int(np.argmin(np.abs(np.array(plate["r"]) - 0.8)))
+    assert ss["shell_settlement"] == pytest.approx(plate["w"][k], rel=1e-9)
+    assert ss["dish"] == pytest.approx(r["w0"] - plate["w"][k], rel=1e-9)
+    assert ss["planar_tilt"] is None and "axisymmetric" in ss["note"]
