@@ -25,6 +25,18 @@ def _pyvista():
     return pyvista
 
 
+def _save(plotter, path, section_view: bool = False) -> Path:
+    """Write the plotter's image to ``path`` (PNG) and close it; a section view is seen
+    from +z-normal with (r, z) axes."""
+    if section_view:
+        plotter.view_xy()
+        plotter.show_bounds(xtitle="r [m]", ytitle="z [m]", location="outer", font_size=10)
+    path = Path(path)
+    plotter.screenshot(str(path))
+    plotter.close()
+    return path
+
+
 def gather_grid(fields: dict[str, fem.Function], cells: np.ndarray | None = None):
     """A PyVista grid on rank 0 (None elsewhere) of the owned cells of all ranks, carrying the
     given fields interpolated to the mesh vertices (P1)."""
@@ -112,12 +124,7 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
         pts = np.column_stack([line[0] + scale * line[1], np.zeros(len(line[0]))])
         p.add_mesh(pv.lines_from_points(pts), color="black", line_width=6)
     p.add_text(f"{title}\ndisplacements x {scale:.3g}", font_size=11)
-    p.view_xy()
-    p.show_bounds(xtitle="r [m]", ytitle="z [m]", location="outer", font_size=10)
-    path = Path(path)
-    p.screenshot(str(path))
-    p.close()
-    return path
+    return _save(p, path, section_view=True)
 
 
 def plot_surface_settlement(results: dict, path: str | Path, *, reference=None,
@@ -143,10 +150,7 @@ def plot_surface_settlement(results: dict, path: str | Path, *, reference=None,
                       label="closed form")
     p = pv.Plotter(off_screen=True, window_size=(900, 600))
     p.add_chart(chart)
-    path = Path(path)
-    p.screenshot(str(path))
-    p.close()
-    return path
+    return _save(p, path)
 
 
 def _member_diagram(pv, base, direction, normal, s, values, scale, color_pos, color_neg):
@@ -212,12 +216,7 @@ def plot_moment_diagrams(results: dict, path: str | Path, title: str = "") -> Pa
     p.add_text(f"{title}\nbending moments (blue: plate underside / wall outer face in "
                f"tension; red: the other face)\nscale: {scale * 1e3:.3g} m per kN m/m",
                font_size=11)
-    p.view_xy()
-    p.show_bounds(xtitle="r [m]", ytitle="z [m]", location="outer", font_size=10)
-    path = Path(path)
-    p.screenshot(str(path))
-    p.close()
-    return path
+    return _save(p, path, section_view=True)
 
 
 def plot_structure_profiles(results: dict, path: str | Path, title: str = "") -> Path | None:
@@ -257,10 +256,7 @@ def plot_structure_profiles(results: dict, path: str | Path, title: str = "") ->
                 label="N_theta / 10")
         p.subplot(0, 2)
         p.add_chart(c3)
-    path = Path(path)
-    p.screenshot(str(path))
-    p.close()
-    return path
+    return _save(p, path)
 
 
 def plot_sweep(rows: list[dict], axes: dict, path: str | Path, title: str = "") -> Path | None:
@@ -302,10 +298,7 @@ def plot_sweep(rows: list[dict], axes: dict, path: str | Path, title: str = "") 
             chart.scatter(xs, y, color=colors[g % len(colors)], size=8)
         p.subplot(0, col)
         p.add_chart(chart)
-    path = Path(path)
-    p.screenshot(str(path))
-    p.close()
-    return path
+    return _save(p, path)
 
 
 def plot_contact(results: dict, path: str | Path, title: str = "") -> Path | None:
@@ -349,7 +342,4 @@ def plot_contact(results: dict, path: str | Path, title: str = "") -> Path | Non
                               label=f"{state} ({sel.sum()} stations)")
         p.subplot(0, col)
         p.add_chart(chart)
-    path = Path(path)
-    p.screenshot(str(path))
-    p.close()
-    return path
+    return _save(p, path)
