@@ -530,8 +530,11 @@ class InterfaceIteration:
 
     def __init__(self, model: "TankModel"):
         self.model = model
-        self.forms = model.cell_average_forms(
-            lambda jump, n, t, R: [ufl.dot(jump, n), ufl.dot(jump, t)])
+        if getattr(model, "_jump_forms", None) is None:
+            # compiled once per model: a soil iteration may start many interface iterations
+            model._jump_forms = model.cell_average_forms(
+                lambda jump, n, t, R: [ufl.dot(jump, n), ufl.dot(jump, t)])
+        self.forms = model._jump_forms
         n_owned = model.mesh.topology.index_map(1).size_local
         self.owned = np.flatnonzero(model.in_contact[:n_owned])
         self.history: list[dict] = []
