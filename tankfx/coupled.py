@@ -97,6 +97,7 @@ class TankModel:
         self.a = self._bilinear_forms()
         self.L = self._loads()
         self.bcs = soil.bcs + self._symmetry()
+        self._jump_forms = None
 
     # ------------------------------------------------------------------ set-up
     def _penalty(self, Q0, values):
@@ -342,6 +343,14 @@ class TankModel:
                 sums = parts if sums is None else [a + b for a, b in zip(sums, parts)]
         return [fem.form(f, entity_maps=self.entity_maps) for f in sums]
 
+    def jump_forms(self) -> list:
+        """The cell-average forms of the normal and tangential jump, compiled once per model
+        (a soil iteration may start many interface iterations)."""
+        if self._jump_forms is None:
+            self._jump_forms = self.cell_average_forms(
+                lambda jump, n, t, R: [ufl.dot(jump, n), ufl.dot(jump, t)])
+        return self._jump_forms
+
     def cell_averages(self, forms) -> list[np.ndarray]:
         """Assemble :meth:`cell_average_forms` and divide by the areas: one value per local
         structure cell (0 away from the interface)."""
@@ -530,11 +539,7 @@ class InterfaceIteration:
 
     def __init__(self, model: "TankModel"):
         self.model = model
-        if getattr(model, "_jump_forms", None) is None:
-            # compiled once per model: a soil iteration may start many interface iterations
-            model._jump_forms = model.cell_average_forms(
-                lambda jump, n, t, R: [ufl.dot(jump, n), ufl.dot(jump, t)])
-        self.forms = model._jump_forms
+        self.forms = model.jump_forms()
         n_owned = model.mesh.topology.index_map(1).size_local
         self.owned = np.flatnonzero(model.in_contact[:n_owned])
         self.history: list[dict] = []
