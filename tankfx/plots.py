@@ -48,14 +48,16 @@ def gather_grid(fields: dict[str, fem.Function], cells: np.ndarray | None = None
     if cells is None:
         cells = np.arange(n_owned, dtype=np.int32)
     cells = cells[cells < n_owned]
-    topology, cell_types, x = plot.vtk_mesh(msh, tdim, cells)
+    # the grid of a scalar P1 space: its points are the P1 dofs, so values need no mapping
+    P1 = fem.functionspace(msh, ("Lagrange", 1))
+    topology, cell_types, x = plot.vtk_mesh(P1, entities=cells)
     data = {}
     for name, f in fields.items():
         shape = f.function_space.value_shape
         V1 = fem.functionspace(msh, ("Lagrange", 1, shape) if shape else ("Lagrange", 1))
         g = fem.Function(V1)
         g.interpolate(f)
-        data[name] = _vertex_values(g, msh)
+        data[name] = g.x.array.reshape(len(x), -1)
     parts = comm.gather((topology, cell_types, x, data), root=0)
     if comm.rank != 0:
         return None
@@ -69,18 +71,6 @@ def gather_grid(fields: dict[str, fem.Function], cells: np.ndarray | None = None
             grid.point_data[name] = v if v.shape[1] > 1 else v[:, 0]
         grids.append(grid)
     return grids[0].merge(grids[1:]) if len(grids) > 1 else grids[0]
-
-
-def _vertex_values(g: fem.Function, msh) -> np.ndarray:
-    """Values of a P1 function at the geometry nodes (the points of vtk_mesh)."""
-    V = g.function_space
-    bs = V.dofmap.index_map_bs
-    dofs = V.dofmap.list
-    geom = msh.geometry.dofmap
-    out = np.zeros((msh.geometry.x.shape[0], bs))
-    vals = g.x.array.reshape(-1, bs)
-    out[geom.ravel()] = vals[dofs.ravel()]
-    return out
 
 
 def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, extent: float,
