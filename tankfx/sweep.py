@@ -37,7 +37,7 @@ log = logging.getLogger("tankfx")
 
 #: Result columns of table.csv, after the axes.
 COLUMNS = ("converged", "w0", "wd", "M0", "nondim.w0", "nondim.wd", "nondim.M0", "nondim.Kp",
-           "nondim.Kt", "w_edge", "w_mean")
+           "nondim.Kt", "w_edge", "w_mean", "junction.M_wall", "junction.M_plate")
 
 
 @dataclass(frozen=True)
