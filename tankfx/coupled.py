@@ -44,7 +44,6 @@ class TankModel:
 
     def __init__(self, scene: Scene, domain: Domain, face_offset: bool = True):
         self.scene, self.domain = scene, domain
-        self.face_offset = face_offset
         parent = domain.mesh
         self.soil = soil = SoilBlock(scene, domain)
 

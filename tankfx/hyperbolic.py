@@ -35,6 +35,7 @@ import time
 import numpy as np
 import ufl
 from dolfinx import fem
+from mpi4py import MPI
 
 from . import soil as soil_forms
 from .post import allsum
@@ -149,7 +150,7 @@ class HyperbolicIteration:
             changing = (misfit > tol) & self.is_soil
             n_changing = comm.allreduce(int(changing[own].sum()))
             n_ult = comm.allreduce(int((ultimate & self.is_soil)[own].sum()))
-            worst = comm.allreduce(float(misfit[own].max(initial=0.0)), op=_max())
+            worst = comm.allreduce(float(misfit[own].max(initial=0.0)), op=MPI.MAX)
             du = u.x.array[:n_u] - previous
             du_rel = np.sqrt(allsum(comm, float(du @ du)) /
                              max(allsum(comm, float(u.x.array[:n_u] @ u.x.array[:n_u])), 1e-300))
@@ -241,9 +242,3 @@ def _error_estimate(w0_hist) -> float:
         if d0 > 0:
             rho = min(d1 / d0, 0.9)
     return max(d1, d1 * rho / (1.0 - rho)) / max(abs(w0_hist[-1]), 1e-300)
-
-
-def _max():
-    from mpi4py import MPI
-
-    return MPI.MAX

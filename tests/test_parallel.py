@@ -13,6 +13,24 @@ from tankfx import Scene, analyse
 pytestmark = pytest.mark.mpi
 
 
+needs_two_ranks = pytest.mark.skipif(MPI.COMM_WORLD.size == 1,
+                                     reason="needs mpiexec -n 2 (make test-mpi)")
+
+
+def _solve_both(scene):
+    """The scene's results on all ranks and, on each rank alone, serially."""
+    return analyse(scene, MPI.COMM_WORLD).results, analyse(scene, MPI.COMM_SELF).results
+
+
+def _assert_same_numbers(parallel, serial):
+    assert parallel["dofs"] == serial["dofs"]
+    p, s = _numbers(parallel), _numbers(serial)
+    for key in s:
+        scale = np.max(np.abs(s[key]))
+        np.testing.assert_allclose(p[key], s[key], rtol=1e-8, atol=1e-8 * scale + 1e-14,
+                                   err_msg=key)
+
+
 def _numbers(results):
     """Every number of results.json that must not depend on the partition."""
     out = {k: results[k] for k in ("w0", "w_edge", "wd", "w_mean")}
@@ -28,22 +46,16 @@ def _numbers(results):
     return out
 
 
-@pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="needs mpiexec -n 2 (make test-mpi)")
+@needs_two_ranks
 @pytest.mark.parametrize("soil", [{"nu": 0.3}, {"nu": 0.45, "E_gradient": 0.5}])
 def test_parallel_equals_serial(soil):
     scene = flexible_scene(**{"soil": soil})
-    parallel = analyse(scene, MPI.COMM_WORLD).results
-    serial = analyse(scene, MPI.COMM_SELF).results
+    parallel, serial = _solve_both(scene)
     assert parallel["mpi_ranks"] == MPI.COMM_WORLD.size and serial["mpi_ranks"] == 1
-    assert parallel["dofs"] == serial["dofs"]
-    p, s = _numbers(parallel), _numbers(serial)
-    for key in s:
-        scale = np.max(np.abs(s[key]))
-        np.testing.assert_allclose(p[key], s[key], rtol=1e-8, atol=1e-8 * scale + 1e-14,
-                                   err_msg=key)
+    _assert_same_numbers(parallel, serial)
 
 
-@pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="needs mpiexec -n 2 (make test-mpi)")
+@needs_two_ranks
 @pytest.mark.parametrize("embedment, condition", [(0.0, "bonded"), (0.3, "smooth"),
                                                   (0.3, "mohr_coulomb")])
 def test_tank_parallel_equals_serial(embedment, condition):
@@ -58,21 +70,15 @@ def test_tank_parallel_equals_serial(embedment, condition):
         "wall": {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2},
         "interface": interface,
         "load": {"pressure": 50e3, "liquid_unit_weight": 9810.0, "liquid_height": 2.5}})
-    parallel = analyse(scene, MPI.COMM_WORLD).results
-    serial = analyse(scene, MPI.COMM_SELF).results
-    assert parallel["dofs"] == serial["dofs"]
+    parallel, serial = _solve_both(scene)
     assert parallel["interface"]["iterations"] == serial["interface"]["iterations"]
     for part in ("plate", "wall"):
         assert parallel["profiles"][part].get("contact_status") == \
             serial["profiles"][part].get("contact_status")
-    p, s = _numbers(parallel), _numbers(serial)
-    for key in s:
-        scale = np.max(np.abs(s[key]))
-        np.testing.assert_allclose(p[key], s[key], rtol=1e-8, atol=1e-8 * scale + 1e-14,
-                                   err_msg=key)
+    _assert_same_numbers(parallel, serial)
 
 
-@pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="needs mpiexec -n 2 (make test-mpi)")
+@needs_two_ranks
 def test_section_figure_is_built_from_all_ranks():
     """The section figure's grid is gathered from every rank: on 2 ranks it holds the same
     cells with the same field values as the serial one (compared cell by cell on rank 0)."""
