@@ -303,7 +303,8 @@ def _results(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
     surface = {"r": x[keep, 0].tolist(), "z": x[keep, 1].tolist(),
                "w": (-vals[keep, 1]).tolist(), "u_r": vals[keep, 0].tolist()}
 
-    z_axis = np.linspace(D, D + 10.0 * a, 201)
+    # down the axis 10 a, or to the base of a shallower domain
+    z_axis = np.linspace(D, min(D + 10.0 * a, scene.domain.depth), 201)
     sz = evaluate_at(sigma_zz, np.column_stack([np.zeros_like(z_axis), -z_axis]),
                      cells=domain.cells("soil"))[:, 0]
 

@@ -109,9 +109,17 @@ def cmd_sweep(args) -> int:
     out = Path(args.out)
     if comm.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
+        if args.force:
+            # only what a sweep writes: the case files, the table and the chart
+            for f in [*(out / "cases").glob("[0-9][0-9][0-9][0-9].json"),
+                      out / "table.csv", out / "charts.png"]:
+                f.unlink(missing_ok=True)
     comm.barrier()
     setup_logging(out, comm.rank)
-    run_sweep(sweep, out, comm)
+    try:
+        run_sweep(sweep, out, comm)
+    except SceneError as e:
+        return _fail(f"{args.sweep}: {e}", EXIT_BAD_INPUT)
     return 0
 
 
@@ -127,6 +135,8 @@ def main(argv: list[str] | None = None) -> int:
     sweep = sub.add_parser("sweep", help="run a parametric study (resumes where it stopped)")
     sweep.add_argument("sweep", help="sweep file (TOML): base scene and axes")
     sweep.add_argument("--out", required=True, help="directory for cases/, table.csv, log")
+    sweep.add_argument("--force", action="store_true",
+                       help="discard the case files already in --out and start afresh")
     args = parser.parse_args(argv)
     return {"run": cmd_run, "sweep": cmd_sweep}[args.command](args)
 

@@ -120,19 +120,58 @@ def _flatten(results: dict) -> dict:
     return out
 
 
+def _canonical(scene: Scene) -> str:
+    return json.dumps(scene.to_dict(), sort_keys=True, default=str)
+
+
+def finished_cases(sweep: Sweep, out: Path) -> list[int]:
+    """The cases already written in ``out/cases``. A case file written for a different
+    scene (the sweep file or its base changed since) is refused: resuming would mix two
+    studies in one table."""
+    done, stale = [], []
+    for k, scene in enumerate(sweep.scenes):
+        path = out / "cases" / f"{k:04d}.json"
+        if not path.exists():
+            continue
+        try:
+            record = json.loads(path.read_text())
+        except (OSError, json.JSONDecodeError):
+            stale.append(f"{path}: unreadable")
+            continue
+        if json.dumps(record.get("scene"), sort_keys=True, default=str) != _canonical(scene):
+            stale.append(f"{path}: computed for a different scene than case {k} of this sweep")
+        else:
+            done.append(k)
+    if stale:
+        raise SceneError(stale[:5] + [f"... and {len(stale) - 5} more"] * (len(stale) > 5) +
+                         [f"{out} holds another study's cases: use another --out, or add "
+                          f"--force to discard them and start afresh"])
+    return done
+
+
 def run_sweep(sweep: Sweep, out: Path, comm: MPI.Comm = MPI.COMM_WORLD) -> list[dict] | None:
     """Run the cases not yet written in ``out/cases``, spread over the ranks of ``comm``;
-    returns the table rows on rank 0 (None elsewhere)."""
+    returns the table rows on rank 0 (None elsewhere). Raises SceneError (on every rank,
+    before any case runs) if ``out/cases`` holds cases of another study."""
     from .analysis import analyse
     from .cli import write_json
     from .solve import SolveError
 
     cases_dir = out / "cases"
+    error = None
     if comm.rank == 0:
         cases_dir.mkdir(parents=True, exist_ok=True)
-    comm.barrier()
+        try:
+            done = finished_cases(sweep, out)
+        except SceneError as e:
+            error, done = e.problems, []
+    else:
+        done = None
+    error, done = comm.bcast((error, done), root=0)
+    if error:
+        raise SceneError(error)
     n = len(sweep.cases)
-    todo = [k for k in range(n) if not (cases_dir / f"{k:04d}.json").exists()]
+    todo = [k for k in range(n) if k not in set(done)]
     mine = todo[comm.rank::comm.size]
     if comm.rank == 0:
         log.info("sweep: %d cases, %d already done, %d to run on %d rank(s)", n, n - len(todo),
@@ -144,7 +183,8 @@ def run_sweep(sweep: Sweep, out: Path, comm: MPI.Comm = MPI.COMM_WORLD) -> list[
             results = analyse(scene, MPI.COMM_SELF).results
         except SolveError as e:
             results = {"converged": False, "error": str(e), "history": e.history}
-        record = {"case": k, "axes": sweep.cases[k], "results": results}
+        record = {"case": k, "axes": sweep.cases[k],
+                  "scene": json.loads(_canonical(scene)), "results": results}
         write_json(cases_dir / f"{k:04d}.json", record)
         elapsed = time.perf_counter() - t0
         eta = elapsed / (i + 1) * (len(mine) - i - 1)

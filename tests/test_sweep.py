@@ -87,3 +87,24 @@ def test_bad_sweep_is_refused_before_any_case_runs(tmp_path, axes, message):
     assert proc.returncode == 2
     assert message in proc.stderr and "Traceback" not in proc.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_resuming_another_studys_output_is_refused(tmp_path):
+    """The same --out for a changed study: resuming would mix two studies in one table, so
+    it is refused before any case runs and nothing is touched; --force starts afresh."""
+    one = 'base = "base.toml"\n[axes]\n"soil.nu" = [0.1, 0.3]\n'
+    assert _sweep(tmp_path, text=one).returncode == 0
+    cases = tmp_path / "out" / "cases"
+    before = {p.name: p.read_bytes() for p in cases.glob("*.json")}
+    other = 'base = "base.toml"\n[axes]\n"soil.nu" = [0.2, 0.3]\n'
+    proc = _sweep(tmp_path, text=other)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert "0000.json" in proc.stderr and "--force" in proc.stderr
+    assert {p.name: p.read_bytes() for p in cases.glob("*.json")} == before
+    (tmp_path / "sweep.toml").write_text(other)
+    forced = subprocess.run([sys.executable, "-m", "tankfx", "sweep",
+                             str(tmp_path / "sweep.toml"), "--out", str(tmp_path / "out"),
+                             "--force"], capture_output=True, text=True, timeout=900)
+    assert forced.returncode == 0, forced.stderr
+    assert "0 already done, 2 to run" in forced.stdout
+    assert [c["axes"]["soil.nu"] for c in _cases(tmp_path / "out").values()] == [0.2, 0.3]

@@ -1,0 +1,100 @@
+# # How much does the soil's nonlinearity matter? The paper's Figs. 25-27 family
+#
+# Zaman & Mahmood (Figs. 25-27) compare the partially embedded tank on Kondner's hyperbolic
+# soil with the same tank on a linear soil of the initial tangent modulus 1/a: the nonlinear
+# soil settles more (17 % more at Kp = 0.01, 7 % at Kp = 10 for a bonded plate), and it
+# raises the plate's central moment of flexible plates but lowers that of rigid ones.
+#
+# We repeat the comparison for the Fig. 13 tank (bonded plate and embedded wall face,
+# lambda = 0.1 /m, water to 9 m) over a range of plate rigidities, tabulate the excess of
+# the nonlinear response over the linear one beside the paper's, and chart both families.
+#
+# Run: `python demos/nonlinear_soil.py` (or under `mpiexec -n 2`: each analysis then uses both
+# ranks); `--coarse` for a quick run. Results and the chart go to `results/nonlinear_soil/`.
+
+# +
+import sys
+from pathlib import Path
+
+from mpi4py import MPI
+
+from tankfx import Scene, analyse, load_scene
+from tankfx.cli import write_json
+from tankfx.plots import plot_sweep
+
+comm = MPI.COMM_WORLD
+say = print if comm.rank == 0 else (lambda *a, **k: None)
+out = Path("results") / "nonlinear_soil"
+coarse = "--coarse" in sys.argv
+# -
+
+# ## The two soils
+# The nonlinear tank is the headline demo's scene with a bonded interface; its linear twin
+# has E = 1/a growing with depth in the same way (so both start from the same stiffness).
+
+base = load_scene(Path(__file__).resolve().parent / "scenes" / "embedded_tank_nonlinear.toml")
+if coarse:
+    a = base.plate.radius
+    base = base.with_changes(mesh={"edge_size": 0.01 * a, "near_size": 0.25 * a,
+                                   "growth": 0.3})
+rigidities = [0.01, 1.0, 10.0] if coarse else [0.01, 0.1, 1.0, 10.0]
+
+
+def with_Kp(scene: Scene, Kp: float, linear: bool) -> Scene:
+    data = scene.to_dict()
+    data["plate"].pop("thickness", None)
+    data["plate"]["Kp"] = Kp
+    data["interface"] = {"condition": "bonded"}
+    if linear:
+        s = data["soil"]
+        data["soil"] = {"E": 1.0 / s["hyperbolic_a"], "nu": s["nu"],
+                        "E_gradient": s["E_gradient"]}
+    return Scene.from_dict(data)
+
+
+# ## Solve both soils at every rigidity
+# The plate's thickness follows Kp (Eq. 21, with the surface modulus 1/a); each line is one
+# case.
+
+rows, excess = [], {}
+say(f"{'Kp':>6s} {'soil':>11s} {'w0 [mm]':>9s} {'wd [mm]':>9s} {'M0 [kN m/m]':>12s} "
+    f"{'iterations':>10s}")
+for Kp in rigidities:
+    pair = {}
+    for soil in ("hyperbolic", "linear"):
+        r = analyse(with_Kp(base, Kp, soil == "linear"), comm).results
+        assert r["converged"], (Kp, soil)
+        pair[soil] = r
+        rows.append({"plate.Kp": Kp, "soil": soil, "converged": True,
+                     **{f"nondim.{k}": r["nondim"][k] for k in ("w0", "wd", "M0")}})
+        say(f"{Kp:6g} {soil:>11s} {r['w0'] * 1e3:9.2f} {r['wd'] * 1e3:9.2f} "
+            f"{r['M0'] / 1e3:12.2f} {r['soil'].get('iterations', 0):10d}")
+    excess[Kp] = {k: pair["hyperbolic"][k] / pair["linear"][k] - 1 for k in ("w0", "wd", "M0")}
+
+# ## The nonlinear excess, beside the paper's
+# The paper quotes only w0 ("17 % less for the linear soil at Kp = 0.01, 7 % at Kp = 10", so
+# an excess of 20 % and 8 % over linear) and the sign change of the M0 excess. Its load
+# level is not given; ours is 88 kPa of water on the floor against an ultimate deviator of
+# 100 kPa, a heavily loaded soil: the magnitudes differ, the comparison is of trends.
+
+say(f"\n{'Kp':>6s} {'w0 excess':>10s} {'wd excess':>10s} {'M0 excess':>10s}")
+for Kp, e in excess.items():
+    say(f"{Kp:6g} {e['w0']:10.1%} {e['wd']:10.1%} {e['M0']:10.1%}")
+say("paper (bonded, Figs. 25-27): w0 excess ~20 % at Kp = 0.01 -> ~8 % at Kp = 10; M0 "
+    "higher on nonlinear soil for flexible plates, lower for rigid ones")
+
+if comm.rank == 0:
+    out.mkdir(parents=True, exist_ok=True)
+    write_json(out / "nonlinear_family.json", {"rows": rows, "excess": excess})
+chart = plot_sweep(rows, {"plate.Kp": rigidities, "soil": ["hyperbolic", "linear"]},
+                   out / "nonlinear_family.png", title="Embedded tank, bonded")
+say(f"results: {out}/nonlinear_family.json; chart: {chart}")
+
+# ## Checks
+# The nonlinear soil is softer everywhere, so every tank settles more on it; the excess of
+# w0 falls from the flexible plate to Kp = 1 (the paper's trend); the central moment's excess
+# changes sign from flexible to rigid plates (the paper's Fig. 27).
+
+assert all(e["w0"] > 0 for e in excess.values()), excess
+assert excess[1.0]["w0"] < excess[0.01]["w0"], excess
+assert excess[0.01]["M0"] > 0 > excess[10.0]["M0"], excess
