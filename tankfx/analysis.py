@@ -245,7 +245,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     t = time.perf_counter()
     model = build_model(replace(scene, load=stages[0]), domain)
     solver = DirectSolver(model.a, model.L, model.bcs, model.unknowns,
-                          entity_maps=model.entity_maps, name="tank")
+                          entity_maps=model.entity_maps, name="tank",
+                          symmetric=scene.interface.condition != "mohr_coulomb")
     timings["forms"] = time.perf_counter() - t
     dofs = model.dofs()
     log.info("dofs: %s (soil P%d); assembling and solving with MUMPS",
@@ -283,6 +284,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         results["soil"] = soil_iteration or {"model": "linear", "iterations": 0}
         results["soil"]["model"] = scene.soil.model
         results["linear_solves"] = solver.solves
+        results["linear_solver"] = {
+            "solves": solver.solves, "factorisation": solver.factorisation,
+            "last_relative_residual": solver.relative_residual}
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,
                                   sigma_zz=sigma_zz, results=results, model=model))
     return solutions

@@ -18,7 +18,9 @@ q_m = eps_p / (a + b eps_p). Where the misfit |q_c - q_m| / q_c exceeds the tole
 
 which is positive and never above the initial modulus; near the ultimate deviator it tends to
 zero and is held at a floor, which marks the cell as failing. The iteration stops when no cell
-needs a change (Eq. 20) and the displacement update is below ``DISPLACEMENT_TOLERANCE``;
+needs a change (Eq. 20) and the relative displacement update is below the tolerance
+times ``DISPLACEMENT_TOLERANCE_RATIO`` (1e-3 for the paper's 0.05: the error the default mesh
+leaves is larger; a tighter tolerance tightens both);
 unlike the paper, every cell takes its new secant modulus at every iteration, so the result
 does not keep a misfit of up to the tolerance (measured: 2.5 % of w0 at 0.05). Using the
 principal strain spread rather than the largest principal strain keeps the rule well defined
@@ -49,8 +51,9 @@ ULTIMATE_FRACTION = 0.99
 #: The secant modulus never falls below this fraction of the initial one (it must not reach
 #: zero); a cell held there is at the ultimate and is reported.
 MODULUS_FLOOR = 1e-4
-#: The global criterion: the relative displacement update of the last iteration.
-DISPLACEMENT_TOLERANCE = 1e-4
+#: The global criterion: the relative displacement update of the last iteration must be
+#: below this times the Eq. 18 tolerance.
+DISPLACEMENT_TOLERANCE_RATIO = 0.02
 #: Depth of the Anderson acceleration of the secant update (0: plain Picard).
 ANDERSON_DEPTH = 3
 
@@ -129,6 +132,7 @@ class HyperbolicIteration:
         m, s = self.model, self.model.scene.soil
         comm = m.domain.mesh.comm
         tol, max_it = s.tolerance, s.max_iterations
+        du_tol = DISPLACEMENT_TOLERANCE_RATIO * tol
         u = m.soil.u
         n_u = u.function_space.dofmap.index_map.size_local * u.function_space.dofmap.index_map_bs
         previous = u.x.array[:n_u].copy()
@@ -163,11 +167,11 @@ class HyperbolicIteration:
             self.history.append(row)
             log.info("  %2d %9d %11.3e %12d  %10.3e %8.2f", it, n_changing, worst, n_ult,
                      du_rel, row["time_s"])
-            if n_changing == 0 and du_rel <= DISPLACEMENT_TOLERANCE and not unsettled:
+            if n_changing == 0 and du_rel <= du_tol and not unsettled:
                 return {"converged": True, "iterations": it, "history": self.history,
                         "criterion": f"no cell's deviator misfit exceeds {tol:g} (Eq. 20; "
                                      f"largest {worst:.2e}) and the displacement update is "
-                                     f"{du_rel:.1e} <= {DISPLACEMENT_TOLERANCE:g}",
+                                     f"{du_rel:.1e} <= {du_tol:g}",
                         "cells_at_ultimate": n_ult,
                         "error_estimate": _error_estimate(w0_hist)}
             # every soil cell takes its secant modulus (the paper updates only the cells
