@@ -248,6 +248,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                           entity_maps=model.entity_maps, name="tank",
                           symmetric=scene.interface.condition != "mohr_coulomb")
     timings["forms"] = time.perf_counter() - t
+    warnings = list(getattr(model, "warnings", []))
+    for w in warnings:
+        log.warning("warning: %s", w)
     dofs = model.dofs()
     log.info("dofs: %s (soil P%d); assembling and solving with MUMPS",
              ", ".join(f"{k} {v}" for k, v in dofs.items()), scene.mesh.degree)
@@ -284,6 +287,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         results["soil"] = soil_iteration or {"model": "linear", "iterations": 0}
         results["soil"]["model"] = scene.soil.model
         results["linear_solves"] = solver.solves
+        results["warnings"] = warnings
         results["linear_solver"] = {
             "solves": solver.solves, "factorisation": solver.factorisation,
             "last_relative_residual": solver.relative_residual}
