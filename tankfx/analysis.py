@@ -24,7 +24,7 @@ from mpi4py import MPI
 from . import soil as soil_forms
 from .mesh import CELL_TAGS, FACET_TAGS, Domain, build_domain
 from .post import assemble_scalar, evaluate_at, nodal_values_on_facets
-from .scene import Load, Scene
+from .scene import MIXED_FROM_NU, Load, Scene
 from .solve import DirectSolver, reaction_force
 
 __all__ = ["Solution", "analyse", "analyse_path", "CONVENTIONS"]
@@ -82,7 +82,13 @@ def _versions() -> dict[str, str]:
 
 
 class SoilBlock:
-    """The soil field on the parent mesh: its space, modulus, stiffness form and supports."""
+    """The soil field on the parent mesh: its space, modulus, stiffness forms and supports.
+
+    ``a`` is the displacement block (to which the interface adds its terms). A soil with
+    nu > ``MIXED_FROM_NU`` is solved in the mixed form (:func:`tankfx.soil.mixed_stiffness_forms`):
+    it then has a pressure ``p`` too, ``unknowns`` = [u, p], and ``pressure_blocks`` =
+    (a_up, a_pu, a_pp) and the pressure's zero load ``L_p``; otherwise ``unknowns`` = [u].
+    ``stress(u)`` is the stress of either form."""
 
     def __init__(self, scene: Scene, domain: Domain):
         msh = domain.mesh
@@ -107,14 +113,29 @@ class SoilBlock:
         self.dx = ufl.Measure("dx", domain=msh, subdomain_data=domain.cell_tags)(
             CELL_TAGS["soil"])
         self.trial, self.test = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
-        self.a = soil_forms.stiffness_form(self.trial, self.test, self.E, self.nu, self.r,
-                                           self.dx)
+        self.mixed = s.nu > MIXED_FROM_NU
+        self.unknowns = [self.u]
+        if self.mixed:
+            Q = self.Q = fem.functionspace(msh, ("Lagrange", scene.mesh.degree - 1))
+            self.p = fem.Function(Q, name="pressure")
+            p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
+            self.a, *self.pressure_blocks = soil_forms.mixed_stiffness_forms(
+                self.trial, p, self.test, q, self.E, self.nu, self.r, self.dx)
+            self.L_p = fem.Constant(msh, 0.0) * q * self.dx
+            self.unknowns.append(self.p)
+        else:
+            self.a = soil_forms.stiffness_form(self.trial, self.test, self.E, self.nu, self.r,
+                                               self.dx)
         if domain.has_void:
             # A zero term over the void: it puts the void's dofs in the sparsity pattern, so
             # that their Dirichlet rows get a diagonal (it adds nothing to any value).
             dx_void = ufl.Measure("dx", domain=msh, subdomain_data=domain.cell_tags)(
                 CELL_TAGS["void"])
             self.a += fem.Constant(msh, 0.0) * ufl.inner(self.trial, self.test) * dx_void
+            if self.mixed:
+                a_up, a_pu, a_pp = self.pressure_blocks
+                self.pressure_blocks = (a_up, a_pu,
+                                        a_pp + fem.Constant(msh, 0.0) * p * q * dx_void)
         self.bcs = self._supports()
         self.supported_facets = domain.facets("far_side", "bottom")
 
@@ -132,7 +153,40 @@ class SoilBlock:
             void = fem.locate_dofs_topological(V, 2, dom.cells("void"))
             soil = fem.locate_dofs_topological(V, 2, dom.cells("soil"))
             bcs.append(fem.dirichletbc(zero, np.setdiff1d(void, soil), V))
+            if self.mixed:
+                void = fem.locate_dofs_topological(self.Q, 2, dom.cells("void"))
+                soil = fem.locate_dofs_topological(self.Q, 2, dom.cells("soil"))
+                bcs.append(fem.dirichletbc(0.0, np.setdiff1d(void, soil), self.Q))
         return bcs
+
+    def dofs(self) -> dict[str, int]:
+        out = {"soil": self.V.dofmap.index_map.size_global * self.V.dofmap.index_map_bs}
+        if self.mixed:
+            out["soil_pressure"] = self.Q.dofmap.index_map.size_global
+        return out
+
+    def stress(self, u=None):
+        """The soil stress (3 x 3, tension positive) of a displacement (default: the
+        solution), with the solution's pressure in the mixed form."""
+        eps = soil_forms.strain(self.u if u is None else u, self.r)
+        if self.mixed:
+            return soil_forms.mixed_stress(eps, self.p, self.E, self.nu)
+        return soil_forms.stress(eps, self.E, self.nu)
+
+    def blocks(self, a_uu, L_u):
+        """The soil's rows and columns of a block system, from its displacement block and
+        load: ([[a_uu]], [L_u]) or, mixed, ([[a_uu, a_up], [a_pu, a_pp]], [L_u, L_p])."""
+        if not self.mixed:
+            return [[a_uu]], [L_u]
+        a_up, a_pu, a_pp = self.pressure_blocks
+        return [[a_uu, a_up], [a_pu, a_pp]], [L_u, self.L_p]
+
+    def residual(self, a_uu, L_u):
+        """The displacement equations' residual a(u, v) - L(v) (support reactions)."""
+        res = ufl.action(a_uu, self.u) - L_u
+        if self.mixed:
+            res += ufl.action(self.pressure_blocks[0], self.p)
+        return res
 
     def vertical_stress(self) -> fem.Function:
         """sigma_zz (compression positive), L2-projected (r-weighted) onto the continuous
@@ -141,7 +195,7 @@ class SoilBlock:
         msh = self.domain.mesh
         Q = fem.functionspace(msh, ("Lagrange", self.scene.mesh.degree))
         s, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
-        sigma = -soil_forms.stress(soil_forms.strain(self.u, self.r), self.E, self.nu)[1, 1]
+        sigma = -self.stress()[1, 1]
         out = fem.Function(Q, name="sigma_zz")
         bcs = []
         if self.domain.has_void:
@@ -167,7 +221,12 @@ class FlexibleLoad:
         ds = ufl.Measure("ds", domain=domain.mesh, subdomain_data=domain.facet_tags)
         self.L = -self.pressure * soil.test[1] * 2.0 * math.pi * soil.r * ds(
             FACET_TAGS["contact"])
-        self.a, self.bcs, self.unknowns, self.entity_maps = soil.a, soil.bcs, soil.u, None
+        self.L_u = self.L
+        self.bcs, self.entity_maps = soil.bcs, None
+        if soil.mixed:
+            (self.a, self.L), self.unknowns = soil.blocks(soil.a, self.L), soil.unknowns
+        else:
+            self.a, self.unknowns = soil.a, soil.u
 
     @property
     def applied_load(self) -> float:
@@ -179,8 +238,7 @@ class FlexibleLoad:
         return self.scene.load.pressure
 
     def dofs(self) -> dict[str, int]:
-        im = self.soil.V.dofmap.index_map
-        return {"soil": im.size_global * self.soil.V.dofmap.index_map_bs}
+        return self.soil.dofs()
 
     def begin_stage(self) -> None:
         pass
@@ -190,7 +248,7 @@ class FlexibleLoad:
         return 0
 
     def soil_residual(self):
-        return ufl.action(self.a, self.soil.u) - self.L
+        return self.soil.residual(self.soil.a, self.L_u)
 
     def foundation_results(self) -> dict:
         """w0, w_edge, wd, w_mean of the loaded area (on the soil surface)."""

@@ -98,7 +98,7 @@ class TankModel:
         # ---- spaces, unknowns, forms
         self.W = st.structure_space(sub, 3)
         self.w = fem.Function(self.W, name="structure")
-        self.unknowns = [soil.u, self.w]
+        self.unknowns = soil.unknowns + [self.w]      # [u, (p,) structure]
         self.r_b = ufl.SpatialCoordinate(sub)[0]
         self.t_b = st.tangent(sub)
         self.dx_b = ufl.Measure("dx", domain=sub, subdomain_data=self.cell_tags)
@@ -212,7 +212,11 @@ class TankModel:
                                                  measure)
                 a_bs -= interface.interface_form(R(soil.trial), R(v_b), n, t, kn, ks, mu, r,
                                                  measure)
-        return [[a_ss, a_sb], [a_bs, a_bb]]
+        # the soil's rows (with its pressure's, in the mixed form), then the structure's
+        soil_rows, _ = soil.blocks(a_ss, None)
+        rows = [row + [a_sb if i == 0 else None] for i, row in enumerate(soil_rows)]
+        rows.append([a_bs] + [None] * (len(soil_rows) - 1) + [a_bb])
+        return rows
 
     def _loads(self):
         s, r_b = self.scene, self.r_b
@@ -246,7 +250,7 @@ class TankModel:
                 for measure, R in pieces:
                     zero_soil += interface.interface_load(R(self.soil.test), t, R(self.c_s),
                                                           self.soil.r, measure)
-        return [zero_soil, load]
+        return self.soil.blocks(None, zero_soil)[1] + [load]
 
     def _symmetry(self):
         """u_r = 0 and beta = 0 at the plate centre."""
@@ -297,8 +301,7 @@ class TankModel:
 
     def dofs(self) -> dict[str, int]:
         im = self.W.dofmap.index_map
-        return {"soil": self.soil.V.dofmap.index_map.size_global * 2,
-                "structure": im.size_global * self.W.dofmap.index_map_bs}
+        return self.soil.dofs() | {"structure": im.size_global * self.W.dofmap.index_map_bs}
 
     def begin_stage(self) -> None:
         """Start a load stage: the element states so far are the starting guess, and the
@@ -331,8 +334,8 @@ class TankModel:
         return changed
 
     def soil_residual(self):
-        a_ss, a_sb = self.a[0]
-        return ufl.action(a_ss, self.soil.u) + ufl.action(a_sb, self.w) - self.L[0]
+        a_ss, a_sb = self.a[0][0], self.a[0][-1]
+        return self.soil.residual(a_ss, self.L[0]) + ufl.action(a_sb, self.w)
 
     def contact_resultant(self) -> float:
         """Upward resultant of the interface tractions on the structure, N."""

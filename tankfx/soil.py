@@ -16,7 +16,8 @@ import math
 import ufl
 
 __all__ = ["radius", "depth", "strain", "stress", "lame", "modulus_with_depth",
-           "stiffness_form", "hoop_strain"]
+           "stiffness_form", "hoop_strain", "mixed_stress", "mixed_stiffness_forms",
+           "inverse_lambda"]
 
 
 def radius(mesh) -> ufl.core.expr.Expr:
@@ -63,3 +64,32 @@ def modulus_with_depth(E_surface, gradient, h):
 def stiffness_form(u, v, E, nu, r, dx):
     """Bilinear form of the soil, integrated over the soil cells with the 2 pi r weight."""
     return ufl.inner(stress(strain(u, r), E, nu), strain(v, r)) * 2.0 * math.pi * r * dx
+
+
+# --------------------------------------------------------------------------- mixed u-p
+# Near nu = 0.5 the displacement formulation locks (its stresses oscillate: sigma_zz on the
+# axis is 17.6 % of p off at nu = 0.499 with P2). The mixed form carries the pressure
+# p = -lambda tr(eps) as an unknown of its own (Taylor-Hood: one degree below the
+# displacement), with the constraint tr(eps) + p / lambda = 0, which holds at nu = 0.5
+# exactly, where 1 / lambda = 0.
+
+
+def inverse_lambda(E, nu):
+    """1 / lambda = (1 + nu)(1 - 2 nu) / (E nu): zero for an incompressible soil."""
+    return (1.0 + nu) * (1.0 - 2.0 * nu) / (E * nu)
+
+
+def mixed_stress(eps, p, E, nu):
+    """sigma = 2 mu eps - p I (tension positive): the stress of the mixed form."""
+    return 2.0 * lame(E, nu)[1] * eps - p * ufl.Identity(3)
+
+
+def mixed_stiffness_forms(u, p, v, q, E, nu, r, dx):
+    """The four blocks (a_uu, a_up, a_pu, a_pp) of the mixed form, 2 pi r weighted:
+    symmetric and indefinite (a_pp <= 0)."""
+    w = 2.0 * math.pi * r
+    mu = lame(E, nu)[1]
+    return (ufl.inner(2.0 * mu * strain(u, r), strain(v, r)) * w * dx,
+            -p * ufl.tr(strain(v, r)) * w * dx,
+            -q * ufl.tr(strain(u, r)) * w * dx,
+            -inverse_lambda(E, nu) * p * q * w * dx)

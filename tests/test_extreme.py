@@ -154,3 +154,18 @@ def test_scale_invariance():
     large = analyse(plate(a=100.0, p=1e7)).results["nondim"]
     for key in ("w0", "wd", "M0"):
         assert large[key] == pytest.approx(small[key], rel=1e-4), key
+
+
+@pytest.mark.parametrize("condition", ["smooth", "bonded"])
+def test_rigid_punch_on_incompressible_soil(condition):
+    """nu_s = 0.5 exactly (undrained clay), mixed form: a rigid plate settles
+    P (1 - nu^2) / (2 a E), bonded or smooth alike (an incompressible surface does not move
+    radially under a normal load, so bonding changes nothing)."""
+    data = {"soil": {"E": 10e6, "nu": 0.5},
+            "plate": {"radius": 1.0, "Kp": 1e3, "E": 30e9, "nu": 0.2},
+            "interface": {"condition": condition}, "load": {"pressure": 1e5}, "mesh": COARSE}
+    r = analyse(Scene.from_dict(data)).results
+    assert "soil_pressure" in r["dofs"]
+    assert r["w0"] == pytest.approx(1e5 * math.pi * (1 - 0.25) / (2 * 10e6), rel=1e-2)
+    assert r["wd"] < 1e-3 * r["w0"]
+    assert r["equilibrium"]["contact_relative_error"] < 1e-9

@@ -56,8 +56,10 @@ def test_Kp_and_thickness_are_inverse():
     (with_(soil={"E": True}), "soil.E", "expected a number"),
     (with_(soil={"E": 0.0}), "soil.E", "must be > 0"),
     (with_(soil={"E": -5.0}), "soil.E", "must be > 0"),
-    (with_(soil={"nu": 0.5}), "soil.nu", "(-1, 0.5)"),
-    (with_(soil={"nu": -1.0}), "soil.nu", "(-1, 0.5)"),
+    (with_(soil={"nu": 0.51}), "soil.nu", "(-1, 0.5]"),
+    (with_(soil={"nu": -1.0}), "soil.nu", "(-1, 0.5]"),
+    (with_(plate=PLATE | {"nu": 0.5}), "plate.nu", "(-1, 0.5)"),
+    (with_(soil={"nu": 0.49}, mesh={"degree": 1}), "mesh.degree", "degree 2"),
     (with_(soil={"nu": math.nan}), "soil.nu", "finite"),
     (with_(load={"pressure": math.inf}), "load.pressure", "finite"),
     (with_(soil={"model": "hyperbolicc"}), "soil.model", "did you mean 'hyperbolic'"),
@@ -166,7 +168,7 @@ def test_not_toml_and_missing_file(tmp_path):
 
 def test_cli_bad_scene_exits_cleanly_without_traceback(tmp_path):
     f = tmp_path / "bad.toml"
-    f.write_text("[soil]\nE = 1e7\nnu = 0.5\n[load]\npressure = 1e5\nload_radius = 1.0\n")
+    f.write_text("[soil]\nE = 1e7\nnu = 0.6\n[load]\npressure = 1e5\nload_radius = 1.0\n")
     out = tmp_path / "out"
     proc = subprocess.run([sys.executable, "-m", "tankfx", "run", str(f), "--out", str(out)],
                           capture_output=True, text=True)

@@ -78,7 +78,7 @@ def test_sweep_on_two_ranks_equals_serial_and_resumes(tmp_path):
 
 @pytest.mark.parametrize("axes, message", [
     ('"soil.nuu" = [0.1]', "soil.nuu"),
-    ('"soil.nu" = [0.1, 0.5]', "soil.nu"),
+    ('"soil.nu" = [0.1, 0.6]', "soil.nu"),
     ('"nu" = [0.1]', "section.key"),
     ('"soil.nu" = []', "non-empty"),
 ])
