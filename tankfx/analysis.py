@@ -25,7 +25,7 @@ from . import soil as soil_forms
 from .mesh import CELL_TAGS, FACET_TAGS, Domain, build_domain
 from .post import assemble_scalar, evaluate_at, nodal_values_on_facets
 from .scene import MIXED_FROM_NU, Load, Scene
-from .solve import DirectSolver, reaction_force
+from .solve import DirectSolver, mass_solve, reaction_force
 
 __all__ = ["Solution", "analyse", "analyse_path", "CONVENTIONS"]
 
@@ -207,7 +207,7 @@ class SoilBlock:
             dx_void = ufl.Measure("dx", domain=msh, subdomain_data=self.domain.cell_tags)(
                 CELL_TAGS["void"])
             a += fem.Constant(msh, 0.0) * s * q * dx_void
-        DirectSolver(a, sigma * q * self.r * self.dx, bcs, out, name="projection").solve()
+        mass_solve(a, sigma * q * self.r * self.dx, bcs, out, name="stress projection")
         return out
 
 

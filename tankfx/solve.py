@@ -13,7 +13,7 @@ from dolfinx.fem import petsc as fem_petsc
 
 from .post import allsum
 
-__all__ = ["SolveError", "DirectSolver", "reaction_force"]
+__all__ = ["SolveError", "DirectSolver", "mass_solve", "reaction_force"]
 
 _ids = itertools.count()
 
@@ -86,6 +86,25 @@ class DirectSolver:
     @property
     def matrix_size(self) -> int:
         return self.problem.A.getSize()[0]
+
+
+def mass_solve(a, L, bcs, u, name: str = "projection"):
+    """Solve a mass-matrix system (an L2 projection): conjugate gradients with Jacobi, which
+    for a mass matrix converge in a few dozen iterations whatever the mesh (the diagonal
+    takes out the element sizes and the 2 pi r weight), instead of a factorisation that
+    costs as much as the analysis itself (1.4 s of 11 s at 270k dofs)."""
+    prefix = f"tankfx_{name.replace(' ', '_')}_{next(_ids)}_"
+    problem = fem_petsc.LinearProblem(
+        a, L, bcs=bcs, u=u, petsc_options_prefix=prefix,
+        petsc_options={"ksp_type": "cg", "pc_type": "jacobi", "ksp_rtol": 1e-12,
+                       "ksp_atol": 0.0, "ksp_max_it": 1000})
+    problem.solve()
+    reason = problem.solver.getConvergedReason()
+    if reason < 0 or not np.isfinite(problem.x.norm()):
+        raise SolveError(f"the {name} (a mass-matrix solve by CG) did not converge: PETSc "
+                         f"reason {reason} after {problem.solver.getIterationNumber()} "
+                         f"iterations")
+    return u
 
 
 def reaction_force(residual, V: fem.FunctionSpace, component: int, facets: np.ndarray,
