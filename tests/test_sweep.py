@@ -108,3 +108,36 @@ def test_resuming_another_studys_output_is_refused(tmp_path):
     assert forced.returncode == 0, forced.stderr
     assert "0 already done, 2 to run" in forced.stdout
     assert [c["axes"]["soil.nu"] for c in _cases(tmp_path / "out").values()] == [0.2, 0.3]
+
+
+def test_sweep_killed_mid_run_resumes_without_losing_or_redoing_cases(tmp_path):
+    """A real interruption: the sweep process is killed (SIGKILL) once two cases are on
+    disk; the restart keeps those files as they are, leaves no half-written case behind,
+    and finishes the rest."""
+    import signal
+    import time
+
+    (tmp_path / "base.toml").write_text(BASE)
+    (tmp_path / "sweep.toml").write_text(SWEEP)
+    cases = tmp_path / "out" / "cases"
+    cmd = [sys.executable, "-m", "tankfx", "sweep", str(tmp_path / "sweep.toml"), "--out",
+           str(tmp_path / "out")]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            start_new_session=True)
+    deadline = time.monotonic() + 600
+    while len(list(cases.glob("*.json"))) < 2 and proc.poll() is None:
+        assert time.monotonic() < deadline, "the sweep wrote no case in 10 minutes"
+        time.sleep(0.05)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+    kept = {p.name: p.stat().st_mtime_ns for p in cases.glob("*.json")}
+    assert 2 <= len(kept) < 6, "the sweep must be killed mid-run"
+    for p in cases.glob("*.json"):
+        json.loads(p.read_text())                      # whole files only
+    again = _sweep(tmp_path)
+    assert again.returncode == 0, again.stderr
+    assert f"{len(kept)} already done, {6 - len(kept)} to run" in again.stdout
+    after = {p.name: p.stat().st_mtime_ns for p in cases.glob("*.json")}
+    assert len(after) == 6 and all(after[n] == t for n, t in kept.items())
+    table = (tmp_path / "out" / "table.csv").read_text().splitlines()
+    assert len(table) == 7

@@ -1,0 +1,215 @@
+"""Error against run time for every soil-coupled verification case of the test suite, over
+mesh levels and element degrees: a table, a log-log chart (error against whole-process wall
+time and against dofs), and whether the defaults sit on the efficient front.
+
+    python benchmarks/accuracy.py [--quick] [--out results/benchmarks]
+
+Cases (references as in tests/): the flexible load (Boussinesq: w0, w_edge, sigma_zz on the
+axis), the rigid smooth punch (Boussinesq) and rigid bonded punch (Mossakovskii-Spence), the
+free raft at Kp = 0.1 and 10 (Brown 1969: w0, wd, M0), and the nonlinear embedded tank of
+`make demo` (hyperbolic soil, Mohr-Coulomb interface) against its own finest solution (P3,
+level 1). The plate and wall elements alone are in benchmarks/structure.py (their cost is
+negligible beside the soil's).
+
+Level 0 is the default mesh (edge_size 0.002 a, near_size 0.1 a); each level up halves both
+sizes, each level down doubles them. Each run is a fresh process (`python -m tankfx run`), so
+the time includes start-up, meshing and the (disk-cached) form compilation. The error of a
+run is the largest relative error of its case's quantities. A configuration is on the
+efficient front of its case when no other is both faster and more accurate.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+P, A, E, NU = 100e3, 1.0, 10e6, 0.3
+BROWN = {0.1: (1.954, 0.5572, 0.01462), 10.0: (1.588, 0.02378, 0.0747)}
+
+
+def _soil(degree, level, a=A):
+    f = 2.0 ** (-level)
+    return {"degree": degree, "edge_size": min(0.002 * f, 0.25) * a,
+            "near_size": min(0.1 * f, 0.5) * a}
+
+
+def scenes(degree: int, level: int) -> dict[str, dict]:
+    """Every case as a scene dict at one (degree, level)."""
+    mesh = _soil(degree, level)
+    soil = {"E": E, "nu": NU}
+    plate = {"radius": A, "E": 30e9, "nu": 0.3}
+    out = {"flexible load": {"soil": soil, "load": {"pressure": P, "load_radius": A},
+                             "mesh": mesh},
+           "rigid punch, smooth": {"soil": soil, "plate": plate | {"Kp": 1e3},
+                                   "interface": {"condition": "smooth"},
+                                   "load": {"pressure": P}, "mesh": mesh},
+           "rigid punch, bonded": {"soil": soil, "plate": plate | {"Kp": 1e3},
+                                   "interface": {"condition": "bonded"},
+                                   "load": {"pressure": P}, "mesh": mesh}}
+    for Kp in BROWN:
+        out[f"free raft, Kp = {Kp:g}"] = {"soil": soil, "plate": plate | {"Kp": Kp},
+                                          "interface": {"condition": "smooth"},
+                                          "load": {"pressure": P}, "mesh": mesh}
+    import tomllib
+
+    tank = tomllib.loads((ROOT / "demos" / "scenes" / "embedded_tank_nonlinear.toml")
+                         .read_text())
+    tank["mesh"] = _soil(degree, level, tank["plate"]["radius"])
+    out["nonlinear embedded tank"] = tank
+    return out
+
+
+def errors(case: str, r: dict, reference: dict | None) -> dict:
+    from tankfx import reference as ref
+
+    if case == "flexible load":
+        z = np.array(r["profiles"]["axis"]["z"])
+        s = np.array(r["profiles"]["axis"]["sigma_zz"])
+        win = (z >= 0.25 * A) & (z <= 5 * A)
+        return {"w0": r["w0"] / ref.flexible_centre_settlement(P, A, E, NU) - 1,
+                "w_edge": r["w_edge"] / ref.flexible_edge_settlement(P, A, E, NU) - 1,
+                "sigma_zz": float(np.max(np.abs(s[win] / ref.flexible_axis_stress(
+                    P, A, z[win]) - 1)))}
+    force = P * math.pi * A**2
+    if case == "rigid punch, smooth":
+        return {"w0": r["w0"] / (force * (1 - NU**2) / (2 * A * E)) - 1}
+    if case == "rigid punch, bonded":
+        G = E / (2 * (1 + NU))
+        return {"w0": r["w0"] / (force / (4 * G * A * math.log(3 - 4 * NU) /
+                                           (1 - 2 * NU))) - 1}
+    if case.startswith("free raft"):
+        w0, wd, M0 = BROWN[float(case.split("= ")[1])]
+        scale = P * A * (1 - NU**2) / E
+        return {"w0": r["w0"] / scale / w0 - 1, "wd": r["wd"] / scale / wd - 1,
+                "M0": r["M0"] / (P * A**2) / M0 - 1}
+    if reference is None:
+        return {"w0": 0.0, "wd": 0.0, "M0": 0.0}
+    return {k: r[k] / reference[k] - 1 for k in ("w0", "wd", "M0")}
+
+
+def _toml(data: dict) -> str:
+    lines = []
+    for sec, values in data.items():
+        if not isinstance(values, dict):
+            lines.insert(0, f"{sec} = {json.dumps(values)}")
+            continue
+        lines.append(f"[{sec}]")
+        for k, v in values.items():
+            lines.append(f"{k} = {json.dumps(v) if isinstance(v, str) else repr(v)}"
+                         .replace("True", "true").replace("False", "false"))
+    return "\n".join(lines) + "\n"
+
+
+def run_case(scene: dict, workdir: Path, name: str) -> dict:
+    path = workdir / f"{name}.toml"
+    path.write_text(_toml(scene))
+    out = workdir / name
+    t = time.perf_counter()
+    proc = subprocess.run([sys.executable, "-m", "tankfx", "run", str(path), "--out", str(out),
+                           "--force"], capture_output=True, text=True)
+    wall = time.perf_counter() - t
+    if proc.returncode != 0:
+        raise RuntimeError(f"{name}: {proc.stderr[-2000:]}")
+    r = json.loads((out / "results.json").read_text())
+    r["process_s"] = wall
+    return r
+
+
+def front(rows: list[dict]) -> None:
+    """Mark, per case, the configurations no other beats in both time and error."""
+    for row in rows:
+        row["on_front"] = not any(
+            o is not row and o["case"] == row["case"] and o["process_s"] < row["process_s"]
+            and o["error"] < row["error"] for o in rows)
+
+
+def chart(rows: list[dict], path: Path) -> None:
+    from tankfx.plots import _pyvista, _save
+
+    pv = _pyvista()
+    cases = list(dict.fromkeys(r["case"] for r in rows))
+    colors = {1: "tab:orange", 2: "tab:blue", 3: "tab:green"}
+    p = pv.Plotter(off_screen=True, window_size=(700 * 3, 450 * math.ceil(len(cases) / 3)),
+                   shape=(math.ceil(len(cases) / 3), 3))
+    for k, case in enumerate(cases):
+        c = pv.Chart2D(x_label="log10 whole-process time [s]",
+                       y_label="log10 relative error")
+        c.title = case
+        for deg, color in colors.items():
+            pts = sorted((r["process_s"], max(r["error"], 1e-7)) for r in rows
+                         if r["case"] == case and r["degree"] == deg)
+            if pts:
+                x, y = np.log10(np.array(pts)).T
+                c.line(x, y, color=color, width=2, label=f"P{deg}")
+                c.scatter(x, y, color=color, size=8)
+        d = [r for r in rows if r["case"] == case and r["default"]]
+        if d:
+            c.scatter(np.log10([d[0]["process_s"]]), np.log10([max(d[0]["error"], 1e-7)]),
+                      color="black", size=16, style="diamond", label="default")
+        p.subplot(k // 3, k % 3)
+        p.add_chart(c)
+    _save(p, path)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help="levels -1, 0 and P2, P3 only")
+    ap.add_argument("--out", default="results/benchmarks")
+    args = ap.parse_args()
+    degrees = (2, 3) if args.quick else (1, 2, 3)
+    levels = (-1, 0) if args.quick else (-2, -1, 0, 1)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        # the nonlinear tank's reference: its finest solution
+        ref_scene = scenes(3, 1)["nonlinear embedded tank"]
+        print("reference for the nonlinear tank: P3, level 1 ...", flush=True)
+        reference = run_case(ref_scene, tmp, "reference")
+        run_case(scenes(2, 0)["flexible load"], tmp, "warm-up")      # JIT caches warm
+        print(f"{'case':26s} {'P':>2s} {'lvl':>3s} {'dofs':>8s} {'time s':>7s} "
+              f"{'error':>9s}  worst quantity")
+        for degree in degrees:
+            for level in levels:
+                for case, scene in scenes(degree, level).items():
+                    name = f"p{degree}_l{level}_{len(rows)}"
+                    r = run_case(scene, tmp, name)
+                    err = errors(case, r, reference)
+                    worst = max(err, key=lambda k: abs(err[k]))
+                    row = {"case": case, "degree": degree, "level": level,
+                           "dofs": r["dofs"]["total"], "process_s": r["process_s"],
+                           "error": abs(err[worst]), "worst": worst, "errors": err,
+                           "default": degree == 2 and level == 0}
+                    rows.append(row)
+                    print(f"{case:26s} {degree:2d} {level:3d} {row['dofs']:8d} "
+                          f"{row['process_s']:7.2f} {row['error']:9.2e}  {worst}", flush=True)
+    front(rows)
+    print("\nDefaults (P2, level 0) against the efficient front:")
+    for row in rows:
+        if row["default"]:
+            better = [o for o in rows if o["case"] == row["case"] and o["on_front"]
+                      and o["process_s"] <= 1.5 * row["process_s"]
+                      and o["error"] < row["error"]]
+            note = "on the front" if row["on_front"] else "NOT on the front"
+            if better:
+                b = min(better, key=lambda o: o["error"])
+                note += (f"; P{b['degree']} level {b['level']} is more accurate "
+                         f"({b['error']:.1e}) at {b['process_s']:.1f} s")
+            print(f"  {row['case']:26s} error {row['error']:.1e} in {row['process_s']:.1f} s: "
+                  f"{note}")
+    (out / "accuracy.json").write_text(json.dumps(rows, indent=1))
+    chart(rows, out / "accuracy.png")
+    print(f"\ntable: {out / 'accuracy.json'}; chart: {out / 'accuracy.png'}")
+
+
+if __name__ == "__main__":
+    main()
