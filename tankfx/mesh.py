@@ -8,7 +8,12 @@ mode, which is therefore always used.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+import hashlib
+import json
+import logging
+import os
+from dataclasses import asdict, dataclass
+from pathlib import Path
 
 import dolfinx_solver  # noqa: F401  (loads MPI before dolfinx / petsc4py)
 
@@ -29,7 +34,37 @@ NEAR_RADIUS = 6.0
 #: Element size at the wall foot, as a fraction of the bending decay length 1/beta.
 WALL_ELEMENTS_PER_DECAY = 0.25
 
-__all__ = ["Domain", "geometry_of", "build_domain", "CELL_TAGS", "FACET_TAGS"]
+__all__ = ["Domain", "geometry_of", "build_domain", "mesh_cache_dir", "CELL_TAGS",
+           "FACET_TAGS"]
+
+log = logging.getLogger("tankfx")
+
+
+def mesh_cache_dir() -> Path | None:
+    """Where generated meshes are kept, keyed by their geometry: ``$TANKFX_MESH_CACHE``, or
+    ``$XDG_CACHE_HOME/tankfx/meshes`` (``~/.cache/tankfx/meshes``); ``TANKFX_MESH_CACHE=off``
+    turns the cache off. A scene that changes only materials, loads or the interface (most
+    sweeps) then skips gmsh: meshing is a third of a linear analysis."""
+    env = os.environ.get("TANKFX_MESH_CACHE")
+    if env is not None and env.strip().lower() in ("", "0", "off", "no", "false"):
+        return None
+    if env:
+        return Path(env)
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "tankfx" / "meshes"
+
+
+def _cache_file(geom: DomainGeometry, gmsh) -> Path | None:
+    root = mesh_cache_dir()
+    if root is None:
+        return None
+    from .meshes import axisymmetric_domain
+
+    # the key: the geometry, the gmsh version and the meshing code itself
+    source = Path(axisymmetric_domain.__file__).read_bytes()
+    key = hashlib.sha256(json.dumps(asdict(geom), sort_keys=True).encode() +
+                         gmsh.__version__.encode() + source).hexdigest()[:32]
+    return root / f"{key}.msh"
 
 
 @dataclass
@@ -77,6 +112,35 @@ def geometry_of(scene: Scene) -> DomainGeometry:
     )
 
 
+def _mesh_on_rank0(geom: DomainGeometry, gmsh) -> None:
+    """Generate the mesh in gmsh's current model, or read it from the cache; a newly
+    generated mesh is written to the cache (binary, so that it reads back bit for bit)."""
+    path = _cache_file(geom, gmsh)
+    if path is not None and path.exists():
+        gmsh.model.add(f"tankfx-cached-{id(geom)}")   # merge into a model of our own
+        try:
+            gmsh.merge(str(path))
+            log.info("mesh: read from the cache %s", path)
+            return
+        except Exception as e:   # a damaged cache file: mesh anew
+            log.info("mesh: cache file %s unreadable (%s); meshing anew", path, e)
+            gmsh.model.remove()
+    build_model(geom, gmsh, name=f"tankfx-{id(geom)}")
+    if path is None:
+        return
+    binary = gmsh.option.getNumber("Mesh.Binary")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp.msh")
+        gmsh.option.setNumber("Mesh.Binary", 1)    # reads back bit for bit
+        gmsh.write(str(tmp))
+        os.replace(tmp, path)            # atomic: a concurrent reader sees all or nothing
+    except Exception as e:   # a read-only or full disk must not stop the analysis
+        log.info("mesh: not cached (%s)", e)
+    finally:
+        gmsh.option.setNumber("Mesh.Binary", binary)
+
+
 def build_domain(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD,
                  geometry: DomainGeometry | None = None) -> Domain:
     """Mesh the scene on rank 0 with gmsh and distribute it over ``comm``."""
@@ -90,7 +154,7 @@ def build_domain(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD,
     gmsh.option.setNumber("General.Terminal", 0)
     try:
         if comm.rank == 0:
-            build_model(geom, gmsh, name=f"tankfx-{id(geom)}")
+            _mesh_on_rank0(geom, gmsh)
         partitioner = dmesh.create_cell_partitioner(graph.partitioner(),
                                                     dmesh.GhostMode.shared_facet, 2)
         data = dgmsh.model_to_mesh(gmsh.model, comm, 0, gdim=2, partitioner=partitioner)

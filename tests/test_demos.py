@@ -1,5 +1,7 @@
 """Every demo runs (on a reduced mesh), serially and on two ranks, ends with its own
-assertion, and leaves its figures behind."""
+assertion, and leaves its figures behind; the headline demo gives the same numbers on one
+and on two ranks."""
+import json
 import os
 import shutil
 import subprocess
@@ -12,17 +14,51 @@ ROOT = Path(__file__).resolve().parents[1]
 DEMOS = sorted((ROOT / "demos").glob("*.py"))
 
 
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    """Each demo on 1 and 2 ranks, run once for the module: (demo, ranks) -> (process,
+    working directory)."""
+    done = {}
+
+    def run(demo, ranks):
+        if (demo, ranks) not in done:
+            cwd = tmp_path_factory.mktemp(f"{demo.stem}_{ranks}")
+            cmd = [sys.executable, str(demo), "--coarse"]
+            if ranks > 1:
+                mpiexec = shutil.which("mpiexec", path=os.path.dirname(sys.executable))
+                if mpiexec is None:
+                    pytest.skip("no mpiexec beside this Python")
+                cmd = [mpiexec, "-n", str(ranks), *cmd]
+            proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=900)
+            done[demo, ranks] = (proc, cwd)
+        return done[demo, ranks]
+    return run
+
+
 @pytest.mark.parametrize("ranks", [1, 2])
 @pytest.mark.parametrize("demo", DEMOS, ids=lambda p: p.stem)
-def test_demo_runs(demo, ranks, tmp_path):
-    cmd = [sys.executable, str(demo), "--coarse"]
-    if ranks > 1:
-        mpiexec = shutil.which("mpiexec", path=os.path.dirname(sys.executable))
-        if mpiexec is None:
-            pytest.skip("no mpiexec beside this Python")
-        cmd = [mpiexec, "-n", str(ranks), *cmd]
-    proc = subprocess.run(cmd, cwd=tmp_path, capture_output=True, text=True, timeout=900)
+def test_demo_runs(runs, demo, ranks):
+    proc, cwd = runs(demo, ranks)
     assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-3000:]
-    pngs = list((tmp_path / "results").rglob("*.png"))
+    pngs = list((cwd / "results").rglob("*.png"))
     assert pngs, "the demo made no figure"
     assert all(p.stat().st_size > 10_000 for p in pngs), [(p, p.stat().st_size) for p in pngs]
+
+
+def test_headline_demo_gives_the_same_numbers_on_two_ranks(runs):
+    demo = ROOT / "demos" / "embedded_tank.py"
+    results = []
+    for ranks in (1, 2):
+        proc, cwd = runs(demo, ranks)
+        assert proc.returncode == 0, proc.stderr[-3000:]
+        results.append(json.loads((cwd / "results" / "embedded_tank" / "results.json")
+                                  .read_text()))
+    serial, parallel = results
+    assert parallel["mpi_ranks"] == 2 and serial["mpi_ranks"] == 1
+    assert parallel["soil"]["iterations"] == serial["soil"]["iterations"]
+    for key in ("w0", "wd", "M0", "w_edge", "w_mean"):
+        assert parallel[key] == pytest.approx(serial[key], rel=1e-8), key
+    for key, value in serial["junction"].items():
+        assert parallel["junction"][key] == pytest.approx(value, rel=1e-7, abs=1e-6), key
+    assert parallel["profiles"]["plate"]["contact_status"] == \
+        serial["profiles"]["plate"]["contact_status"]

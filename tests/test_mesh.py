@@ -62,3 +62,26 @@ def test_mesh_is_graded_towards_the_edge():
     assert mid < 0.1 and big > 50.0
     assert msh.topology.index_map(2).size_global < 20000
     assert math.isfinite(big)
+
+
+def test_mesh_cache_reads_back_the_same_mesh(tmp_path, monkeypatch):
+    """A generated mesh is cached by its geometry and read back bit for bit; another
+    geometry gets its own file; TANKFX_MESH_CACHE=off writes nothing."""
+    import numpy as np
+
+    from tankfx.mesh import build_domain
+    from conftest import flexible_scene
+
+    monkeypatch.setenv("TANKFX_MESH_CACHE", str(tmp_path / "cache"))
+    scene = flexible_scene(mesh={"edge_size": 0.05, "near_size": 0.4, "growth": 0.3})
+    first, second = build_domain(scene), build_domain(scene)
+    assert len(list((tmp_path / "cache").glob("*.msh"))) == 1
+    np.testing.assert_array_equal(first.mesh.geometry.x, second.mesh.geometry.x)
+    for a, b in ((first.cell_tags, second.cell_tags), (first.facet_tags, second.facet_tags)):
+        np.testing.assert_array_equal(a.indices, b.indices)
+        np.testing.assert_array_equal(a.values, b.values)
+    build_domain(scene.with_changes(mesh={"edge_size": 0.04}))
+    assert len(list((tmp_path / "cache").glob("*.msh"))) == 2
+    monkeypatch.setenv("TANKFX_MESH_CACHE", "off")
+    build_domain(scene.with_changes(mesh={"edge_size": 0.03}))
+    assert len(list((tmp_path / "cache").glob("*.msh"))) == 2
