@@ -22,7 +22,7 @@ from mpi4py import MPI
 
 from tankfx import analyse, load_scene
 from tankfx.cli import setup_logging, write_json
-from tankfx.plots import (plot_contact, plot_moment_diagrams, plot_section,
+from tankfx.plots import (plot_contact, plot_cutaway, plot_moment_diagrams, plot_section,
                           plot_structure_profiles)
 
 comm = MPI.COMM_WORLD
@@ -117,6 +117,9 @@ figures = [
     plot_moment_diagrams(r, out / "moments.png", title="Embedded tank"),
     plot_structure_profiles(r, out / "profiles.png", title="Embedded tank"),
     plot_contact(r, out / "contact.png", title="Embedded tank"),
+    plot_cutaway(solution.u, solution.sigma_zz, out / "cutaway.png", extent=1.6 * a,
+                 depth_offset=scene.embedment, title=scene.title,
+                 soil_cells=solution.domain.cells("soil"), structure=r),
 ]
 say("\nresults: " + str(out / "results.json"))
 say("figures: " + ", ".join(str(f) for f in figures if f is not None))

@@ -117,6 +117,52 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
     return _save(p, path, section_view=True)
 
 
+def plot_cutaway(u: fem.Function, scalar: fem.Function, path: str | Path, *, extent: float,
+                 depth_offset: float = 0.0, label: str = "sigma_zz [kPa]",
+                 scalar_scale: float = 1e-3, title: str = "", soil_cells=None,
+                 structure: dict | None = None, angle: float = 270.0) -> Path | None:
+    """The near-field (r, z) section revolved about the axis through ``angle`` degrees: a 3D
+    cut-away of the soil coloured by ``scalar`` (the cut faces show the section), with the
+    plate and wall revolved as surfaces, undeformed. Built from the grid gathered over all
+    ranks; rank 0 writes the PNG."""
+    grid = gather_grid({"u": u, "s": scalar}, soil_cells)
+    if grid is None:
+        return None
+    pv = _pyvista()
+    near = grid.clip_box([0.0, extent, -depth_offset - extent, 1e9, -1.0, 1.0], invert=False)
+    surf = near.extract_surface(algorithm="dataset_surface")
+    # the meridian plane (r, z) becomes the plane y = 0 of the 3D view: (x, y, z) = (r, 0, z)
+    surf.points = np.column_stack([surf.points[:, 0], np.zeros(surf.n_points),
+                                   surf.points[:, 1]])
+    surf.point_data[label] = surf.point_data["s"] * scalar_scale
+    solid = surf.extrude_rotate(resolution=72, angle=angle, rotation_axis=(0.0, 0.0, 1.0),
+                                capping=True)
+    p = pv.Plotter(off_screen=True, window_size=(1100, 900))
+    clim = np.percentile(surf.point_data[label], [0.5, 99.5])
+    p.add_mesh(solid, scalars=label, cmap="viridis", clim=clim, ambient=0.35,
+               scalar_bar_args={"title": label, "vertical": True})
+    if structure is not None and "plate" in structure["profiles"]:
+        z0 = -depth_offset
+        sc = structure["scene"]
+        lines = [np.array([[0.0, 0.0, z0], [sc["plate"]["radius"], 0.0, z0]])]
+        if "wall" in sc:
+            at = sc["wall"]["radius"]
+            lines.append(np.array([[at, 0.0, z0], [at, 0.0, z0 + sc["wall"]["height"]]]))
+        for pts in lines:
+            shell = pv.lines_from_points(pts).extrude_rotate(
+                resolution=72, angle=angle, rotation_axis=(0.0, 0.0, 1.0), capping=False)
+            p.add_mesh(shell, color="lightgrey", opacity=0.85, show_edges=False)
+    p.add_text(f"{title}\ncut-away, {angle:g} degrees of the axisymmetric solution",
+               font_size=11)
+    # look into the missing quarter (between `angle` and 360 degrees), from above
+    e, zc = extent, -depth_offset - 0.5 * extent
+    mid = np.radians(0.5 * (angle + 360.0))
+    p.camera_position = [(2.6 * e * np.cos(mid), 2.6 * e * np.sin(mid), zc + 1.8 * e),
+                         (0.0, 0.0, zc), (0.0, 0.0, 1.0)]
+    p.reset_camera()                    # same direction, zoomed to fit everything
+    return _save(p, path)
+
+
 def plot_surface_settlement(results: dict, path: str | Path, *, reference=None,
                             title: str = "") -> Path | None:
     """Non-dimensional settlement w E_s / (p a) along the ground surface against r / a, with an
