@@ -10,8 +10,12 @@ on this machine:
    >= 1.5 x faster.
 3. ``sweep``: a sweep of N default cases (the surface tank over Kp and nu_s) on 1 and on 2
    ranks. Target (N = 100): >= 1.8 x faster.
+4. ``iterative``: where the iterative option (``[solver] method = "iterative"``) beats MUMPS
+   in time and memory: the flexible load (soil alone) and the embedded tank (soil +
+   structure, field split) at growing mesh sizes, each a fresh process (peak memory from
+   the operating system).
 
-    python benchmarks/costs.py [--only profile|parallel|sweep] [--cases 100]
+    python benchmarks/costs.py [--only profile|parallel|sweep|iterative] [--cases 100]
                                [--out results/benchmarks]
 
 Every measurement runs in its own process (``mpiexec -n N python ...``), so that the ranks
@@ -52,6 +56,7 @@ _ANALYSIS = textwrap.dedent("""
                 {**data.get(section, {}), **values}
         scene = Scene.from_dict(data)
     r = analyse(scene).results
+    import resource
     events = {}
     for name in ("MatLUFactorSym", "MatLUFactorNum", "MatCholFctrSym", "MatCholFctrNum",
                  "MatSolve", "MatAssemblyEnd"):
@@ -59,6 +64,8 @@ _ANALYSIS = textwrap.dedent("""
         events[name] = [info["count"], MPI.COMM_WORLD.allreduce(info["time"], op=MPI.MAX)]
     if MPI.COMM_WORLD.rank == 0:
         print("RESULT " + json.dumps({"wall_s": time.perf_counter() - t0,
+                                      "max_rss_gb": resource.getrusage(
+                                          resource.RUSAGE_SELF).ru_maxrss / 1e6,
                                       "timings_s": r["timings_s"], "dofs": r["dofs"],
                                       "solves": r["linear_solves"], "w0": r["w0"],
                                       "soil_iterations": r["soil"].get("iterations", 0),
@@ -156,9 +163,34 @@ def sweep(out: dict, cases: int) -> None:
     out["sweep"] = {"cases": n, "seconds": times, "speedup": speed}
 
 
+def iterative(out: dict) -> None:
+    rows = []
+    print("\nIterative (GAMG) against direct (MUMPS), serial, fresh processes")
+    print(f"{'scene':16s} {'near_size':>9s} {'dofs':>9s} {'direct s':>9s} {'GB':>5s} "
+          f"{'iterative s':>11s} {'GB':>5s} {'w0 rel diff':>11s}")
+    cases = [("flexible_load", 1.0, (0.1, 0.05, 0.025, 0.0125)),
+             ("embedded_tank", 10.0, (0.1, 0.05, 0.025))]
+    for name, a, sizes in cases:
+        scene = ROOT / "demos" / "scenes" / f"{name}.toml"
+        for near in sizes:
+            mesh = {"mesh": {"near_size": near * a}}
+            _analysis(scene, mesh)           # mesh cache and JIT warm for both
+            d = _analysis(scene, mesh)
+            it = _analysis(scene, {**mesh, "solver": {"method": "iterative"}})
+            row = {"scene": name, "near_size": near, "dofs": d["dofs"]["total"],
+                   "direct_s": d["timings_s"]["assemble_solve"], "direct_gb": d["max_rss_gb"],
+                   "iterative_s": it["timings_s"]["assemble_solve"],
+                   "iterative_gb": it["max_rss_gb"], "w0_diff": it["w0"] / d["w0"] - 1}
+            rows.append(row)
+            print(f"{name:16s} {near:9.4g} {row['dofs']:9d} {row['direct_s']:9.2f} "
+                  f"{row['direct_gb']:5.2f} {row['iterative_s']:11.2f} "
+                  f"{row['iterative_gb']:5.2f} {row['w0_diff']:11.1e}", flush=True)
+    out["iterative"] = rows
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--only", choices=["profile", "parallel", "sweep"])
+    ap.add_argument("--only", choices=["profile", "parallel", "sweep", "iterative"])
     ap.add_argument("--cases", type=int, default=100, help="cases of the sweep benchmark")
     ap.add_argument("--out", default="results/benchmarks")
     args = ap.parse_args()
@@ -169,6 +201,8 @@ def main():
         parallel(out)
     if args.only in (None, "sweep"):
         sweep(out, args.cases)
+    if args.only in (None, "iterative"):
+        iterative(out)
     path = Path(args.out)
     path.mkdir(parents=True, exist_ok=True)
     (path / "costs.json").write_text(json.dumps(out, indent=1, default=str))

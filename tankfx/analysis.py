@@ -25,7 +25,7 @@ from . import soil as soil_forms
 from .mesh import CELL_TAGS, FACET_TAGS, Domain, build_domain
 from .post import assemble_scalar, evaluate_at, nodal_values_on_facets
 from .scene import MIXED_FROM_NU, Load, Scene
-from .solve import DirectSolver, mass_solve, reaction_force
+from .solve import make_solver, mass_solve, reaction_force
 
 __all__ = ["Solution", "analyse", "analyse_path", "CONVENTIONS"]
 
@@ -302,9 +302,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
 
     t = time.perf_counter()
     model = build_model(replace(scene, load=stages[0]), domain)
-    solver = DirectSolver(model.a, model.L, model.bcs, model.unknowns,
-                          entity_maps=model.entity_maps, name="tank",
-                          symmetric=scene.interface.condition != "mohr_coulomb")
+    solver = make_solver(scene, model.a, model.L, model.bcs, model.unknowns,
+                         entity_maps=model.entity_maps, name="tank",
+                         symmetric=scene.interface.condition != "mohr_coulomb")
     timings["forms"] = time.perf_counter() - t
     warnings = list(getattr(model, "warnings", []))
     for w in warnings:
@@ -347,8 +347,11 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         results["linear_solves"] = solver.solves
         results["warnings"] = warnings
         results["linear_solver"] = {
-            "solves": solver.solves, "factorisation": solver.factorisation,
+            "method": scene.solver.method, "solves": solver.solves,
+            "factorisation": solver.factorisation,
             "last_relative_residual": solver.relative_residual}
+        if scene.solver.method == "iterative":
+            results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,
                                   sigma_zz=sigma_zz, results=results, model=model))
     return solutions

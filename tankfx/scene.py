@@ -115,6 +115,13 @@ class MeshOptions:
 
 
 @dataclass(frozen=True)
+class SolverOptions:
+    method: str = "direct"      #: "direct" (MUMPS) or "iterative" (Krylov + GAMG)
+    rtol: float = 1e-10         #: relative residual of the iterative solve
+    max_iterations: int = 1000  #: Krylov iterations allowed per solve
+
+
+@dataclass(frozen=True)
 class Scene:
     soil: Soil
     load: Load
@@ -123,6 +130,7 @@ class Scene:
     plate: Plate | None = None
     wall: Wall | None = None
     interface: Interface = field(default_factory=Interface)
+    solver: SolverOptions = field(default_factory=SolverOptions)
     title: str = "tankfx scene"
 
     @property
@@ -164,7 +172,8 @@ class Scene:
     def to_dict(self) -> dict[str, Any]:
         """The scene as a plain dict, re-readable by :meth:`from_dict` (resolved values)."""
         out: dict[str, Any] = {"title": self.title}
-        for name in ("soil", "plate", "wall", "interface", "load", "domain", "mesh"):
+        for name in ("soil", "plate", "wall", "interface", "load", "domain", "mesh",
+                     "solver"):
             part = getattr(self, name)
             if part is not None:
                 out[name] = {f.name: getattr(part, f.name) for f in fields(part)
@@ -218,7 +227,9 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
     "domain": {"radius": (float, False), "depth": (float, False)},
     "mesh": {"degree": (int, False), "edge_size": (float, False), "growth": (float, False),
              "near_size": (float, False)},
+    "solver": {"method": (str, False), "rtol": (float, False), "max_iterations": (int, False)},
 }
+_SOLVER_METHODS = ("direct", "iterative")
 _TOP = {"title": str}
 _REQUIRED_SECTIONS = ("soil", "load")
 _SOIL_MODELS = ("linear", "hyperbolic")
@@ -453,6 +464,21 @@ def _parse(data: dict[str, Any]) -> Scene:
         rd.bad(f"mesh.degree = {deg!r}: must be 1, 2 or 3 (2 is the default)")
     nu_s = (soil or {}).get("nu")
     nu_s = nu_s if isinstance(nu_s, (int, float)) else None
+    solver = secs["solver"] or {}
+    method = solver.get("method", "direct")
+    if isinstance(method, str) and method not in _SOLVER_METHODS:
+        rd.bad(f"solver.method = {method!r}: one of {', '.join(_SOLVER_METHODS)}"
+               f"{_suggest(method, _SOLVER_METHODS)}")
+    rtol = solver.get("rtol")
+    if isinstance(rtol, (int, float)) and not 0.0 < rtol <= 1e-4:
+        rd.bad(f"solver.rtol = {rtol!r}: must lie in (0, 1e-4] (the results are checked to "
+               f"1e-6 of the load)")
+    if isinstance(solver.get("max_iterations"), int) and solver["max_iterations"] < 1:
+        rd.bad(f"solver.max_iterations = {solver['max_iterations']!r}: must be >= 1")
+    if method == "iterative" and nu_s is not None and nu_s > MIXED_FROM_NU:
+        rd.bad(f"solver.method = \"iterative\" with soil.nu = {nu_s!r}: the mixed form of a "
+               f"nearly incompressible soil (nu > {MIXED_FROM_NU}) has a zero pressure block "
+               f"that GAMG cannot take; use method = \"direct\"")
     if deg == 1 and nu_s is not None and nu_s > MIXED_FROM_NU:
         rd.bad(f"mesh.degree = 1 with soil.nu = {nu_s!r}: a nearly incompressible soil is "
                f"solved in the mixed (Taylor-Hood) form, which needs degree 2 or 3; use "
@@ -542,8 +568,12 @@ def _parse(data: dict[str, Any]) -> Scene:
                               f"anchored foundation, or add downward load"])
     mesh_dc = MeshOptions(degree=deg, edge_size=edge, growth=mesh.get("growth", 0.2),
                           near_size=mesh.get("near_size", DEFAULT_NEAR_SIZE * a))
+    solver = secs["solver"] or {}
+    solver_dc = SolverOptions(method=solver.get("method", "direct"),
+                              rtol=solver.get("rtol", 1e-10),
+                              max_iterations=solver.get("max_iterations", 1000))
     return Scene(soil=soil_dc, load=load_dc, domain=domain_dc, mesh=mesh_dc, plate=plate_dc,
-                 wall=wall_dc, interface=interface_dc,
+                 wall=wall_dc, interface=interface_dc, solver=solver_dc,
                  title=data.get("title", "tankfx scene"))
 
 

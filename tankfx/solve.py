@@ -13,7 +13,8 @@ from dolfinx.fem import petsc as fem_petsc
 
 from .post import allsum
 
-__all__ = ["SolveError", "DirectSolver", "mass_solve", "reaction_force"]
+__all__ = ["SolveError", "DirectSolver", "IterativeSolver", "make_solver", "mass_solve",
+           "reaction_force"]
 
 _ids = itertools.count()
 
@@ -86,6 +87,89 @@ class DirectSolver:
     @property
     def matrix_size(self) -> int:
         return self.problem.A.getSize()[0]
+
+
+class IterativeSolver:
+    """Krylov with algebraic multigrid, for meshes where a factorisation costs too much time
+    or memory (``[solver] method = "iterative"``). The soil alone: conjugate gradients with
+    PETSc's GAMG (Chebyshev-Jacobi smoothing). Soil and structure: the blocks are assembled
+    as a PETSc nest and solved by FGMRES with a multiplicative field split: GAMG on the soil
+    block (with the interface's soil side), LU (MUMPS) on the small structure block. Each
+    solve must reach ``rtol`` within ``max_iterations``; the true residual is then checked
+    as for a direct solve. Measured (README): the soil alone beats MUMPS in time from about
+    100k dofs and in memory always; with a structure, the penalty coupling costs ~190
+    field-split iterations and MUMPS stays faster at the sizes measured."""
+
+    def __init__(self, a, L, bcs, u, entity_maps=None, name: str = "soil", rtol: float = 1e-10,
+                 max_iterations: int = 1000):
+        self.prefix = f"tankfx_{name}_{next(_ids)}_"
+        blocks = isinstance(u, (list, tuple))
+        gamg = {"pc_type": "gamg", "mg_levels_ksp_type": "chebyshev",
+                "mg_levels_pc_type": "jacobi"}
+        if blocks:
+            names = [f.name for f in u]
+            opts = {"ksp_type": "fgmres", "ksp_gmres_restart": 200,
+                    "pc_type": "fieldsplit", "pc_fieldsplit_type": "multiplicative"}
+            for f in u:
+                split = f"fieldsplit_{f.name}_"
+                opts[split + "ksp_type"] = "preonly"
+                if f is u[0]:
+                    opts.update({split + k: v for k, v in gamg.items()})
+                else:
+                    opts.update({split + "pc_type": "lu",
+                                 split + "pc_factor_mat_solver_type": "mumps"})
+            if len(set(names)) != len(names):
+                raise ValueError(f"the blocks' functions need distinct names: {names}")
+        else:
+            opts = {"ksp_type": "cg", **gamg}
+        opts.update({"ksp_rtol": rtol, "ksp_atol": 0.0, "ksp_max_it": max_iterations,
+                     "ksp_norm_type": "unpreconditioned"})
+        self.problem = fem_petsc.LinearProblem(
+            a, L, bcs=bcs, u=u, kind="nest" if blocks else None,
+            petsc_options_prefix=self.prefix, entity_maps=entity_maps, petsc_options=opts)
+        self.u = u
+        self.factorisation = ("FGMRES + field split (GAMG soil, LU structure)" if blocks
+                              else "CG + GAMG")
+        self.solves = 0
+        self.krylov_iterations = 0
+        self.rtol, self.max_iterations = rtol, max_iterations
+
+    def solve(self):
+        self.solves += 1
+        u = self.problem.solve()
+        ksp = self.problem.solver
+        reason, its = ksp.getConvergedReason(), ksp.getIterationNumber()
+        self.krylov_iterations += its
+        x, b, A = self.problem.x, self.problem.b, self.problem.A
+        if reason < 0 or not np.isfinite(x.norm()):
+            raise SolveError(f"the iterative solver did not reach the relative residual "
+                             f"{self.rtol:g} in {its} iterations (PETSc KSP reason {reason}, "
+                             f"residual {ksp.getResidualNorm():.3e}); raise "
+                             f"solver.max_iterations or use solver.method = \"direct\"")
+        r = b.duplicate()
+        A.mult(x, r)
+        r.axpy(-1.0, b)
+        bnorm = b.norm()
+        self.relative_residual = r.norm() / bnorm if bnorm > 0 else r.norm()
+        r.destroy()
+        if self.relative_residual > MAX_RELATIVE_RESIDUAL:
+            raise SolveError(f"the iterative solve left a relative residual of "
+                             f"{self.relative_residual:.2e} (> {MAX_RELATIVE_RESIDUAL:g})")
+        return u
+
+    @property
+    def matrix_size(self) -> int:
+        return self.problem.A.getSize()[0]
+
+
+def make_solver(scene, a, L, bcs, u, entity_maps=None, name: str = "tank",
+                symmetric: bool = False):
+    """The solver a scene asks for (``[solver] method``)."""
+    if scene.solver.method == "iterative":
+        return IterativeSolver(a, L, bcs, u, entity_maps=entity_maps, name=name,
+                               rtol=scene.solver.rtol,
+                               max_iterations=scene.solver.max_iterations)
+    return DirectSolver(a, L, bcs, u, entity_maps=entity_maps, name=name, symmetric=symmetric)
 
 
 def mass_solve(a, L, bcs, u, name: str = "projection"):

@@ -107,3 +107,12 @@ def test_section_figure_is_built_from_all_ranks():
             xs, vs = cell_table(serial, name)
             np.testing.assert_allclose(xp, xs, rtol=1e-12, atol=1e-9)
             np.testing.assert_allclose(vp, vs, rtol=1e-7, atol=1e-7 * np.abs(vs).max())
+
+
+@needs_two_ranks
+def test_iterative_solver_parallel_equals_serial():
+    """CG + GAMG: the multigrid hierarchy depends on the partition, the solution (to the
+    solver's 1e-10) does not."""
+    scene = flexible_scene(solver={"method": "iterative"})
+    parallel, serial = _solve_both(scene)
+    _assert_same_numbers(parallel, serial)

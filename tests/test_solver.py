@@ -1,0 +1,58 @@
+"""The iterative solver option ([solver] method = "iterative"): the same numbers as the
+direct solver, a reported iteration count that does not grow with the mesh, and clear
+refusals."""
+import pytest
+
+from conftest import flexible_scene
+from tankfx import Scene, SceneError, SolveError, analyse
+
+COARSE = {"edge_size": 0.01, "near_size": 0.25, "growth": 0.3}
+
+
+def test_soil_alone_cg_gamg_equals_direct_and_scales():
+    its = []
+    for near in (0.2, 0.1):
+        scene = flexible_scene(mesh={"edge_size": 0.01, "near_size": near})
+        direct = analyse(scene).results
+        it = analyse(scene.with_changes(solver={"method": "iterative"})).results
+        for key in ("w0", "w_edge", "w_mean"):
+            assert it[key] == pytest.approx(direct[key], rel=1e-8), key
+        assert it["equilibrium"]["relative_error"] < 1e-8
+        assert it["linear_solver"]["factorisation"] == "CG + GAMG"
+        its.append(it["linear_solver"]["krylov_iterations"])
+        assert it["dofs"] == direct["dofs"]
+    # multigrid: four times the near-field cells, about the same iterations
+    assert its[1] <= 1.5 * its[0], its
+
+
+def test_tank_field_split_equals_direct():
+    data = {"soil": {"E": 10e6, "nu": 0.3},
+            "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": 0.3},
+            "wall": {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2},
+            "interface": {"condition": "bonded"},
+            "load": {"pressure": 50e3, "liquid_unit_weight": 9810.0, "liquid_height": 2.5},
+            "mesh": COARSE}
+    direct = analyse(Scene.from_dict(data)).results
+    it = analyse(Scene.from_dict(data | {"solver": {"method": "iterative"}})).results
+    for key in ("w0", "wd", "M0"):
+        assert it[key] == pytest.approx(direct[key], rel=1e-6), key
+    assert it["equilibrium"]["contact_relative_error"] < 1e-6
+    assert it["linear_solver"]["krylov_iterations"] > 0
+
+
+def test_too_few_iterations_is_a_clear_failure():
+    scene = flexible_scene(mesh=COARSE, solver={"method": "iterative", "max_iterations": 2})
+    with pytest.raises(SolveError, match="did not reach the relative residual .* raise "
+                                         "solver.max_iterations"):
+        analyse(scene)
+
+
+@pytest.mark.parametrize("solver, soil, message", [
+    ({"method": "gmres"}, {}, "solver.method"),
+    ({"rtol": 0.0}, {}, "solver.rtol"),
+    ({"max_iterations": 0}, {}, "solver.max_iterations"),
+    ({"method": "iterative"}, {"nu": 0.49}, "zero pressure block"),
+])
+def test_bad_solver_options_are_refused(solver, soil, message):
+    with pytest.raises(SceneError, match=message):
+        flexible_scene(solver=solver, soil=soil)
