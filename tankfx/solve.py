@@ -66,22 +66,14 @@ class DirectSolver:
         u = self.problem.solve()
         ksp = self.problem.solver
         reason = ksp.getConvergedReason()
-        x, b, A = self.problem.x, self.problem.b, self.problem.A
+        x = self.problem.x
         if reason < 0 or not np.isfinite(x.norm()):
             raise SolveError(f"the linear solver failed (PETSc KSP reason {reason}): the "
                              "system is singular (check the supports of the scene) or the "
                              "data overflowed")
-        r = b.duplicate()
-        A.mult(x, r)
-        r.axpy(-1.0, b)
-        bnorm = b.norm()
-        self.relative_residual = r.norm() / bnorm if bnorm > 0 else r.norm()
-        r.destroy()
-        if self.relative_residual > MAX_RELATIVE_RESIDUAL:
-            raise SolveError(f"the linear solve left a relative residual of "
-                             f"{self.relative_residual:.2e} (> {MAX_RELATIVE_RESIDUAL:g}) after "
-                             f"{REFINEMENT_STEPS} refinement steps: the system is too "
-                             "ill-conditioned for these stiffness contrasts")
+        self.relative_residual = _checked_residual(
+            self.problem, f"after {REFINEMENT_STEPS} refinement steps: the system is too "
+                          f"ill-conditioned for these stiffness contrasts")
         return u
 
     @property
@@ -140,26 +132,34 @@ class IterativeSolver:
         ksp = self.problem.solver
         reason, its = ksp.getConvergedReason(), ksp.getIterationNumber()
         self.krylov_iterations += its
-        x, b, A = self.problem.x, self.problem.b, self.problem.A
+        x = self.problem.x
         if reason < 0 or not np.isfinite(x.norm()):
             raise SolveError(f"the iterative solver did not reach the relative residual "
                              f"{self.rtol:g} in {its} iterations (PETSc KSP reason {reason}, "
                              f"residual {ksp.getResidualNorm():.3e}); raise "
                              f"solver.max_iterations or use solver.method = \"direct\"")
-        r = b.duplicate()
-        A.mult(x, r)
-        r.axpy(-1.0, b)
-        bnorm = b.norm()
-        self.relative_residual = r.norm() / bnorm if bnorm > 0 else r.norm()
-        r.destroy()
-        if self.relative_residual > MAX_RELATIVE_RESIDUAL:
-            raise SolveError(f"the iterative solve left a relative residual of "
-                             f"{self.relative_residual:.2e} (> {MAX_RELATIVE_RESIDUAL:g})")
+        self.relative_residual = _checked_residual(self.problem, "(iterative solve)")
         return u
 
     @property
     def matrix_size(self) -> int:
         return self.problem.A.getSize()[0]
+
+
+def _checked_residual(problem, why: str) -> float:
+    """||b - A x|| / ||b|| of a solved LinearProblem; above MAX_RELATIVE_RESIDUAL the
+    numbers are refused (SolveError), never reported."""
+    x, b, A = problem.x, problem.b, problem.A
+    r = b.duplicate()
+    A.mult(x, r)
+    r.axpy(-1.0, b)
+    bnorm = b.norm()
+    rel = r.norm() / bnorm if bnorm > 0 else r.norm()
+    r.destroy()
+    if rel > MAX_RELATIVE_RESIDUAL:
+        raise SolveError(f"the linear solve left a relative residual of {rel:.2e} "
+                         f"(> {MAX_RELATIVE_RESIDUAL:g}) {why}")
+    return rel
 
 
 def make_solver(scene, a, L, bcs, u, entity_maps=None, name: str = "tank",
