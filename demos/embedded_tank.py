@@ -37,9 +37,7 @@ out = Path("results") / "embedded_tank"
 
 scene = load_scene(Path(__file__).resolve().parent / "scenes" / "embedded_tank_nonlinear.toml")
 if "--coarse" in sys.argv:
-    a = scene.plate.radius
-    scene = scene.with_changes(mesh={"edge_size": 0.01 * a, "near_size": 0.25 * a,
-                                     "growth": 0.3})
+    scene = scene.with_coarse_mesh()
 p_ref = scene.load.liquid_unit_weight * scene.load.liquid_height
 say(f"{scene.title}: a = {scene.plate.radius:g} m, t_p = {scene.plate.thickness:.3f} m "
     f"(Kp = {scene.Kp:.3g}), t_wall = {scene.wall.thickness:.3f} m (Kt = {scene.Kt:.3g}), "

@@ -34,9 +34,7 @@ coarse = "--coarse" in sys.argv
 
 base = load_scene(Path(__file__).resolve().parent / "scenes" / "embedded_tank_nonlinear.toml")
 if coarse:
-    a = base.plate.radius
-    base = base.with_changes(mesh={"edge_size": 0.01 * a, "near_size": 0.25 * a,
-                                   "growth": 0.3})
+    base = base.with_coarse_mesh()
 rigidities = [0.01, 1.0, 10.0] if coarse else [0.01, 0.1, 1.0, 10.0]
 
 

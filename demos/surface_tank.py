@@ -27,9 +27,7 @@ out = Path("results") / "surface_tank"
 
 bonded = load_scene(Path(__file__).resolve().parent / "scenes" / "surface_tank.toml")
 if "--coarse" in sys.argv:
-    a = bonded.plate.radius
-    bonded = bonded.with_changes(mesh={"edge_size": 0.01 * a, "near_size": 0.25 * a,
-                                       "growth": 0.3})
+    bonded = bonded.with_coarse_mesh()
 smooth = bonded.with_changes(interface={"condition": "smooth"})
 
 # ## Solve and compare

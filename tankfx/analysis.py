@@ -173,13 +173,17 @@ class SoilBlock:
             return soil_forms.mixed_stress(eps, self.p, self.E, self.nu)
         return soil_forms.stress(eps, self.E, self.nu)
 
-    def blocks(self, a_uu, L_u):
-        """The soil's rows and columns of a block system, from its displacement block and
-        load: ([[a_uu]], [L_u]) or, mixed, ([[a_uu, a_up], [a_pu, a_pp]], [L_u, L_p])."""
+    def matrix_rows(self, a_uu):
+        """The soil's rows of a block matrix, from its displacement block: [[a_uu]] or,
+        mixed, [[a_uu, a_up], [a_pu, a_pp]]."""
         if not self.mixed:
-            return [[a_uu]], [L_u]
+            return [[a_uu]]
         a_up, a_pu, a_pp = self.pressure_blocks
-        return [[a_uu, a_up], [a_pu, a_pp]], [L_u, self.L_p]
+        return [[a_uu, a_up], [a_pu, a_pp]]
+
+    def load_rows(self, L_u):
+        """The soil's rows of a block load vector: [L_u] or, mixed, [L_u, L_p]."""
+        return [L_u, self.L_p] if self.mixed else [L_u]
 
     def residual(self, a_uu, L_u):
         """The displacement equations' residual a(u, v) - L(v) (support reactions)."""
@@ -224,7 +228,8 @@ class FlexibleLoad:
         self.L_u = self.L
         self.bcs, self.entity_maps = soil.bcs, None
         if soil.mixed:
-            (self.a, self.L), self.unknowns = soil.blocks(soil.a, self.L), soil.unknowns
+            self.a, self.L = soil.matrix_rows(soil.a), soil.load_rows(self.L)
+            self.unknowns = soil.unknowns
         else:
             self.a, self.unknowns = soil.a, soil.u
 

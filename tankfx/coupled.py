@@ -213,7 +213,7 @@ class TankModel:
                 a_bs -= interface.interface_form(R(soil.trial), R(v_b), n, t, kn, ks, mu, r,
                                                  measure)
         # the soil's rows (with its pressure's, in the mixed form), then the structure's
-        soil_rows, _ = soil.blocks(a_ss, None)
+        soil_rows = soil.matrix_rows(a_ss)
         rows = [row + [a_sb if i == 0 else None] for i, row in enumerate(soil_rows)]
         rows.append([a_bs] + [None] * (len(soil_rows) - 1) + [a_bb])
         return rows
@@ -250,7 +250,7 @@ class TankModel:
                 for measure, R in pieces:
                     zero_soil += interface.interface_load(R(self.soil.test), t, R(self.c_s),
                                                           self.soil.r, measure)
-        return self.soil.blocks(None, zero_soil)[1] + [load]
+        return self.soil.load_rows(zero_soil) + [load]
 
     def _symmetry(self):
         """u_r = 0 and beta = 0 at the plate centre."""
