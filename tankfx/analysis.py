@@ -309,7 +309,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     model = build_model(replace(scene, load=stages[0]), domain)
     solver = make_solver(scene, model.a, model.L, model.bcs, model.unknowns,
                          entity_maps=model.entity_maps, name="tank",
-                         symmetric=scene.interface.condition != "mohr_coulomb")
+                         symmetric=scene.interface.condition != "mohr_coulomb",
+                         one_shot=len(stages) == 1 and scene.soil.model == "linear"
+                         and scene.interface.condition != "mohr_coulomb")
     timings["forms"] = time.perf_counter() - t
     warnings = list(getattr(model, "warnings", []))
     for w in warnings:

@@ -54,13 +54,16 @@ def evaluate_at(func, points: np.ndarray, cells: np.ndarray | None = None) -> np
         mids = dmesh.compute_midpoints(msh, tdim, candidates)[:, :2]
         mid_of = dict(zip(candidates.tolist(), map(tuple, mids)))
         allowed = set(candidates.tolist())
+        chosen = np.full(len(pts), -1, dtype=np.int32)
         for i in range(len(pts)):
             found = [c for c in colliding.links(i) if c in allowed]
-            if not found:
-                continue
-            c = min(found, key=lambda c: mid_of[c])
-            keys[i] = mid_of[c]
-            values[i] = func.eval(pts[i], np.array([c], dtype=np.int32))
+            if found:
+                chosen[i] = min(found, key=lambda c: mid_of[c])
+                keys[i] = mid_of[chosen[i]]
+        here = np.flatnonzero(chosen >= 0)
+        if len(here):
+            # one call for all points: per-point calls cost more than the evaluation
+            values[here] = np.reshape(func.eval(pts[here], chosen[here]), (len(here), vsize))
     all_keys = np.stack(comm.allgather(keys))       # (ranks, n, 2)
     all_vals = np.stack(comm.allgather(values))
     best = np.zeros(len(pts), dtype=int)

@@ -24,10 +24,16 @@ REFINEMENT_STEPS = 2
 MAX_RELATIVE_RESIDUAL = 1e-6
 
 
-def _parallel_analysis(u) -> dict:
-    """On more than one rank, MUMPS's analysis (ordering) in parallel with PT-SCOTCH: it is
-    otherwise sequential, half of a one-shot solve at 270k dofs (measured on 2 ranks: solve
-    3.7 -> 3.2 s, three alternating runs each)."""
+def _ordering(u, one_shot: bool) -> dict:
+    """MUMPS's fill-reducing ordering, chosen by how many factorisations will share it.
+    One (a linear scene): AMD, whose analysis is cheap (measured at 274k dofs: analysis 0.4 s
+    against METIS's 2.1 s, numeric factorisation 2.6 s against 1.5 s on one rank; the whole
+    process 7.1 -> 6.8 s on one rank, 5.5 -> 4.3 s on two). Several (a nonlinear or staged
+    scene, each iteration a numeric factorisation on the same analysis): METIS's sparser
+    factors pay back after the second; on more than one rank its analysis runs in parallel
+    with PT-SCOTCH (solve 3.7 -> 3.2 s on 2 ranks)."""
+    if one_shot:
+        return {"mat_mumps_icntl_28": 1, "mat_mumps_icntl_7": 0}
     first = u[0] if isinstance(u, (list, tuple)) else u
     if first.function_space.mesh.comm.size == 1:
         return {}
@@ -51,7 +57,7 @@ class DirectSolver:
     pattern (measured: 2 analyses for 17 numeric factorisations in a nonlinear run)."""
 
     def __init__(self, a, L, bcs, u, entity_maps=None, name: str = "soil",
-                 symmetric: bool = False):
+                 symmetric: bool = False, one_shot: bool = False):
         self.prefix = f"tankfx_{name}_{next(_ids)}_"
         self.problem = fem_petsc.LinearProblem(
             a, L, bcs=bcs, u=u, kind="mpi" if isinstance(u, (list, tuple)) else None,
@@ -66,7 +72,7 @@ class DirectSolver:
                 "pc_type": "cholesky" if symmetric else "lu",
                 "pc_factor_mat_solver_type": "mumps",
                 # more working memory for pivoting in stiff, contrasted systems
-                "mat_mumps_icntl_14": 80, **_parallel_analysis(u)})
+                "mat_mumps_icntl_14": 80, **_ordering(u, one_shot)})
         self.u = u
         self.factorisation = "LDL^T (MUMPS)" if symmetric else "LU (MUMPS)"
         self.solves = 0   # linear solves so far (each one an assembly and a factorisation)
@@ -173,13 +179,15 @@ def _checked_residual(problem, why: str) -> float:
 
 
 def make_solver(scene, a, L, bcs, u, entity_maps=None, name: str = "tank",
-                symmetric: bool = False):
-    """The solver a scene asks for (``[solver] method``)."""
+                symmetric: bool = False, one_shot: bool = False):
+    """The solver a scene asks for (``[solver] method``); ``one_shot``: a single solve is
+    expected (the direct solver's ordering is chosen for it)."""
     if scene.solver.method == "iterative":
         return IterativeSolver(a, L, bcs, u, entity_maps=entity_maps, name=name,
                                rtol=scene.solver.rtol,
                                max_iterations=scene.solver.max_iterations)
-    return DirectSolver(a, L, bcs, u, entity_maps=entity_maps, name=name, symmetric=symmetric)
+    return DirectSolver(a, L, bcs, u, entity_maps=entity_maps, name=name, symmetric=symmetric,
+                        one_shot=one_shot)
 
 
 def mass_solve(a, L, bcs, u, name: str = "projection"):
