@@ -625,6 +625,12 @@ class InterfaceIteration:
         flipped = status != m.status
         self.flips += flipped
         hold = (self.flips >= self.MAX_FLIPS) & (self.held < 0) & flipped
+        n_hold = m.mesh.comm.allreduce(int(np.sum(hold[self.owned])))
+        if n_hold and ifc.on_cycle == "stop":
+            raise SolveError(
+                f"the interface's active set cycles: {n_hold} element(s) changed state "
+                f"{self.MAX_FLIPS} times during the soil iteration; interface.on_cycle = "
+                f"\"hold\" holds them in the weaker state and goes on", self.history)
         weaker = np.where((status == interface.SEPARATED) | (m.status == interface.SEPARATED),
                           interface.SEPARATED, interface.SLIP)
         self.held = np.where(hold, weaker, self.held)
@@ -708,6 +714,13 @@ class InterfaceIteration:
                 weaker = np.where(np.any([st_ == interface.SEPARATED for st_ in cycle], axis=0),
                                   interface.SEPARATED, interface.SLIP)
                 n_new = comm.allreduce(int(np.sum(differ[self.owned] & ~frozen[self.owned])))
+                if ifc.on_cycle == "stop":
+                    raise SolveError(
+                        f"the interface's active set cycles: the element states of iteration "
+                        f"{it} repeat those of iteration {seen[key]} ({n_new} element(s) "
+                        f"alternate, at the edge of a contact or slip zone that ends inside "
+                        f"an element); interface.on_cycle = \"hold\" holds them in the weaker "
+                        f"state and goes on, or refine the mesh there", self.history)
                 freezes += 1
                 log.info("  the element states cycle (iteration %d repeats %d): holding %d "
                          "alternating element(s) in the weaker state", it, seen[key], n_new)

@@ -52,6 +52,9 @@ def test_friction_limits_reproduce_bonded_and_smooth(embedment):
         assert rough["w0"] == pytest.approx(bonded["w0"], rel=5e-3)
         assert rough["wd"] == pytest.approx(bonded["wd"], rel=1e-2)
         assert rough["M0"] == pytest.approx(bonded["M0"], rel=1e-2)
+        # elements at the wall foot alternate: held in the weaker state, and said so
+        assert rough["interface"]["frozen_elements"] > 0
+        assert "alternated" in rough["interface"]["criterion"]
     assert bonded["interface"]["iterations"] == 0, "a linear interface must not iterate"
     for r in (rough, slippery):
         assert r["interface"]["converged"] and r["interface"]["iterations"] >= 1
@@ -131,3 +134,15 @@ def test_penalty_stiffness_ten_times_larger_changes_little(monkeypatch):
     assert stiff["interface"]["normal_stiffness_range"][0] == pytest.approx(
         10 * base["interface"]["normal_stiffness_range"][0], rel=1e-12)
     _close(stiff, base, 5e-3)
+
+
+
+def test_a_cycling_active_set_stops_on_request():
+    """The embedded tank at tan phi = 10, whose alternating elements are held by default
+    (asserted in the limits test above): with on_cycle = "stop" the analysis stops at the
+    first cycle, with its history."""
+    from tankfx.solve import SolveError
+
+    with pytest.raises(SolveError, match="active set cycles") as err:
+        analyse(scene(tan_phi=10.0, embedment=0.3, on_cycle="stop"))
+    assert len(err.value.history) >= 2

@@ -35,7 +35,12 @@ def test_defaults_are_resolved():
     s = Scene.from_dict(GOOD)
     assert s.foundation_radius == 1.0
     assert s.soil.model == "linear" and s.soil.E_gradient == 0.0
-    assert s.mesh.degree == 2 and s.mesh.edge_size == pytest.approx(0.002)
+    # a flexible load: P3 on a mesh twice as coarse (on the efficient front); a plate: P2
+    assert s.mesh.degree == 3 and s.mesh.edge_size == pytest.approx(0.004)
+    assert s.mesh.near_size == pytest.approx(0.2)
+    plated = Scene.from_dict({**GOOD, "plate": {"radius": 1.0, "thickness": 0.1, "E": 30e9,
+                                                "nu": 0.2}})
+    assert plated.mesh.degree == 2 and plated.mesh.edge_size == pytest.approx(0.002)
     assert s.domain.radius == s.domain.depth == pytest.approx(10000.0)
     assert s.Kp is None and s.Kt is None
     assert Scene.from_dict(s.to_dict()) == s
