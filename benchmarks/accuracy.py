@@ -41,6 +41,16 @@ def _soil(degree, level, a=A):
             "near_size": min(0.1 * f, 0.5) * a}
 
 
+def is_default(case: str, degree: int, level: int) -> bool:
+    """What a scene gets without [mesh] keys: P3 on a mesh twice as coarse (level -1) for the
+    flexible load, P2 at level 0 under a plate."""
+    from tankfx.scene import FLEXIBLE_COARSENING, FLEXIBLE_DEGREE
+
+    if case == "flexible load":
+        return (degree, level) == (FLEXIBLE_DEGREE, -round(math.log2(FLEXIBLE_COARSENING)))
+    return (degree, level) == (2, 0)
+
+
 def scenes(degree: int, level: int) -> dict[str, dict]:
     """Every case as a scene dict at one (degree, level)."""
     mesh = _soil(degree, level)
@@ -169,8 +179,11 @@ def main():
                     help="only redraw the chart from OUT/accuracy.json")
     args = ap.parse_args()
     if args.replot:
-        chart(json.loads((Path(args.out) / "accuracy.json").read_text()),
-              Path(args.out) / "accuracy.png")
+        rows = json.loads((Path(args.out) / "accuracy.json").read_text())
+        for row in rows:
+            row["default"] = is_default(row["case"], row["degree"], row["level"])
+        report(rows)
+        chart(rows, Path(args.out) / "accuracy.png")
         return
     degrees = (2, 3) if args.quick else (1, 2, 3)
     levels = (-1, 0) if args.quick else (-2, -1, 0, 1)
@@ -196,14 +209,22 @@ def main():
                     row = {"case": case, "degree": degree, "level": level,
                            "dofs": r["dofs"]["total"], "process_s": r["process_s"],
                            "error": abs(err[worst]), "worst": worst, "errors": err,
-                           "default": degree == 2 and level == 0,
+                           "default": is_default(case, degree, level),
                            "is_reference": case == "nonlinear embedded tank"
                            and (degree, level) == (3, 1)}
                     rows.append(row)
                     print(f"{case:26s} {degree:2d} {level:3d} {row['dofs']:8d} "
                           f"{row['process_s']:7.2f} {row['error']:9.2e}  {worst}", flush=True)
+    report(rows)
+    (out / "accuracy.json").write_text(json.dumps(rows, indent=1))
+    chart(rows, out / "accuracy.png")
+    print(f"\ntable: {out / 'accuracy.json'}; chart: {out / 'accuracy.png'}")
+
+
+def report(rows):
     front(rows)
-    print("\nDefaults (P2, level 0) against the efficient front:")
+    print("\nDefaults (P3 level -1 for the flexible load, P2 level 0 under a plate) against "
+          "the efficient front:")
     for row in rows:
         if row["default"]:
             better = [o for o in rows if o["case"] == row["case"] and o["on_front"]
@@ -216,9 +237,6 @@ def main():
                          f"({b['error']:.1e}) at {b['process_s']:.1f} s")
             print(f"  {row['case']:26s} error {row['error']:.1e} in {row['process_s']:.1f} s: "
                   f"{note}")
-    (out / "accuracy.json").write_text(json.dumps(rows, indent=1))
-    chart(rows, out / "accuracy.png")
-    print(f"\ntable: {out / 'accuracy.json'}; chart: {out / 'accuracy.png'}")
 
 
 if __name__ == "__main__":
