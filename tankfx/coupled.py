@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import math
 
+import basix
+import basix.ufl
 import numpy as np
 import ufl
 from dolfinx import fem, la
@@ -93,7 +95,38 @@ class TankModel:
         # thickness inside (face_offset=False puts them on the mesh lines, for comparison)
         self.offset = cellwise(0.5 * pl.thickness if face_offset else 0.0,
                                0.5 * wall_or("thickness") if face_offset else 0.0, "offset")
-        self.k_n, self.k_s, self.mu, self.c_s = self._penalty(Q0, values)
+        # ---- where the interface states live (their "carrier"): one per element (DG0, the
+        # paper's Eqs. 11-12), or one per node of the soil's trace (DG_k with its nodes at the
+        # k + 1 Gauss-Lobatto points of each facet, integrated by that rule: each state then
+        # acts at exactly one quadrature point)
+        ifc = scene.interface
+        self.node_states = ifc.condition == "mohr_coulomb" and ifc.states == "node"
+        if self.node_states:
+            k = scene.mesh.degree
+            self.qmeta = {"quadrature_rule": "GLL", "quadrature_degree": 2 * k - 1}
+            element = basix.ufl.element("Lagrange", sub.basix_cell(), k, discontinuous=True,
+                                        lagrange_variant=basix.LagrangeVariant.gll_warped)
+            self.S = fem.functionspace(sub, element)
+        else:
+            self.qmeta = {}
+            self.S = Q0
+        dofs = self.S.dofmap.list
+        self.n_carrier = self.S.dofmap.index_map.size_local + \
+            self.S.dofmap.index_map.num_ghosts
+        self.n_carrier_owned = self.S.dofmap.index_map.size_local
+        self.carrier_cell = np.empty(self.n_carrier, dtype=np.int32)
+        self.carrier_cell[dofs.ravel()] = np.repeat(np.arange(len(dofs), dtype=np.int32),
+                                                    dofs.shape[1])
+        self.k_n, self.k_s, self.mu, self.c_s = self._penalty(values)
+        # the node on the axis and its neighbour in its element (see cell_averages)
+        x = self.S.tabulate_dof_coordinates()[:, 0]
+        self.axis_carriers = np.flatnonzero(self.node_states & (np.abs(x) < 1e-12
+                                                                * scene.plate.radius))
+        nearest = []
+        for d in self.axis_carriers:
+            others = [o for o in dofs[self.carrier_cell[d]] if o != d]
+            nearest.append(min(others, key=lambda o: x[o]))
+        self.axis_neighbours = np.array(nearest, dtype=np.int32)
 
         # ---- spaces, unknowns, forms
         self.W = st.structure_space(sub, 3)
@@ -102,46 +135,50 @@ class TankModel:
         self.r_b = ufl.SpatialCoordinate(sub)[0]
         self.t_b = st.tangent(sub)
         self.dx_b = ufl.Measure("dx", domain=sub, subdomain_data=self.cell_tags)
+        self.dx_interface = self.dx_b((st.PLATE, st.WALL_EMBEDDED), metadata=self.qmeta)
         self.a = self._bilinear_forms()
         self.L = self._loads()
         self.bcs = soil.bcs + self._symmetry()
         self._jump_forms = None
 
     # ------------------------------------------------------------------ set-up
-    def _penalty(self, Q0, values):
-        """Interface stiffnesses of the contact cells and the DG0 traction coefficients
-        (k_n, k_s, mu, c_s of :mod:`tankfx.interface`) of their current state."""
+    def _penalty(self, values):
+        """Interface stiffnesses of the contact cells, per state carrier, and the traction
+        coefficients (k_n, k_s, mu, c_s of :mod:`tankfx.interface`) of their current state."""
         s, sub = self.scene, self.mesh
         cells = np.arange(len(values), dtype=np.int32)
         mid = dmesh.compute_midpoints(sub, 1, cells)
         h = sub.h(1, cells)
         depth = np.maximum(-mid[:, 1], 0.0)
         E_soil = s.soil.E * (1.0 + s.soil.E_gradient * depth)
-        self.in_contact = (values == st.PLATE) | (values == st.WALL_EMBEDDED)
+        in_contact = (values == st.PLATE) | (values == st.WALL_EMBEDDED)
         default = interface.PENALTY_FACTOR * E_soil / h
         ifc = s.interface
         kn = np.full(len(values), ifc.normal_stiffness) if ifc.normal_stiffness else default
         ks = np.full(len(values), ifc.shear_stiffness) if ifc.shear_stiffness else kn
-        self.stiffness_n = np.where(self.in_contact, kn, 0.0)
-        self.stiffness_s = np.where(self.in_contact, ks, 0.0)
-        fields = [fem.Function(Q0, name=n) for n in ("k_n", "k_s", "mu", "c_s")]
-        fields[0].x.array[self.cell_dof] = self.stiffness_n
-        fields[1].x.array[self.cell_dof] = 0.0 if ifc.condition == "smooth" else \
-            self.stiffness_s
+        self.warnings = self._penalty_warnings(E_soil, h, in_contact, kn, ks)
+        # per carrier: the values of its cell
+        cc = self.carrier_cell
+        self.carrier_tag = values[cc]
+        self.in_contact = in_contact[cc]
+        self.stiffness_n = np.where(self.in_contact, kn[cc], 0.0)
+        self.stiffness_s = np.where(self.in_contact, ks[cc], 0.0)
+        fields = [fem.Function(self.S, name=n) for n in ("k_n", "k_s", "mu", "c_s")]
+        fields[0].x.array[:] = self.stiffness_n
+        fields[1].x.array[:] = 0.0 if ifc.condition == "smooth" else self.stiffness_s
         self.status = np.where(self.in_contact, interface.STICK, -1)
-        self.warnings = self._penalty_warnings(E_soil, h)
         return fields
 
-    def _penalty_warnings(self, E_soil, h) -> list[str]:
+    def _penalty_warnings(self, E_soil, h, in_contact, stiffness_n, stiffness_s) -> list[str]:
         """Where the interface stiffness spoils the result: its own compliance 1/k adds about
         E / (k a) of the settlement p a / E (pollution); a stiffness far above the soil
         element's E / h over-constrains the structure to the soil's coarser trace, and costs
         about log10(k h / E) of the 16 digits of the solve."""
         s, comm = self.scene, self.mesh.comm
         n_owned = self.mesh.topology.index_map(1).size_local
-        on = self.in_contact[:n_owned]
+        on = in_contact[:n_owned]
         out = []
-        for name, k in (("normal", self.stiffness_n), ("shear", self.stiffness_s)):
+        for name, k in (("normal", stiffness_n), ("shear", stiffness_s)):
             if s.interface.condition == "smooth" and name == "shear":
                 continue
             k = k[:n_owned][on]
@@ -173,8 +210,8 @@ class TankModel:
     def _interface_measures(self):
         """(tag name, normal, tangent, [(measure, restriction)]) of each interface part."""
         msh, dom = self.domain.mesh, self.domain
-        ds = ufl.Measure("ds", domain=msh, subdomain_data=dom.facet_tags)
-        dS = ufl.Measure("dS", domain=msh, subdomain_data=dom.facet_tags)
+        ds = ufl.Measure("ds", domain=msh, subdomain_data=dom.facet_tags, metadata=self.qmeta)
+        dS = ufl.Measure("dS", domain=msh, subdomain_data=dom.facet_tags, metadata=self.qmeta)
         parts = []
         for name, (n, t) in _INTERFACE.items():
             if name == "wall_embedded" and (self.scene.wall is None
@@ -200,7 +237,7 @@ class TankModel:
         # the interface on the structure's side, -u_b in the jump; the soil's side and the
         # cross terms are integrated over the parent's facets below
         a_bb += interface.interface_form(u_b, v_b, st.normal(t_b), t_b, self.k_n, self.k_s,
-                                         self.mu, r_b, self.dx_b((st.PLATE, st.WALL_EMBEDDED)))
+                                         self.mu, r_b, self.dx_interface)
         a_ss, a_sb, a_bs = soil.a, 0, 0
         r = soil.r
         for _, n, t, pieces in self._interface_measures():
@@ -244,8 +281,7 @@ class TankModel:
             load += -c["wall_weight"] * v_b[1] * w * dx_w
         if s.interface.condition == "mohr_coulomb":
             # the cohesion carried by slipping elements, c_s (dj . t), dj = v_soil - v_face
-            load -= interface.interface_load(v_f, self.t_b, self.c_s, r_b,
-                                             self.dx_b((st.PLATE, st.WALL_EMBEDDED)))
+            load -= interface.interface_load(v_f, self.t_b, self.c_s, r_b, self.dx_interface)
             for _, n, t, pieces in self._interface_measures():
                 for measure, R in pieces:
                     zero_soil += interface.interface_load(R(self.soil.test), t, R(self.c_s),
@@ -319,7 +355,10 @@ class TankModel:
         if self.scene.interface.condition != "mohr_coulomb":
             solver.solve()
             return 0
-        if not single_pass:
+        if not single_pass or self.node_states:
+            # node states are converged inside every soil iteration: updated once per soil
+            # iteration they oscillate with the secant moduli (measured: a period-2 cycle,
+            # no convergence in 40 iterations, where the nested loop takes 6 solves)
             self.interface_result = InterfaceIteration(self).run(solver, log)
             return 0
         if self._passes is None:
@@ -356,10 +395,10 @@ class TankModel:
         out = st.shell_resultants(self.w, self.r_b, self.t_b, self.E, self.nu, self.thickness,
                                   self.offset)
         out["sigma_n"], out["tau"] = self.contact_stresses()
-        status = fem.Function(self.k_n.function_space, name="status")
+        status = fem.Function(self.S, name="status")
         closed = (self.status == interface.STICK) | (self.status == interface.SLIP)
-        status.x.array[self.cell_dof] = np.where(self.was_separated & closed,
-                                                 interface.REBONDED, self.status)
+        status.x.array[:] = np.where(self.was_separated & closed, interface.REBONDED,
+                                     self.status)
         out["status"] = status
         return out
 
@@ -387,7 +426,8 @@ class TankModel:
         sums = None
         for _, n, t, pieces in self._interface_measures():
             for measure, R in pieces:
-                w = 2.0 * math.pi * self.soil.r * R(q)
+                # nodes: the lumped rule gives each node's value exactly, also at r = 0
+                w = R(q) if self.node_states else 2.0 * math.pi * self.soil.r * R(q)
                 terms = integrands(R(self.soil.u) - R(u_b), n, t, R) + [1.0]
                 parts = [term * w * measure for term in terms]
                 sums = parts if sums is None else [a + b for a, b in zip(sums, parts)]
@@ -409,7 +449,10 @@ class TankModel:
             vec = fem.assemble_vector(f)
             vec.scatter_reverse(la.InsertMode.add)
             vec.scatter_forward()
-            values.append(vec.array[self.cell_dof])
+            values.append(vec.array[:self.n_carrier].copy())
+            # a node on the axis carries no force (2 pi r = 0), so nothing ties its jump:
+            # it takes the value (and so the state) of the next node of its element
+            values[-1][self.axis_carriers] = values[-1][self.axis_neighbours]
         area = values.pop()
         return [np.where(area > 0, v / np.where(area > 0, area, 1.0), 0.0) for v in values]
 
@@ -424,8 +467,8 @@ class TankModel:
         out = []
         for values, name in zip(self.cell_averages(self.cell_average_forms(traction)),
                                 ("sigma_n", "tau")):
-            f = fem.Function(self.k_n.function_space, name=name)
-            f.x.array[self.cell_dof] = values
+            f = fem.Function(self.S, name=name)
+            f.x.array[:] = values
             out.append(f)
         return out
 
@@ -520,12 +563,23 @@ class TankModel:
         codes = evaluate_at(F["status"], pts, cells)[:, 0]
         return [interface.STATUS_NAMES.get(int(round(c)), "none") for c in codes]
 
+    def carrier_lengths(self) -> np.ndarray:
+        """The interface length each state carrier stands for: its element's length, or a
+        node's Gauss-Lobatto weight times its element's length."""
+        if not self.node_states:
+            return self.mesh.h(1, self.carrier_cell)
+        q = ufl.TestFunction(self.S)
+        vec = fem.assemble_vector(fem.form(q * self.dx_interface))
+        vec.scatter_reverse(la.InsertMode.add)
+        vec.scatter_forward()
+        return vec.array[:self.n_carrier].copy()
+
     def _interface_summary(self) -> dict:
         """Lengths in each state (per part), iterations and history of the interface."""
         comm = self.mesh.comm
-        n_owned = self.mesh.topology.index_map(1).size_local
-        h = self.mesh.h(1, np.arange(n_owned, dtype=np.int32))
-        values = self.cell_tags.values[np.argsort(self.cell_tags.indices)][:n_owned]
+        n_owned = self.n_carrier_owned
+        h = self.carrier_lengths()[:n_owned]
+        values = self.carrier_tag[:n_owned]
         lengths = {}
         rebonded = self.was_separated & (self.status != interface.SEPARATED)
         for name, code in (("stick", interface.STICK), ("slip", interface.SLIP),
@@ -537,6 +591,8 @@ class TankModel:
                     float(h[mine].sum()))
         res = self.interface_result or {"converged": True, "iterations": 0, "history": [],
                                         "criterion": "linear interface: one solve"}
+        if self.scene.interface.condition == "mohr_coulomb":
+            res = {**res, "states": self.scene.interface.states}
         return {"condition": self.scene.interface.condition, **res, **lengths,
                 "normal_stiffness_range": [
                     comm.allreduce(float(self.stiffness_n[self.in_contact].min(initial=np.inf)),
@@ -590,22 +646,26 @@ class InterfaceIteration:
     def __init__(self, model: "TankModel"):
         self.model = model
         self.forms = model.jump_forms()
-        n_owned = model.mesh.topology.index_map(1).size_local
-        self.owned = np.flatnonzero(model.in_contact[:n_owned])
+        self.owned = np.flatnonzero(model.in_contact[:model.n_carrier_owned])
         self.history: list[dict] = []
 
     def element_jumps(self):
-        """Average normal and tangential jump of each interface element."""
+        """Normal and tangential jump of each state carrier: an element's average, or a
+        node's value (an axis node takes its neighbour's)."""
         return self.model.cell_averages(self.forms)
 
     def _global_status(self, status) -> tuple:
         """The state of every interface element, in an order independent of the partition
         (by element midpoint), on every rank."""
         m = self.model
-        mids = dmesh.compute_midpoints(m.mesh, 1, self.owned.astype(np.int32))[:, :2]
-        mids = np.concatenate(m.mesh.comm.allgather(np.round(mids, 12)))
+        if not hasattr(self, "_order"):
+            # a carrier's position, and its element's midpoint (nodes are shared by two)
+            x = m.S.tabulate_dof_coordinates()[self.owned, :2]
+            mids = dmesh.compute_midpoints(m.mesh, 1, m.carrier_cell[self.owned])[:, :2]
+            keys = np.concatenate(m.mesh.comm.allgather(np.round(np.hstack([x, mids]), 12)))
+            self._order = np.lexsort((keys[:, 3], keys[:, 2], keys[:, 1], keys[:, 0]))
         vals = np.concatenate(m.mesh.comm.allgather(status[self.owned]))
-        return tuple(vals[np.lexsort((mids[:, 1], mids[:, 0]))].tolist())
+        return tuple(vals[self._order].tolist())
 
     def single_pass(self, solver) -> int:
         """One solve and one state update (no cycle handling); returns how many elements
@@ -639,7 +699,7 @@ class InterfaceIteration:
         m.status[:] = status
         for f, v in zip((m.k_n, m.k_s, m.mu, m.c_s), interface.state_coefficients(
                 status, sign, m.stiffness_n, m.stiffness_s, ifc.cohesion, tan_phi)):
-            f.x.array[m.cell_dof] = np.where(m.in_contact, v, 0.0)
+            f.x.array[:] = np.where(m.in_contact, v, 0.0)
         held = m.mesh.comm.allreduce(int(np.sum(self.held[self.owned] >= 0)))
         self.history.append({"iteration": len(self.history) + 1, "changed": changed,
                              "frozen": held})
@@ -666,12 +726,13 @@ class InterfaceIteration:
             solver.solve()
             jn, jt = self.element_jumps()
             # tractions of the state just solved (what the structure actually felt)
-            kn, ks, mu, c = (f.x.array[m.cell_dof] for f in (m.k_n, m.k_s, m.mu, m.c_s))
+            kn, ks, mu, c = (f.x.array[:m.n_carrier] for f in (m.k_n, m.k_s, m.mu, m.c_s))
             sigma = kn * jn
             tau = ks * jt + mu * sigma + c
             traction = np.concatenate([sigma[self.owned], tau[self.owned]])
             norm = np.sqrt(comm.allreduce(float(traction @ traction)))
-            change = float("inf") if previous is None else np.sqrt(comm.allreduce(
+            # (none after the first solve: JSON has no infinity)
+            change = None if previous is None else np.sqrt(comm.allreduce(
                 float((traction - previous) @ (traction - previous)))) / max(norm, 1e-300)
             previous = traction
             status, sign = interface.element_states(jn, jt, m.stiffness_n, m.stiffness_s,
@@ -685,23 +746,25 @@ class InterfaceIteration:
                    "separated": counts[2], "frozen": n_frozen, "traction_change": change,
                    "time_s": time.perf_counter() - t0}
             self.history.append(row)
-            log.info("  %2d %8d %7d %7d %7d %7d %16.3e %8.2f", it, changed, *counts, n_frozen,
-                     change, row["time_s"])
+            log.info("  %2d %8d %7d %7d %7d %7d %16s %8.2f", it, changed, *counts, n_frozen,
+                     "-" if change is None else f"{change:.3e}", row["time_s"])
             if changed == 0:
-                note = "no element changed state"
+                what = "node" if m.node_states else "element"
+                note = f"no {what} changed state"
                 if n_frozen:
-                    note += (f"; {n_frozen} element(s) at the edge of a contact or slip zone "
+                    note += (f"; {n_frozen} {what}(s) at the edge of a contact or slip zone "
                              f"alternated between states and were held in the weaker one")
+                if change is not None:
+                    note += f"; traction change {change:.1e}"
                 return {"converged": True, "iterations": it, "history": self.history,
-                        "frozen_elements": n_frozen,
-                        "criterion": f"{note}; traction change {change:.1e}"}
+                        "frozen_elements": n_frozen, "criterion": note}
             if counts[0] + counts[1] == 0:
                 raise SolveError("the interface separated everywhere: nothing holds the "
                                  "foundation (is the net load upward?)", self.history)
             m.status[:] = status
             for f, v in zip((m.k_n, m.k_s, m.mu, m.c_s), interface.state_coefficients(
                     status, sign, m.stiffness_n, m.stiffness_s, ifc.cohesion, tan_phi)):
-                f.x.array[m.cell_dof] = np.where(m.in_contact, v, 0.0)
+                f.x.array[:] = np.where(m.in_contact, v, 0.0)
             states[it] = m.status.copy()
             key = self._global_status(m.status)
             if key in seen:

@@ -97,6 +97,10 @@ class Interface:
     #: what a cycling Mohr-Coulomb active set gets: "hold" its alternating elements in the
     #: weaker state and go on (reported), or "stop" with the history
     on_cycle: str = "hold"
+    #: where a Mohr-Coulomb state lives: "element" (the paper's Eqs. 11-12: one state per
+    #: interface element, from its average jump) or "node" (one per node of the soil's trace,
+    #: at the Gauss-Lobatto points of each facet, which then integrate the interface)
+    states: str = "node"
 
 
 @dataclass(frozen=True)
@@ -197,7 +201,7 @@ class Scene:
         if self.plate is None:
             del out["interface"]
         elif self.interface.condition != "mohr_coulomb":
-            for key in ("cohesion", "tan_phi", "on_cycle"):
+            for key in ("cohesion", "tan_phi", "on_cycle", "states"):
                 out["interface"].pop(key, None)
         return out
 
@@ -237,7 +241,7 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
     "interface": {"condition": (str, False), "cohesion": (float, False),
                   "tan_phi": (float, False), "friction_angle": (float, False),
                   "normal_stiffness": (float, False), "shear_stiffness": (float, False),
-                  "on_cycle": (str, False)},
+                  "on_cycle": (str, False), "states": (str, False)},
     "load": {"pressure": (float, False), "load_radius": (float, False),
              "liquid_unit_weight": (float, False), "liquid_height": (float, False),
              "self_weight": (bool, False)},
@@ -252,6 +256,7 @@ _REQUIRED_SECTIONS = ("soil", "load")
 _SOIL_MODELS = ("linear", "hyperbolic")
 _CONDITIONS = ("bonded", "smooth", "mohr_coulomb")
 _ON_CYCLE = ("hold", "stop")
+_STATES = ("element", "node")
 
 
 def _suggest(name: str, valid) -> str:
@@ -438,8 +443,12 @@ def _parse(data: dict[str, Any]) -> Scene:
         rd.bad(f"interface.on_cycle = {on_cycle!r}: unknown{_suggest(on_cycle, _ON_CYCLE)} "
                f"(\"hold\": hold the alternating elements in the weaker state and go on; "
                f"\"stop\": stop with the iteration history)")
+    states = interface.get("states", "node")
+    if states not in _STATES:
+        rd.bad(f"interface.states = {states!r}: unknown{_suggest(states, _STATES)} "
+               f"(\"element\": one state per interface element; \"node\": one per node)")
     if cond != "mohr_coulomb":
-        for key in ("cohesion", "tan_phi", "friction_angle", "on_cycle"):
+        for key in ("cohesion", "tan_phi", "friction_angle", "on_cycle", "states"):
             if key in interface:
                 rd.bad(f"interface.{key}: only used with condition = \"mohr_coulomb\"; remove "
                        f"it or change the condition")
@@ -568,7 +577,7 @@ def _parse(data: dict[str, Any]) -> Scene:
                              tan_phi=tan_phi,
                              normal_stiffness=interface.get("normal_stiffness"),
                              shear_stiffness=interface.get("shear_stiffness"),
-                             on_cycle=on_cycle)
+                             on_cycle=on_cycle, states=states)
     a = plate_dc.radius if plate_dc is not None else load["load_radius"]
     load_dc = Load(pressure=load.get("pressure", 0.0), load_radius=a,
                    liquid_unit_weight=load.get("liquid_unit_weight", 0.0),

@@ -118,12 +118,16 @@ def test_penalty_far_too_stiff_is_refused_by_the_residual_check(monkeypatch):
 ])
 def test_extreme_interface_strengths(bonded, keys, limit):
     """A vanishing friction is smooth, an enormous friction or cohesion is bonded (where
-    the bonded plate is in compression everywhere): converged, in a few iterations."""
-    r = analyse(plate(condition="mohr_coulomb", **keys)).results
+    the bonded plate is in compression everywhere): converged, in a few iterations; with
+    element states to 1e-5, with node states (the default) to the 2 % by which their lumped
+    Gauss-Lobatto rule moves M0 on this coarse mesh (measured 0.85 % smooth, 1.0 % bonded;
+    0.2-0.26 % on the default mesh, tests/test_interface.py)."""
     ref = bonded if limit == "bonded" else analyse(plate(condition="smooth")).results
-    assert r["interface"]["converged"] and r["interface"]["iterations"] <= 5
-    for key in ("w0", "wd", "M0"):
-        assert r[key] == pytest.approx(ref[key], rel=1e-5), key
+    for states, rel in (("element", 1e-5), ("node", 2e-2)):
+        r = analyse(plate(condition="mohr_coulomb", states=states, **keys)).results
+        assert r["interface"]["converged"] and r["interface"]["iterations"] <= 5
+        for key in ("w0", "wd", "M0"):
+            assert r[key] == pytest.approx(ref[key], rel=rel), (states, key)
 
 
 HYPER = {"model": "hyperbolic", "hyperbolic_a": 2.1e-7, "hyperbolic_b": 1e-5, "nu": 0.3}

@@ -126,13 +126,14 @@ def test_parallel_equals_serial():
 
 
 def test_single_and_nested_loops_agree():
-    """Hyperbolic soil under a Mohr-Coulomb interface: updating soil and interface once per
-    iteration (the default, fewer solves) and converging the interface inside every soil
-    iteration reach the same state."""
+    """Hyperbolic soil under a Mohr-Coulomb interface with element states: updating soil and
+    interface once per iteration (their default, fewer solves) and converging the interface
+    inside every soil iteration reach the same state. (Node states always nest: updated
+    once per soil iteration they oscillate.)"""
     scene = Scene.from_dict({
         "soil": HYPER, "load": {"pressure": 40e3},
         "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": 0.3},
-        "interface": {"condition": "mohr_coulomb", "tan_phi": 0.4},
+        "interface": {"condition": "mohr_coulomb", "tan_phi": 0.4, "states": "element"},
         "mesh": {"edge_size": 0.01, "near_size": 0.25, "growth": 0.3}})
     single = analyse(scene).results
     nested = analyse(scene, nested=True).results

@@ -52,9 +52,7 @@ def test_friction_limits_reproduce_bonded_and_smooth(embedment):
         assert rough["w0"] == pytest.approx(bonded["w0"], rel=5e-3)
         assert rough["wd"] == pytest.approx(bonded["wd"], rel=1e-2)
         assert rough["M0"] == pytest.approx(bonded["M0"], rel=1e-2)
-        # elements at the wall foot alternate: held in the weaker state, and said so
-        assert rough["interface"]["frozen_elements"] > 0
-        assert "alternated" in rough["interface"]["criterion"]
+        assert rough["interface"]["frozen_elements"] == 0, "node states need no holding"
     assert bonded["interface"]["iterations"] == 0, "a linear interface must not iterate"
     for r in (rough, slippery):
         assert r["interface"]["converged"] and r["interface"]["iterations"] >= 1
@@ -102,7 +100,7 @@ def test_rim_load_lifts_a_flexible_plate_off_at_its_centre():
     plate = flexible["profiles"]["plate"]
     assert plate["contact_status"][0] == "separated"
     assert plate["contact_normal"][0] == 0.0 and plate["contact_shear"][0] == 0.0
-    assert min(plate["contact_normal"]) >= 0.0
+    assert min(plate["contact_normal"]) >= -1e-9 * max(plate["contact_normal"])
     assert flexible["interface"]["separated_length"]["plate"] > 0.3
     assert flexible["equilibrium"]["contact_relative_error"] < 1e-6
     # the centre of the plate rises above its rim
@@ -137,12 +135,22 @@ def test_penalty_stiffness_ten_times_larger_changes_little(monkeypatch):
 
 
 
-def test_a_cycling_active_set_stops_on_request():
-    """The embedded tank at tan phi = 10, whose alternating elements are held by default
-    (asserted in the limits test above): with on_cycle = "stop" the analysis stops at the
-    first cycle, with its history."""
+
+def test_element_states_agree_with_node_states_and_hold_a_cycling_active_set():
+    """The paper's element states (Eqs. 11-12) on the embedded tank at tan phi = 10: elements
+    at the foot of the wall face alternate between states; by default they are held in the
+    weaker state and said so, with on_cycle = "stop" the analysis stops at the first cycle
+    with its history. The held result agrees with the node states (the default) to 1 %
+    (measured: w0 5e-6, wd 4e-5, M0 1.2e-3; the node states' lumped rule moves M0 by
+    0.1-0.8 %)."""
     from tankfx.solve import SolveError
 
+    node = analyse(scene(tan_phi=10.0, embedment=0.3)).results
+    held = analyse(scene(tan_phi=10.0, embedment=0.3, states="element")).results
+    assert held["interface"]["frozen_elements"] > 0
+    assert "alternated" in held["interface"]["criterion"]
+    assert node["interface"]["states"] == "node" and held["interface"]["states"] == "element"
+    _close(held, node, 1e-2)
     with pytest.raises(SolveError, match="active set cycles") as err:
-        analyse(scene(tan_phi=10.0, embedment=0.3, on_cycle="stop"))
+        analyse(scene(tan_phi=10.0, embedment=0.3, states="element", on_cycle="stop"))
     assert len(err.value.history) >= 2
