@@ -628,8 +628,9 @@ class TankModel:
 class InterfaceIteration:
     """The Mohr-Coulomb active-set iteration of a :class:`TankModel` (Eqs. 6-16).
 
-    Each pass solves the linear system with the current element states, then re-decides every
-    element's state from its average jump (:func:`tankfx.interface.element_states`). The
+    Each pass solves the linear system with the current states, then re-decides every
+    element's state from its average jump (:func:`tankfx.interface.element_states`), or
+    every node's from its own jump (``states = "node"``; "element" below reads "node"). The
     paper instead re-solves with self-equilibrating excess forces (Eqs. 14-16) and the same
     stiffness; changing the element's stiffness and traction law (stick / slip / separated)
     reaches the same fixed point in a handful of solves. It stops when no element changes
@@ -777,13 +778,17 @@ class InterfaceIteration:
                 weaker = np.where(np.any([st_ == interface.SEPARATED for st_ in cycle], axis=0),
                                   interface.SEPARATED, interface.SLIP)
                 n_new = comm.allreduce(int(np.sum(differ[self.owned] & ~frozen[self.owned])))
-                if ifc.on_cycle == "stop":
+                if ifc.on_cycle == "stop" or m.node_states:
+                    what = "node" if m.node_states else "element"
                     raise SolveError(
-                        f"the interface's active set cycles: the element states of iteration "
-                        f"{it} repeat those of iteration {seen[key]} ({n_new} element(s) "
-                        f"alternate, at the edge of a contact or slip zone that ends inside "
-                        f"an element); interface.on_cycle = \"hold\" holds them in the weaker "
-                        f"state and goes on, or refine the mesh there", self.history)
+                        f"the interface's active set cycles: the {what} states of iteration "
+                        f"{it} repeat those of iteration {seen[key]} ({n_new} {what}(s) "
+                        f"alternate, at the edge of a contact or slip zone); " + (
+                            "node states are not held (holding them was measured to end on "
+                            "spurious all-slip states): use interface.states = \"element\""
+                            if m.node_states else
+                            "interface.on_cycle = \"hold\" holds them in the weaker state "
+                            "and goes on, or refine the mesh there"), self.history)
                 freezes += 1
                 log.info("  the element states cycle (iteration %d repeats %d): holding %d "
                          "alternating element(s) in the weaker state", it, seen[key], n_new)

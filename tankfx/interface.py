@@ -16,8 +16,12 @@ per-element coefficients (k_n, k_s, mu, c_s), so one pair of compiled forms serv
 states: ``bonded`` is stick everywhere, ``smooth`` is k_s = 0 everywhere, and the Mohr-Coulomb
 iteration only changes the coefficients.
 
-As in the paper (Eqs. 11-12) the state belongs to an interface element (a facet): it is
-decided from the element's average normal and tangential jump. The stiffnesses default to
+With ``states = "element"`` (the default), as in the paper (Eqs. 11-12), the state belongs
+to an interface element (a facet): it is decided from the element's average normal and
+tangential jump. With ``states = "node"`` it belongs to each node of the soil's trace, where
+the interface is integrated by the Gauss-Lobatto rule on those nodes (the same functions
+decide it, from the node's jump; the coefficients are then DG_k fields with the nodes at
+the Gauss-Lobatto points, see :class:`tankfx.coupled.TankModel`). The stiffnesses default to
 ``PENALTY_FACTOR`` times the soil modulus at the facet over the facet length: the compliance
 this adds is h / (factor a) of the foundation's (about 2e-6 at the default mesh), so the
 bonded and smooth limits are reproduced; ``normal_stiffness`` / ``shear_stiffness`` of the

@@ -100,7 +100,7 @@ class Interface:
     #: where a Mohr-Coulomb state lives: "element" (the paper's Eqs. 11-12: one state per
     #: interface element, from its average jump) or "node" (one per node of the soil's trace,
     #: at the Gauss-Lobatto points of each facet, which then integrate the interface)
-    states: str = "node"
+    states: str = "element"
 
 
 @dataclass(frozen=True)
@@ -443,7 +443,7 @@ def _parse(data: dict[str, Any]) -> Scene:
         rd.bad(f"interface.on_cycle = {on_cycle!r}: unknown{_suggest(on_cycle, _ON_CYCLE)} "
                f"(\"hold\": hold the alternating elements in the weaker state and go on; "
                f"\"stop\": stop with the iteration history)")
-    states = interface.get("states", "node")
+    states = interface.get("states", "element")
     if states not in _STATES:
         rd.bad(f"interface.states = {states!r}: unknown{_suggest(states, _STATES)} "
                f"(\"element\": one state per interface element; \"node\": one per node)")

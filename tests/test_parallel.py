@@ -60,13 +60,16 @@ def test_parallel_equals_serial(soil):
 @pytest.mark.parametrize("embedment, condition, nu", [(0.0, "bonded", 0.3),
                                                       (0.3, "smooth", 0.3),
                                                       (0.3, "mohr_coulomb", 0.3),
+                                                      (0.3, "mohr_coulomb node", 0.3),
                                                       (0.3, "bonded", 0.5)])
 def test_tank_parallel_equals_serial(embedment, condition, nu):
     """A surface and an embedded tank, plate + wall + liquid: the block system with its
-    interior-facet interface terms, and the Mohr-Coulomb iteration (the same element states,
-    in the same number of iterations), give the same numbers on 1 and 2 ranks."""
+    interior-facet interface terms, and the Mohr-Coulomb iteration (the same element or node
+    states, in the same number of iterations), give the same numbers on 1 and 2 ranks."""
+    condition, *states = condition.split()
     interface = {"condition": condition} | (
-        {"tan_phi": 0.3} if condition == "mohr_coulomb" else {})
+        {"tan_phi": 0.3} if condition == "mohr_coulomb" else {}) | (
+        {"states": states[0], "tan_phi": 0.5} if states else {})   # (node states cycle at 0.3)
     scene = Scene.from_dict({
         "soil": {"E": 10e6, "nu": nu},
         "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": embedment},

@@ -90,6 +90,12 @@ def test_Kp_and_thickness_are_inverse():
     (with_(plate=PLATE, interface={"condition": "rough"}), "interface.condition", "valid"),
     (with_(plate=PLATE, interface={"condition": "mohr_coulomb", "tan_phi": 0.5,
                                    "friction_angle": 30.0}), "interface.tan_phi", "not both"),
+    (with_(plate=PLATE, interface={"condition": "mohr_coulomb", "tan_phi": 0.5,
+                                   "states": "point"}), "interface.states", "element"),
+    (with_(plate=PLATE, interface={"condition": "mohr_coulomb", "tan_phi": 0.5,
+                                   "on_cycle": "halt"}), "interface.on_cycle", "stop"),
+    (with_(plate=PLATE, interface={"condition": "bonded", "states": "node"}),
+     "interface.states", "only used with"),
     (with_(interface={"condition": "smooth"}), "[interface]", "needs a [plate]"),
 ])
 def test_bad_input_is_refused_with_key_and_fix(data, key, fix):
