@@ -62,3 +62,20 @@ def test_headline_demo_gives_the_same_numbers_on_two_ranks(runs):
         assert parallel["junction"][key] == pytest.approx(value, rel=1e-7, abs=1e-6), key
     assert parallel["profiles"]["plate"]["contact_status"] == \
         serial["profiles"]["plate"]["contact_status"]
+
+
+def test_an_error_on_one_rank_ends_the_run_instead_of_hanging(tmp_path):
+    """Rank 0 fails while rank 1 waits in a collective (as when only rank 0 writes the
+    results): the run must end, with an error, well within the time bound."""
+    mpiexec = shutil.which("mpiexec", path=os.path.dirname(sys.executable))
+    if mpiexec is None:
+        pytest.skip("no mpiexec beside this Python")
+    script = tmp_path / "fail_on_rank0.py"
+    script.write_text("import tankfx\nfrom mpi4py import MPI\n"
+                      "if MPI.COMM_WORLD.rank == 0:\n    raise ValueError('rank 0 fails')\n"
+                      "MPI.COMM_WORLD.barrier()\n")
+    proc = subprocess.run([mpiexec, "-n", "2", sys.executable, str(script)],
+                          capture_output=True, text=True, timeout=120)
+    out = proc.stdout + proc.stderr
+    assert proc.returncode != 0, out
+    assert "rank 0 fails" in out and "aborting all ranks" in out, out
