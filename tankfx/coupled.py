@@ -13,6 +13,7 @@ integrated over the parent's facets (``ds`` where the facet is on the outside of
 from __future__ import annotations
 
 import math
+from functools import cached_property
 
 import basix
 import basix.ufl
@@ -101,6 +102,7 @@ class TankModel:
         # acts at exactly one quadrature point)
         ifc = scene.interface
         self.node_states = ifc.condition == "mohr_coulomb" and ifc.states == "node"
+        self.carrier_name = "node" if self.node_states else "element"
         if self.node_states:
             k = scene.mesh.degree
             self.qmeta = {"quadrature_rule": "GLL", "quadrature_degree": 2 * k - 1}
@@ -563,9 +565,10 @@ class TankModel:
         codes = evaluate_at(F["status"], pts, cells)[:, 0]
         return [interface.STATUS_NAMES.get(int(round(c)), "none") for c in codes]
 
+    @cached_property
     def carrier_lengths(self) -> np.ndarray:
         """The interface length each state carrier stands for: its element's length, or a
-        node's Gauss-Lobatto weight times its element's length."""
+        node's Gauss-Lobatto weight times its element's length (computed once per model)."""
         if not self.node_states:
             return self.mesh.h(1, self.carrier_cell)
         q = ufl.TestFunction(self.S)
@@ -578,7 +581,7 @@ class TankModel:
         """Lengths in each state (per part), iterations and history of the interface."""
         comm = self.mesh.comm
         n_owned = self.n_carrier_owned
-        h = self.carrier_lengths()[:n_owned]
+        h = self.carrier_lengths[:n_owned]
         values = self.carrier_tag[:n_owned]
         lengths = {}
         rebonded = self.was_separated & (self.status != interface.SEPARATED)
@@ -648,6 +651,12 @@ class InterfaceIteration:
         self.model = model
         self.forms = model.jump_forms()
         self.owned = np.flatnonzero(model.in_contact[:model.n_carrier_owned])
+        # a partition-independent order of the carriers: position, then the element's
+        # midpoint (a node is shared by two elements)
+        x = model.S.tabulate_dof_coordinates()[self.owned, :2]
+        mids = dmesh.compute_midpoints(model.mesh, 1, model.carrier_cell[self.owned])[:, :2]
+        keys = np.concatenate(model.mesh.comm.allgather(np.round(np.hstack([x, mids]), 12)))
+        self.order = np.lexsort((keys[:, 3], keys[:, 2], keys[:, 1], keys[:, 0]))
         self.history: list[dict] = []
 
     def element_jumps(self):
@@ -658,15 +667,8 @@ class InterfaceIteration:
     def _global_status(self, status) -> tuple:
         """The state of every interface element, in an order independent of the partition
         (by element midpoint), on every rank."""
-        m = self.model
-        if not hasattr(self, "_order"):
-            # a carrier's position, and its element's midpoint (nodes are shared by two)
-            x = m.S.tabulate_dof_coordinates()[self.owned, :2]
-            mids = dmesh.compute_midpoints(m.mesh, 1, m.carrier_cell[self.owned])[:, :2]
-            keys = np.concatenate(m.mesh.comm.allgather(np.round(np.hstack([x, mids]), 12)))
-            self._order = np.lexsort((keys[:, 3], keys[:, 2], keys[:, 1], keys[:, 0]))
-        vals = np.concatenate(m.mesh.comm.allgather(status[self.owned]))
-        return tuple(vals[self._order].tolist())
+        vals = np.concatenate(self.model.mesh.comm.allgather(status[self.owned]))
+        return tuple(vals[self.order].tolist())
 
     def single_pass(self, solver) -> int:
         """One solve and one state update (no cycle handling); returns how many elements
@@ -750,7 +752,7 @@ class InterfaceIteration:
             log.info("  %2d %8d %7d %7d %7d %7d %16s %8.2f", it, changed, *counts, n_frozen,
                      "-" if change is None else f"{change:.3e}", row["time_s"])
             if changed == 0:
-                what = "node" if m.node_states else "element"
+                what = m.carrier_name
                 note = f"no {what} changed state"
                 if n_frozen:
                     note += (f"; {n_frozen} {what}(s) at the edge of a contact or slip zone "
@@ -779,16 +781,19 @@ class InterfaceIteration:
                                   interface.SEPARATED, interface.SLIP)
                 n_new = comm.allreduce(int(np.sum(differ[self.owned] & ~frozen[self.owned])))
                 if ifc.on_cycle == "stop" or m.node_states:
-                    what = "node" if m.node_states else "element"
+                    if m.node_states:
+                        remedy = ("node states are not held (holding them was measured to "
+                                  "end on spurious all-slip states): use interface.states = "
+                                  "\"element\"")
+                    else:
+                        remedy = ("interface.on_cycle = \"hold\" holds them in the weaker "
+                                  "state and goes on, or refine the mesh there")
+                    what = m.carrier_name
                     raise SolveError(
                         f"the interface's active set cycles: the {what} states of iteration "
                         f"{it} repeat those of iteration {seen[key]} ({n_new} {what}(s) "
-                        f"alternate, at the edge of a contact or slip zone); " + (
-                            "node states are not held (holding them was measured to end on "
-                            "spurious all-slip states): use interface.states = \"element\""
-                            if m.node_states else
-                            "interface.on_cycle = \"hold\" holds them in the weaker state "
-                            "and goes on, or refine the mesh there"), self.history)
+                        f"alternate, at the edge of a contact or slip zone); {remedy}",
+                        self.history)
                 freezes += 1
                 log.info("  the element states cycle (iteration %d repeats %d): holding %d "
                          "alternating element(s) in the weaker state", it, seen[key], n_new)

@@ -27,8 +27,8 @@ MAX_RELATIVE_RESIDUAL = 1e-6
 def _ordering(u, one_shot: bool) -> dict:
     """MUMPS's fill-reducing ordering, chosen by how many factorisations will share it.
     One (a linear scene): AMD, whose analysis is cheap (measured at 274k dofs: analysis 0.4 s
-    against METIS's 2.1 s, numeric factorisation 2.6 s against 1.5 s on one rank; the whole
-    process 7.1 -> 6.8 s on one rank, 5.5 -> 4.3 s on two). Several (a nonlinear or staged
+    against METIS's 2.1 s, numeric factorisation 2.4 s against 1.5 s on one rank; whole
+    process times in the README, "Where the time goes"). Several (a nonlinear or staged
     scene, each iteration a numeric factorisation on the same analysis): METIS's sparser
     factors pay back after the second; on more than one rank its analysis runs in parallel
     with PT-SCOTCH (solve 3.7 -> 3.2 s on 2 ranks)."""
@@ -49,7 +49,21 @@ class SolveError(RuntimeError):
         self.history = history or []
 
 
-class DirectSolver:
+class _LinearSolver:
+    """What both solvers share: their own PETSc options prefix, the count of solves, and the
+    size of the assembled system."""
+
+    def _start(self, name: str) -> str:
+        self.prefix = f"tankfx_{name}_{next(_ids)}_"
+        self.solves = 0   # linear solves so far (each one an assembly and a solve)
+        return self.prefix
+
+    @property
+    def matrix_size(self) -> int:
+        return self.problem.A.getSize()[0]
+
+
+class DirectSolver(_LinearSolver):
     """MUMPS on the monolithic system ``a u = L`` (blocks assembled with ``kind="mpi"``):
     LU, or for a ``symmetric`` system (every scene but a Mohr-Coulomb interface, whose
     friction couples the shear to the normal jump) the symmetric-indefinite LDL^T, about a
@@ -58,10 +72,9 @@ class DirectSolver:
 
     def __init__(self, a, L, bcs, u, entity_maps=None, name: str = "soil",
                  symmetric: bool = False, one_shot: bool = False):
-        self.prefix = f"tankfx_{name}_{next(_ids)}_"
         self.problem = fem_petsc.LinearProblem(
             a, L, bcs=bcs, u=u, kind="mpi" if isinstance(u, (list, tuple)) else None,
-            petsc_options_prefix=self.prefix, entity_maps=entity_maps,
+            petsc_options_prefix=self._start(name), entity_maps=entity_maps,
             petsc_options={
                 # LU with MUMPS, then two steps of iterative refinement (Richardson on the
                 # same factors): they recover the digits a bare LU solve loses to the
@@ -73,9 +86,7 @@ class DirectSolver:
                 "pc_factor_mat_solver_type": "mumps",
                 # more working memory for pivoting in stiff, contrasted systems
                 "mat_mumps_icntl_14": 80, **_ordering(u, one_shot)})
-        self.u = u
         self.factorisation = "LDL^T (MUMPS)" if symmetric else "LU (MUMPS)"
-        self.solves = 0   # linear solves so far (each one an assembly and a factorisation)
 
     def solve(self):
         self.solves += 1
@@ -92,12 +103,8 @@ class DirectSolver:
                           f"ill-conditioned for these stiffness contrasts")
         return u
 
-    @property
-    def matrix_size(self) -> int:
-        return self.problem.A.getSize()[0]
 
-
-class IterativeSolver:
+class IterativeSolver(_LinearSolver):
     """Krylov with algebraic multigrid, for meshes where a factorisation costs too much time
     or memory (``[solver] method = "iterative"``). The soil alone: conjugate gradients with
     PETSc's GAMG (Chebyshev-Jacobi smoothing). Soil and structure: the blocks are assembled
@@ -110,7 +117,6 @@ class IterativeSolver:
 
     def __init__(self, a, L, bcs, u, entity_maps=None, name: str = "soil", rtol: float = 1e-10,
                  max_iterations: int = 1000):
-        self.prefix = f"tankfx_{name}_{next(_ids)}_"
         blocks = isinstance(u, (list, tuple))
         gamg = {"pc_type": "gamg", "mg_levels_ksp_type": "chebyshev",
                 "mg_levels_pc_type": "jacobi"}
@@ -134,11 +140,10 @@ class IterativeSolver:
                      "ksp_norm_type": "unpreconditioned"})
         self.problem = fem_petsc.LinearProblem(
             a, L, bcs=bcs, u=u, kind="nest" if blocks else None,
-            petsc_options_prefix=self.prefix, entity_maps=entity_maps, petsc_options=opts)
-        self.u = u
+            petsc_options_prefix=self._start(name), entity_maps=entity_maps,
+            petsc_options=opts)
         self.factorisation = ("FGMRES + field split (GAMG soil, LU structure)" if blocks
                               else "CG + GAMG")
-        self.solves = 0
         self.krylov_iterations = 0
         self.rtol, self.max_iterations = rtol, max_iterations
 
@@ -156,10 +161,6 @@ class IterativeSolver:
                              f"solver.max_iterations or use solver.method = \"direct\"")
         self.relative_residual = _checked_residual(self.problem, "(iterative solve)")
         return u
-
-    @property
-    def matrix_size(self) -> int:
-        return self.problem.A.getSize()[0]
 
 
 def _checked_residual(problem, why: str) -> float:
