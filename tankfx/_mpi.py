@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import sys
+import time
+import traceback
 
 from mpi4py import MPI
 
@@ -15,13 +17,15 @@ def abort_on_uncaught_exception(comm: MPI.Comm = MPI.COMM_WORLD) -> None:
     Exceptions that are caught (by the CLI, by pytest) are not affected."""
     if comm.size == 1 or getattr(sys.excepthook, "_tankfx", False):
         return
-    previous = sys.excepthook
-
-    def hook(kind, value, traceback):
-        previous(kind, value, traceback)
-        sys.stderr.write(f"tankfx: uncaught {kind.__name__} on rank {comm.rank} of "
+    def hook(kind, value, tb):
+        # one write, then a moment for mpiexec to forward it: MPI_Abort kills the ranks,
+        # and output still in the launcher's pipes was measured to be lost (only the
+        # traceback's first line arrived)
+        text = "".join(traceback.format_exception(kind, value, tb))
+        sys.stderr.write(f"{text}tankfx: uncaught {kind.__name__} on rank {comm.rank} of "
                          f"{comm.size}: aborting all ranks\n")
         sys.stderr.flush()
+        time.sleep(0.5)
         comm.Abort(1)
 
     hook._tankfx = True
