@@ -1,6 +1,6 @@
 """The Mohr-Coulomb interface on the embedded demo tank: iterations and time against the
-linear (bonded, smooth) interfaces, over friction, with the states per node (the default)
-and per element (the paper's).
+linear (bonded, smooth) interfaces, over friction, with the states per element (the paper's,
+the default) and per node.
 
     python benchmarks/interface.py [--out results/benchmarks]
 """
@@ -34,7 +34,7 @@ def main():
     say(f"\n{base.title} (a = {base.plate.radius:g} m, D = {base.embedment:g} m, Kp = "
         f"{base.Kp:.3g}, Kt = {base.Kt:.3g}, water to {base.load.liquid_height:g} m)")
     say(f"{'interface':28s} {'iters':>5s} {'solve s':>8s} {'total s':>8s} {'w0_bar':>8s} "
-        f"{'wd_bar':>8s} {'M0_bar':>8s} {'slip m':>7s} {'sep m':>6s} {'held':>4s}")
+        f"{'wd_bar':>8s} {'M0_bar':>8s} {'slip m':>7s} {'sep m':>6s} {'held':>4s} {'rev.':>4s}")
     rows = []
     for name, ifc in cases:
         scene = base.with_changes(interface=ifc)
@@ -56,11 +56,12 @@ def main():
                "solve_s": r["timings_s"]["assemble_solve"], "total_s": total,
                "w0_bar": nd["w0"], "wd_bar": nd["wd"], "M0_bar": nd["M0"],
                "slip_length": slip, "separated_length": sep,
-               "held": i.get("frozen_elements", 0)}
+               "held": i.get("frozen_elements", 0),
+               "reversed_slips": i.get("reversed_slips", 0)}
         rows.append(row)
         say(f"{name:28s} {row['iterations']:5d} {row['solve_s']:8.2f} {total:8.2f} "
             f"{nd['w0']:8.4f} {nd['wd']:8.4f} {nd['M0']:8.5f} {slip:7.3f} {sep:6.3f} "
-            f"{row['held']:4d}")
+            f"{row['held']:4d} {row['reversed_slips']:4d}")
     if MPI.COMM_WORLD.rank == 0:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)

@@ -931,28 +931,23 @@ class InterfaceIteration:
                 weaker = np.where(np.any([st_ == interface.SEPARATED for st_ in cycle], axis=0),
                                   interface.SEPARATED, interface.SLIP)
                 n_new = comm.allreduce(int(np.sum(differ[self.owned] & ~frozen[self.owned])))
-                if ifc.on_cycle == "stop" or m.node_states:
-                    if m.node_states:
-                        remedy = ("node states are not held (holding them was measured to "
-                                  "end on spurious all-slip states): use interface.states = "
-                                  "\"element\"")
-                    else:
-                        remedy = ("interface.on_cycle = \"hold\" holds them in the weaker "
-                                  "state and goes on, or refine the mesh there")
-                    what = m.carrier_name
+                what = m.carrier_name
+                if ifc.on_cycle == "stop":
                     raise SolveError(
                         f"the interface's active set cycles: the {what} states of iteration "
                         f"{it} repeat those of iteration {seen[key]} ({n_new} {what}(s) "
-                        f"alternate, at the edge of a contact or slip zone); {remedy}",
-                        self.history)
+                        f"alternate, at the edge of a contact or slip zone); "
+                        f"interface.on_cycle = \"hold\" holds them in the weaker state and "
+                        f"goes on, or refine the mesh there", self.history)
                 freezes += 1
-                log.info("  the element states cycle (iteration %d repeats %d): holding %d "
-                         "alternating element(s) in the weaker state", it, seen[key], n_new)
+                log.info("  the %s states cycle (iteration %d repeats %d): holding %d "
+                         "alternating %s(s) in the weaker state", what, it, seen[key], n_new,
+                         what)
                 if freezes > 3 or n_new == 0:
                     raise SolveError(
                         f"the interface's active set cycles: the states of iteration {it} "
                         f"repeat those of iteration {seen[key]} and holding the alternating "
-                        f"elements did not stop it (try a finer mesh at the contact zone's "
+                        f"{what}s did not stop it (try a finer mesh at the contact zone's "
                         f"edge)", self.history)
                 forced = np.where(differ & ~frozen, weaker, forced)
                 frozen |= differ
