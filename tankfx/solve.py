@@ -24,18 +24,27 @@ REFINEMENT_STEPS = 2
 MAX_RELATIVE_RESIDUAL = 1e-6
 
 
+#: Above this many unknowns a one-shot solve orders with METIS (PT-SCOTCH on > 1 rank), below
+#: it with AMD (measured break-even at ~760k dofs on this project's test machine).
+AMD_LIMIT = 1_000_000
+
+
 def _ordering(u, one_shot: bool) -> dict:
-    """MUMPS's fill-reducing ordering, chosen by how many factorisations will share it.
-    One (a linear scene): AMD, whose analysis is cheap (measured at 274k dofs: analysis 0.4 s
-    against METIS's 2.1 s, numeric factorisation 2.4 s against 1.5 s on one rank; whole
-    process times in the README, "Where the time goes"). Several (a nonlinear or staged
-    scene, each iteration a numeric factorisation on the same analysis): METIS's sparser
-    factors pay back after the second; on more than one rank its analysis runs in parallel
-    with PT-SCOTCH (solve 3.7 -> 3.2 s on 2 ranks)."""
-    if one_shot:
+    """MUMPS's fill-reducing ordering, chosen by how many factorisations will share it and
+    by the size. One factorisation (a linear scene) of fewer than AMD_LIMIT unknowns: AMD,
+    whose analysis is cheap (measured at 274k dofs: analysis 0.4 s against METIS's 2.1 s,
+    numeric factorisation 2.4 s against 1.5 s on one rank; whole process times in the
+    README, "Where the time goes"). Several (a nonlinear or staged scene, each iteration a
+    numeric factorisation on the same analysis), or a large mesh: METIS's sparser factors
+    pay back (1.5M dofs, whole process: 57.6 s against AMD's 65.1 s on one rank, 38.9 s
+    against 50.6 s on two); on more than one rank its analysis runs in parallel with
+    PT-SCOTCH (solve 3.7 -> 3.2 s on 2 ranks)."""
+    functions = u if isinstance(u, (list, tuple)) else [u]
+    size = sum(f.function_space.dofmap.index_map.size_global
+               * f.function_space.dofmap.index_map_bs for f in functions)
+    if one_shot and size < AMD_LIMIT:
         return {"mat_mumps_icntl_28": 1, "mat_mumps_icntl_7": 0}
-    first = u[0] if isinstance(u, (list, tuple)) else u
-    if first.function_space.mesh.comm.size == 1:
+    if functions[0].function_space.mesh.comm.size == 1:
         return {}
     return {"mat_mumps_icntl_28": 2, "mat_mumps_icntl_29": 1}
 
