@@ -680,14 +680,18 @@ class InterfaceIteration:
 
     Each pass solves the linear system with the current states, then re-decides every
     element's state from its average jump (:func:`tankfx.interface.element_states`), or
-    every node's from its own jump (``states = "node"``; "element" below reads "node"). The
-    paper instead re-solves with self-equilibrating excess forces (Eqs. 14-16) and the same
-    stiffness; changing the element's stiffness and traction law (stick / slip / separated)
-    reaches the same fixed point in a handful of solves. It stops when no element changes
-    state (every element then satisfies |tau| <= c + sigma_n tan phi and sigma_n >= 0 by
-    construction, and the tractions no longer change), refuses a state that recurs (a cycling
-    active set), and gives up after ``max_iterations`` solves; both failures raise
-    :class:`~tankfx.solve.SolveError` with the history.
+    every node's from its own jump (``states = "node"``; "element" below reads "node"), and
+    computes the out-of-balance force of the solution under the new states (the paper's
+    excess forces, Eqs. 14-16; the paper re-solves with them on a fixed stiffness, here the
+    element's traction law changes instead, which reaches the fixed point in a handful of
+    solves). A slip that reversed its direction takes a secant law (see
+    :meth:`_track_reversals`). The iteration stops when no element changes state and the
+    out-of-balance force is below ``MAX_OUT_OF_BALANCE`` of the load (every element then
+    satisfies |tau| <= c + sigma_n tan phi and sigma_n >= 0, its friction along its slip);
+    a state that recurs (a cycling active set) is held in the weaker state
+    (``on_cycle = "hold"``) or refused (``"stop"``); after ``max_iterations`` solves, a
+    fourth cycle, or separation everywhere it raises :class:`~tankfx.solve.SolveError`
+    with the history.
     """
 
     max_iterations = 50
@@ -707,6 +711,49 @@ class InterfaceIteration:
         keys = np.concatenate(model.mesh.comm.allgather(np.round(np.hstack([x, mids]), 12)))
         self.order = np.lexsort((keys[:, 3], keys[:, 2], keys[:, 1], keys[:, 0]))
         self.history: list[dict] = []
+        # reversed slips (see _track_reversals): which carriers are on the secant law, which
+        # may restart stuck, and the slip direction of the states last solved
+        n = model.n_carrier
+        self.secant = np.zeros(n, dtype=bool)
+        self.stick_first = model.status != interface.SEPARATED
+        self.slip_sign = np.where(model.status == interface.SLIP, np.sign(
+            model.mu.x.array[:n] + model.c_s.x.array[:n]), 0.0)
+        self._secant_prev = None
+        # single_pass: state changes per carrier, and the state it is held in (-1: none)
+        self.flips = np.zeros(n, dtype=int)
+        self.held = np.full(n, -1)
+
+    def _track_reversals(self, status, sign) -> np.ndarray:
+        """Mark the slips whose direction reversed against the states last solved: the
+        friction, imposed along the trial shear, drove the slip the other way (the carrier
+        sits where the slip stops or turns). From then on its slip traction follows its own
+        jump, tau = (c + sigma_n tan phi) j_t / |j_t| (a secant shear stiffness, converged
+        with the out-of-balance force, not a discrete state). Returns the new reversals."""
+        slip_sign = np.where(status == interface.SLIP, sign, 0.0)
+        self.stick_first &= status != interface.SEPARATED
+        reversed_ = (slip_sign * self.slip_sign < 0) & ~self.secant
+        self.secant |= reversed_
+        self.slip_sign = slip_sign
+        return reversed_
+
+    def _set_states(self, status, sign, jn, jt, k_used):
+        """Make ``status`` the model's states and set the traction coefficients that realise
+        them, the secant ones on the reversed slips. Returns (mask of secant carriers, the
+        secant stiffnesses to solve with next) or None when there are none."""
+        m, ifc = self.model, self.model.scene.interface
+        tan_phi = ifc.tan_phi if ifc.tan_phi is not None else 0.0
+        m.status[:] = status
+        for f, v in zip((m.k_n, m.k_s, m.mu, m.c_s), interface.state_coefficients(
+                status, sign, m.stiffness_n, m.stiffness_s, ifc.cohesion, tan_phi)):
+            f.x.array[:] = np.where(m.in_contact, v, 0.0)
+        secant = self.secant & (status == interface.SLIP)
+        if not m.mesh.comm.allreduce(int(np.any(secant[self.owned]))):
+            return None
+        k_sec, k_next = self._secant_stiffness(secant, jn, jt, k_used)
+        m.k_s.x.array[:] = np.where(secant, k_sec, m.k_s.x.array)
+        m.mu.x.array[:] = np.where(secant, 0.0, m.mu.x.array)
+        m.c_s.x.array[:] = np.where(secant, 0.0, m.c_s.x.array)
+        return secant, k_next
 
     def element_jumps(self):
         """Normal and tangential jump of each state carrier: an element's average, or a
@@ -730,25 +777,12 @@ class InterfaceIteration:
         status, sign = interface.element_states(jn, jt, m.stiffness_n, m.stiffness_s,
                                                 ifc.cohesion, tan_phi)
         status = np.where(m.in_contact, status, -1)
-        # a slip that reversed takes the secant law from then on, as in run(); its
-        # stiffness converges with the soil's iteration
-        if not hasattr(self, "secant"):
-            n = m.n_carrier
-            self.secant = np.zeros(n, dtype=bool)
-            self.stick_first = m.status != interface.SEPARATED
-            self.slip_sign = np.where(m.status == interface.SLIP,
-                                      np.sign(m.mu.x.array[:n] + m.c_s.x.array[:n]), 0.0)
-        slip_sign = np.where(status == interface.SLIP, sign, 0.0)
-        self.stick_first &= status != interface.SEPARATED
-        reversed_ = (slip_sign * self.slip_sign < 0) & ~self.secant
-        self.secant |= reversed_
-        self.slip_sign = slip_sign
-        n_reversed = m.mesh.comm.allreduce(int(np.sum(reversed_[self.owned])))
+        # a slip that reversed takes the secant law, as in run(); its stiffness converges
+        # with the soil's iteration
+        n_reversed = m.mesh.comm.allreduce(int(np.sum(
+            self._track_reversals(status, sign)[self.owned])))
         # an element that keeps changing state sits at the edge of a zone inside it: after
         # MAX_FLIPS changes it is held in the weaker of its last two states, as in run()
-        if not hasattr(self, "flips"):
-            self.flips = np.zeros(len(status), dtype=int)
-            self.held = np.full(len(status), -1)
         flipped = status != m.status
         self.flips += flipped
         hold = (self.flips >= self.MAX_FLIPS) & (self.held < 0) & flipped
@@ -764,16 +798,7 @@ class InterfaceIteration:
         status = np.where(self.held >= 0, self.held, status)
         changed = n_reversed + m.mesh.comm.allreduce(
             int(np.sum(status[self.owned] != m.status[self.owned])))
-        m.status[:] = status
-        for f, v in zip((m.k_n, m.k_s, m.mu, m.c_s), interface.state_coefficients(
-                status, sign, m.stiffness_n, m.stiffness_s, ifc.cohesion, tan_phi)):
-            f.x.array[:] = np.where(m.in_contact, v, 0.0)
-        secant = self.secant & (status == interface.SLIP)
-        if m.mesh.comm.allreduce(int(np.any(secant[self.owned]))):
-            k_sec, _ = self._secant_stiffness(secant, jn, jt, ks_used)
-            m.k_s.x.array[:] = np.where(secant, k_sec, m.k_s.x.array)
-            m.mu.x.array[:] = np.where(secant, 0.0, m.mu.x.array)
-            m.c_s.x.array[:] = np.where(secant, 0.0, m.c_s.x.array)
+        self._set_states(status, sign, jn, jt, ks_used)
         held = m.mesh.comm.allreduce(int(np.sum(self.held[self.owned] >= 0)))
         self.history.append({"iteration": len(self.history) + 1, "changed": changed,
                              "frozen": held})
@@ -781,10 +806,7 @@ class InterfaceIteration:
 
     def reversed_slips(self) -> int:
         """How many state carriers reversed their slip and took the secant law."""
-        secant = getattr(self, "secant", None)
-        if secant is None:
-            return 0
-        return self.model.mesh.comm.allreduce(int(np.sum(secant[self.owned])))
+        return self.model.mesh.comm.allreduce(int(np.sum(self.secant[self.owned])))
 
     def _secant_stiffness(self, secant, jn, jt, k_used) -> tuple:
         """The secant shear stiffness of the elements whose slip reversed, k = (c + sigma_n
@@ -804,7 +826,7 @@ class InterfaceIteration:
         g = np.minimum(1.0, limit / np.maximum(np.abs(jt) * ks, 1e-300))   # k / k_s
         x = np.where(secant, k_used / ks, g)          # what the last solve used
         f = x * np.abs(jt) * ks - limit
-        prev = getattr(self, "_secant_prev", None)
+        prev = self._secant_prev
         new = g.copy()
         if prev is not None:
             x0, f0, was_secant = prev
@@ -833,11 +855,6 @@ class InterfaceIteration:
         ifc = s.interface
         tan_phi = ifc.tan_phi if ifc.tan_phi is not None else 0.0
         comm = m.mesh.comm
-        n = m.n_carrier
-        self.secant = np.zeros(n, dtype=bool)
-        self.stick_first = m.status != interface.SEPARATED
-        self.slip_sign = np.where(m.status == interface.SLIP,
-                                  np.sign(m.mu.x.array[:n] + m.c_s.x.array[:n]), 0.0)
         seen = {self._global_status(m.status): 0}
         states = {0: m.status.copy()}
         frozen = np.zeros(len(m.status), dtype=bool)
@@ -865,36 +882,16 @@ class InterfaceIteration:
             status, sign = interface.element_states(jn, jt, m.stiffness_n, m.stiffness_s,
                                                     ifc.cohesion, tan_phi)
             status = np.where(frozen, forced, np.where(m.in_contact, status, -1))
-            # A slip whose direction reversed: the friction, imposed in the direction of the
-            # last trial shear, drove the slip the other way (the element sits where the
-            # slip stops or turns). From then on its slip traction follows its own jump,
-            # tau = (c + sigma_n tan phi) j_t / |j_t| (the element's averages), a secant
-            # shear stiffness that converges with the out-of-balance force, not a discrete
-            # state.
-            slip_sign = np.where(status == interface.SLIP, sign, 0.0)
-            self.stick_first &= status != interface.SEPARATED
-            reversed_ = (slip_sign * self.slip_sign < 0) & ~self.secant
-            self.secant |= reversed_
+            reversed_ = self._track_reversals(status, sign)
             changed = comm.allreduce(int(np.sum(
                 (status[self.owned] != m.status[self.owned]) | reversed_[self.owned])))
-            m.status[:] = status
-            self.slip_sign = slip_sign
-            for f, v in zip((m.k_n, m.k_s, m.mu, m.c_s), interface.state_coefficients(
-                    status, sign, m.stiffness_n, m.stiffness_s, ifc.cohesion, tan_phi)):
-                f.x.array[:] = np.where(m.in_contact, v, 0.0)
-            secant = self.secant & (status == interface.SLIP)
-            any_secant = comm.allreduce(int(np.any(secant[self.owned])))
-            if any_secant:
-                k_sec, k_next = self._secant_stiffness(secant, jn, jt, ks)
-                m.k_s.x.array[:] = np.where(secant, k_sec, m.k_s.x.array)
-                m.mu.x.array[:] = np.where(secant, 0.0, m.mu.x.array)
-                m.c_s.x.array[:] = np.where(secant, 0.0, m.c_s.x.array)
+            secant = self._set_states(status, sign, jn, jt, ks)
             # the out-of-balance force of this solution under the re-decided states (and
             # secant stiffnesses): the paper's excess forces (Eqs. 14-16); zero to round-off
             # once nothing changes
             excess = m.out_of_balance() / max(m.load_norm(), 1e-300)
-            if any_secant:     # the next solve takes the secant stiffnesses extrapolated
-                m.k_s.x.array[:] = np.where(secant, k_next, m.k_s.x.array)
+            if secant is not None:  # the next solve takes the secant stiffnesses extrapolated
+                m.k_s.x.array[:] = np.where(secant[0], secant[1], m.k_s.x.array)
             counts = [comm.allreduce(int(np.sum(status[self.owned] == k)))
                       for k in (interface.STICK, interface.SLIP, interface.SEPARATED)]
             n_frozen = comm.allreduce(int(np.sum(frozen[self.owned])))
@@ -921,7 +918,7 @@ class InterfaceIteration:
                 raise SolveError("the interface separated everywhere: nothing holds the "
                                  "foundation (is the net load upward?)", self.history)
             states[it] = m.status.copy()
-            if changed == 0 and any_secant:
+            if changed == 0 and secant is not None:
                 # the secant slips converge by the out-of-balance force alone: a state
                 # that recurs after them is not a cycle
                 seen = {self._global_status(m.status + 4 * (self.slip_sign < 0)): it}
