@@ -388,12 +388,9 @@ class TankModel:
             forms.append([fem.form(-L, entity_maps=self.entity_maps)]
                          + [fem.form(t, entity_maps=self.entity_maps) for t in terms])
             loads.append([fem.form(L, entity_maps=self.entity_maps)])
-        fixed = []
-        for u in self.unknowns:
-            V = u.function_space
-            dofs = [bc.dof_indices()[0] for bc in self.bcs
-                    if V._cpp_object.contains(bc.function_space)]
-            fixed.append(np.unique(np.concatenate(dofs)) if dofs else np.empty(0, np.int32))
+        spaces = fem.extract_function_spaces([row[0] for row in loads])
+        fixed = [np.unique(np.concatenate([bc.dof_indices()[0] for bc in bcs])) if bcs
+                 else np.empty(0, np.int32) for bcs in fem.bcs_by_block(spaces, self.bcs)]
         return forms, loads, fixed
 
     def _block_norm(self, rows) -> float:
