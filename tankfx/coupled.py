@@ -377,46 +377,39 @@ class TankModel:
 
     @cached_property
     def _out_of_balance(self):
-        """Compiled out-of-balance forms per block row, F_i = sum_j a_ij(u_j, v_i) - L_i(v_i)
-        with the interface coefficients as they stand (each term a form of its own: a row's
-        terms integrate over different meshes), the load forms L_i, and the supports' dofs of
-        each block."""
-        forms, loads = [], []
+        """Compiled forms of the block system's rows: per row the actions sum_j a_ij(u_j, v_i)
+        (each a form of its own: a row's terms integrate over different meshes) and the load
+        L_i(v_i), with the supports' dofs of each block."""
+        rows = []
         for row, L in zip(self.a, self.L):
-            terms = [ufl.action(a_ij, u_j) for a_ij, u_j in zip(row, self.unknowns)
-                     if isinstance(a_ij, ufl.Form)]
-            forms.append([fem.form(-L, entity_maps=self.entity_maps)]
-                         + [fem.form(t, entity_maps=self.entity_maps) for t in terms])
-            loads.append([fem.form(L, entity_maps=self.entity_maps)])
-        spaces = fem.extract_function_spaces([row[0] for row in loads])
+            actions = [fem.form(ufl.action(a_ij, u_j), entity_maps=self.entity_maps)
+                       for a_ij, u_j in zip(row, self.unknowns) if isinstance(a_ij, ufl.Form)]
+            rows.append((actions, fem.form(L, entity_maps=self.entity_maps)))
+        spaces = fem.extract_function_spaces([load for _, load in rows])
         fixed = [np.unique(np.concatenate([bc.dof_indices()[0] for bc in bcs])) if bcs
                  else np.empty(0, np.int32) for bcs in fem.bcs_by_block(spaces, self.bcs)]
-        return forms, loads, fixed
-
-    def _block_norm(self, rows) -> float:
-        """l2 norm over all blocks of the summed, assembled vectors of each row's forms, the
-        supports' rows left out (owned entries only: each counted once)."""
-        fixed = self._out_of_balance[2]
-        total = 0.0
-        for terms, dofs, u in zip(rows, fixed, self.unknowns):
-            vecs = [fem.assemble_vector(f) for f in terms]
-            for v in vecs:
-                v.scatter_reverse(la.InsertMode.add)
-            values = sum(v.array for v in vecs)
-            values[dofs] = 0.0
-            V = u.function_space
-            owned = values[:V.dofmap.index_map.size_local * V.dofmap.index_map_bs]
-            total += float(owned @ owned)
-        return math.sqrt(self.mesh.comm.allreduce(total))
+        return rows, fixed
 
     def out_of_balance(self) -> float:
-        """||F(u)||: the out-of-balance force of the current fields under the current
-        interface states (zero, to round-off, at a converged state)."""
-        return self._block_norm(self._out_of_balance[0])
-
-    def load_norm(self) -> float:
-        """||f||, the norm of the applied load vector, N (same rows as out_of_balance)."""
-        return self._block_norm(self._out_of_balance[1])
+        """||A u - f|| / ||f||: the out-of-balance force of the current fields under the
+        current interface coefficients, relative to the load vector (over all blocks, the
+        supports' rows left out; zero, to round-off, at a converged state)."""
+        rows, fixed = self._out_of_balance
+        residual = load = 0.0
+        for (actions, L), dofs, u in zip(rows, fixed, self.unknowns):
+            V = u.function_space
+            n = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
+            vecs = []
+            for f in [L] + actions:
+                vec = fem.assemble_vector(f)
+                vec.scatter_reverse(la.InsertMode.add)
+                vec.array[dofs] = 0.0
+                vecs.append(vec.array[:n])
+            r = sum(vecs[1:]) - vecs[0]
+            residual += float(r @ r)
+            load += float(vecs[0] @ vecs[0])
+        comm = self.mesh.comm
+        return math.sqrt(comm.allreduce(residual) / max(comm.allreduce(load), 1e-300))
 
     def soil_residual(self):
         a_ss, a_sb = self.a[0][0], self.a[0][-1]
@@ -708,6 +701,8 @@ class InterfaceIteration:
         keys = np.concatenate(model.mesh.comm.allgather(np.round(np.hstack([x, mids]), 12)))
         self.order = np.lexsort((keys[:, 3], keys[:, 2], keys[:, 1], keys[:, 0]))
         self.history: list[dict] = []
+        ifc = model.scene.interface
+        self.tan_phi = ifc.tan_phi if ifc.tan_phi is not None else 0.0
         # reversed slips (see _track_reversals): which carriers are on the secant law, which
         # may restart stuck, and the slip direction of the states last solved
         n = model.n_carrier
@@ -738,10 +733,9 @@ class InterfaceIteration:
         them, the secant ones on the reversed slips. Returns (mask of secant carriers, the
         secant stiffnesses to solve with next) or None when there are none."""
         m, ifc = self.model, self.model.scene.interface
-        tan_phi = ifc.tan_phi if ifc.tan_phi is not None else 0.0
         m.status[:] = status
         for f, v in zip((m.k_n, m.k_s, m.mu, m.c_s), interface.state_coefficients(
-                status, sign, m.stiffness_n, m.stiffness_s, ifc.cohesion, tan_phi)):
+                status, sign, m.stiffness_n, m.stiffness_s, ifc.cohesion, self.tan_phi)):
             f.x.array[:] = np.where(m.in_contact, v, 0.0)
         secant = self.secant & (status == interface.SLIP)
         if not m.mesh.comm.allreduce(int(np.any(secant[self.owned]))):
@@ -751,6 +745,19 @@ class InterfaceIteration:
         m.mu.x.array[:] = np.where(secant, 0.0, m.mu.x.array)
         m.c_s.x.array[:] = np.where(secant, 0.0, m.c_s.x.array)
         return secant, k_next
+
+    def _decide(self, jn, jt) -> tuple:
+        """The Mohr-Coulomb state of every carrier from its jumps (-1 off the interface),
+        and the sign of its trial shear."""
+        m, ifc = self.model, self.model.scene.interface
+        status, sign = interface.element_states(jn, jt, m.stiffness_n, m.stiffness_s,
+                                                ifc.cohesion, self.tan_phi)
+        return np.where(m.in_contact, status, -1), sign
+
+    def _state_key(self) -> tuple:
+        """The model's states with their slip directions, partition-independent: what a
+        cycle repeats."""
+        return self._global_status(self.model.status + 4 * (self.slip_sign < 0))
 
     def element_jumps(self):
         """Normal and tangential jump of each state carrier: an element's average, or a
@@ -767,13 +774,10 @@ class InterfaceIteration:
         """One solve and one state update (no cycle handling); returns how many elements
         changed state."""
         m, ifc = self.model, self.model.scene.interface
-        tan_phi = ifc.tan_phi if ifc.tan_phi is not None else 0.0
         ks_used = m.k_s.x.array[:m.n_carrier].copy()
         solver.solve()
         jn, jt = self.element_jumps()
-        status, sign = interface.element_states(jn, jt, m.stiffness_n, m.stiffness_s,
-                                                ifc.cohesion, tan_phi)
-        status = np.where(m.in_contact, status, -1)
+        status, sign = self._decide(jn, jt)
         # a slip that reversed takes the secant law, as in run(); its stiffness converges
         # with the soil's iteration
         n_reversed = m.mesh.comm.allreduce(int(np.sum(
@@ -817,8 +821,7 @@ class InterfaceIteration:
         tan phi = 0.1: the plain update alone took 30 solves (|j_t| halved every ~10), this
         takes 5."""
         m, ifc = self.model, self.model.scene.interface
-        tan_phi = ifc.tan_phi if ifc.tan_phi is not None else 0.0
-        limit = ifc.cohesion + tan_phi * np.maximum(m.stiffness_n * jn, 0.0)
+        limit = ifc.cohesion + self.tan_phi * np.maximum(m.stiffness_n * jn, 0.0)
         ks = np.where(m.stiffness_s > 0, m.stiffness_s, 1.0)
         g = np.minimum(1.0, limit / np.maximum(np.abs(jt) * ks, 1e-300))   # k / k_s
         x = np.where(secant, k_used / ks, g)          # what the last solve used
@@ -850,7 +853,6 @@ class InterfaceIteration:
 
         m, s = self.model, self.model.scene
         ifc = s.interface
-        tan_phi = ifc.tan_phi if ifc.tan_phi is not None else 0.0
         comm = m.mesh.comm
         seen = {self._global_status(m.status): 0}
         states = {0: m.status.copy()}
@@ -859,7 +861,7 @@ class InterfaceIteration:
         freezes = 0
         previous = None
         log.info("Mohr-Coulomb interface: c = %g Pa, tan phi = %g; iterating on the element "
-                 "states", ifc.cohesion, tan_phi)
+                 "states", ifc.cohesion, self.tan_phi)
         log.info("  it  changed   stick    slip  separ.  frozen  traction change  "
                  "out-of-balance   time s")
         for it in range(1, self.max_iterations + 1):
@@ -876,9 +878,8 @@ class InterfaceIteration:
             change = None if previous is None else np.sqrt(comm.allreduce(
                 float((traction - previous) @ (traction - previous)))) / max(norm, 1e-300)
             previous = traction
-            status, sign = interface.element_states(jn, jt, m.stiffness_n, m.stiffness_s,
-                                                    ifc.cohesion, tan_phi)
-            status = np.where(frozen, forced, np.where(m.in_contact, status, -1))
+            status, sign = self._decide(jn, jt)
+            status = np.where(frozen, forced, status)
             reversed_ = self._track_reversals(status, sign)
             changed = comm.allreduce(int(np.sum(
                 (status[self.owned] != m.status[self.owned]) | reversed_[self.owned])))
@@ -886,7 +887,7 @@ class InterfaceIteration:
             # the out-of-balance force of this solution under the re-decided states (and
             # secant stiffnesses): the paper's excess forces (Eqs. 14-16); zero to round-off
             # once nothing changes
-            excess = m.out_of_balance() / max(m.load_norm(), 1e-300)
+            excess = m.out_of_balance()
             if secant is not None:  # the next solve takes the secant stiffnesses extrapolated
                 m.k_s.x.array[:] = np.where(secant[0], secant[1], m.k_s.x.array)
             counts = [comm.allreduce(int(np.sum(status[self.owned] == k)))
@@ -918,7 +919,7 @@ class InterfaceIteration:
             if changed == 0 and secant is not None:
                 # the secant slips converge by the out-of-balance force alone: a state
                 # that recurs after them is not a cycle
-                seen = {self._global_status(m.status + 4 * (self.slip_sign < 0)): it}
+                seen = {self._state_key(): it}
                 continue
             if changed == 0:
                 raise SolveError(
@@ -926,7 +927,7 @@ class InterfaceIteration:
                     f"but an out-of-balance force of {excess:.1e} of the load (above "
                     f"{self.MAX_OUT_OF_BALANCE:g}): the linear solve lost accuracy",
                     self.history)
-            key = self._global_status(m.status + 4 * (self.slip_sign < 0))
+            key = self._state_key()
             if key in seen:
                 # A cycle: the elements whose state differs along it sit at the edge of a
                 # zone that falls inside one element, where no element state is consistent.
