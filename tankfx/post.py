@@ -6,6 +6,8 @@ discontinuous field (a stress, a moment) evaluates identically in serial and in 
 """
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 from dolfinx import fem, geometry
 from dolfinx import mesh as dmesh
@@ -32,18 +34,48 @@ def evaluate_at(func, points: np.ndarray, cells: np.ndarray | None = None) -> np
     wall-plate junction. Where several cells contain a point, the one whose midpoint is
     lexicographically smallest is used, on whatever rank it lives: the choice does not depend
     on the partition. Raises ValueError if a point lies in none of the cells.
+
+    Where the points lie is found once per mesh, points and cells and kept (an iteration
+    that reads w0 every pass, or the profiles' several fields at the same stations, then
+    pay only for the evaluation: the search over a 270k-dof mesh costs 0.08 s a call).
     """
     msh = func.function_space.mesh
-    comm = msh.comm
     pts = np.zeros((len(points), 3))
     pts[:, : np.shape(points)[1]] = points
+    chosen, mine = _located(msh, pts, cells)
+    vsize = func.function_space.value_size
+    values = np.zeros((len(pts), vsize))
+    here = np.flatnonzero(mine)
+    if len(here):
+        # one call for all points: per-point calls cost more than the evaluation
+        values[here] = np.reshape(func.eval(pts[here], chosen[here]), (len(here), vsize))
+    # exactly one rank holds each point's value, the others zeros
+    return msh.comm.allreduce(values, op=MPI.SUM)
+
+
+# mesh -> {(points, cells): (chosen cell per point, whether this rank evaluates it)}
+_LOCATED: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def _located(msh, pts: np.ndarray, cells) -> tuple[np.ndarray, np.ndarray]:
+    key = (pts.tobytes(), None if cells is None else np.asarray(cells, np.int32).tobytes())
+    cache = _LOCATED.setdefault(msh, {})
+    # the search is collective, and the cells are local: every rank must agree to reuse
+    if not msh.comm.allreduce(key in cache, op=MPI.LAND):
+        cache[key] = _locate(msh, pts, cells)
+    return cache[key]
+
+
+def _locate(msh, pts: np.ndarray, cells) -> tuple[np.ndarray, np.ndarray]:
+    """For each point, the local cell that contains it (-1 if none) and whether this rank's
+    cell is the one chosen over all ranks (lexicographically smallest midpoint)."""
+    comm = msh.comm
     tdim = msh.topology.dim
     n_owned = msh.topology.index_map(tdim).size_local
     candidates = np.arange(n_owned, dtype=np.int32) if cells is None else \
         np.asarray(cells, dtype=np.int32)[np.asarray(cells) < n_owned]
-    vsize = func.function_space.value_size
     keys = np.full((len(pts), 2), np.inf)
-    values = np.zeros((len(pts), vsize))
+    chosen = np.full(len(pts), -1, dtype=np.int32)
     if len(candidates):
         # a little padding: the boxes of the 1D cells along z = const are flat, and a point
         # at a shared vertex may sit a rounding error outside one of them
@@ -51,33 +83,25 @@ def evaluate_at(func, points: np.ndarray, cells: np.ndarray | None = None) -> np
         tree = geometry.bb_tree(msh, tdim, entities=candidates, padding=pad)
         colliding = geometry.compute_colliding_cells(
             msh, geometry.compute_collisions_points(tree, pts), pts)
-        mids = dmesh.compute_midpoints(msh, tdim, candidates)[:, :2]
-        mid_of = dict(zip(candidates.tolist(), map(tuple, mids)))
-        allowed = set(candidates.tolist())
-        chosen = np.full(len(pts), -1, dtype=np.int32)
         for i in range(len(pts)):
-            found = [c for c in colliding.links(i) if c in allowed]
-            if found:
-                chosen[i] = min(found, key=lambda c: mid_of[c])
-                keys[i] = mid_of[chosen[i]]
-        here = np.flatnonzero(chosen >= 0)
-        if len(here):
-            # one call for all points: per-point calls cost more than the evaluation
-            values[here] = np.reshape(func.eval(pts[here], chosen[here]), (len(here), vsize))
+            found = colliding.links(i)
+            found = found[np.isin(found, candidates)]
+            if len(found):
+                mids = dmesh.compute_midpoints(msh, tdim, found.astype(np.int32))[:, :2]
+                k = np.lexsort((mids[:, 1], mids[:, 0]))[0]
+                chosen[i], keys[i] = found[k], mids[k]
     all_keys = np.stack(comm.allgather(keys))       # (ranks, n, 2)
-    all_vals = np.stack(comm.allgather(values))
     best = np.zeros(len(pts), dtype=int)
     for k in range(1, comm.size):
         better = (all_keys[k, :, 0] < all_keys[best, np.arange(len(pts)), 0]) | (
             (all_keys[k, :, 0] == all_keys[best, np.arange(len(pts)), 0])
             & (all_keys[k, :, 1] < all_keys[best, np.arange(len(pts)), 1]))
         best[better] = k
-    chosen = all_keys[best, np.arange(len(pts))]
-    if np.any(np.isinf(chosen[:, 0])):
-        missing = pts[np.isinf(chosen[:, 0])]
+    if np.any(np.isinf(all_keys[best, np.arange(len(pts)), 0])):
+        missing = pts[np.isinf(all_keys[best, np.arange(len(pts)), 0])]
         raise ValueError(f"points outside the mesh (or the given cells): "
                          f"{missing[:3, :2].tolist()}")
-    return all_vals[best, np.arange(len(pts))]
+    return chosen, (best == comm.rank) & (chosen >= 0)
 
 
 def nodal_values_on_facets(func: fem.Function, facets: np.ndarray):
