@@ -57,21 +57,20 @@ def test_parallel_equals_serial(soil):
 
 
 @needs_two_ranks
-@pytest.mark.parametrize("embedment, condition, nu", [(0.0, "bonded", 0.3),
-                                                      (0.3, "smooth", 0.3),
-                                                      (0.3, "mohr_coulomb", 0.3),
-                                                      (0.3, "mohr_coulomb node", 0.3),
-                                                      (0.3, "bonded", 0.5)])
-def test_tank_parallel_equals_serial(embedment, condition, nu):
+@pytest.mark.parametrize("embedment, condition, nu, tan_phi, states", [
+    (0.0, "bonded", 0.3, None, None),
+    (0.3, "smooth", 0.3, None, None),
+    (0.3, "mohr_coulomb", 0.3, 0.1, "element"),     # 11 reversed slips
+    (0.3, "mohr_coulomb", 0.3, 0.3, "node"),        # 4 reversed slips
+    (0.3, "mohr_coulomb", 0.3, 10.0, "node"),       # 19 nodes held at the wall foot
+    (0.3, "bonded", 0.5, None, None)])
+def test_tank_parallel_equals_serial(embedment, condition, nu, tan_phi, states):
     """A surface and an embedded tank, plate + wall + liquid: the block system with its
     interior-facet interface terms, and the Mohr-Coulomb iteration (the same element or node
-    states, in the same number of iterations, the same reversed slips on their secant law),
-    give the same numbers on 1 and 2 ranks."""
-    condition, *states = condition.split()
-    # (each Mohr-Coulomb case has reversed slips: 11 elements at 0.1, 4 nodes at 0.3)
+    states, in the same number of iterations, the same reversed slips on their secant law,
+    the same nodes held), give the same numbers on 1 and 2 ranks."""
     interface = {"condition": condition} | (
-        {"tan_phi": 0.3 if states else 0.1} if condition == "mohr_coulomb" else {}) | (
-        {"states": states[0]} if states else {})
+        {"tan_phi": tan_phi, "states": states} if condition == "mohr_coulomb" else {})
     scene = Scene.from_dict({
         "soil": {"E": 10e6, "nu": nu},
         "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": embedment},
@@ -83,6 +82,8 @@ def test_tank_parallel_equals_serial(embedment, condition, nu):
     if condition == "mohr_coulomb":     # the secant law of reversed slips runs on both
         assert parallel["interface"]["reversed_slips"] == serial["interface"][
             "reversed_slips"] > 0
+        assert parallel["interface"]["frozen_elements"] == \
+            serial["interface"]["frozen_elements"] == (19 if tan_phi == 10.0 else 0)
     for part in ("plate", "wall"):
         assert parallel["profiles"][part].get("contact_status") == \
             serial["profiles"][part].get("contact_status")
