@@ -175,7 +175,7 @@ def iterative(out: dict) -> None:
     print(f"{'scene':16s} {'near_size':>9s} {'dofs':>9s} {'direct s':>9s} {'GB':>5s} "
           f"{'iterative s':>11s} {'GB':>5s} {'w0 rel diff':>11s}")
     cases = [("flexible_load", 1.0, (0.1, 0.05, 0.025, 0.0125)),
-             ("embedded_tank", 10.0, (0.1, 0.05, 0.025))]
+             ("embedded_tank", 10.0, (0.1, 0.05, 0.025, 0.0125))]
     for name, a, sizes in cases:
         scene = ROOT / "demos" / "scenes" / f"{name}.toml"
         for near in sizes:

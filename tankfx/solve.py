@@ -113,23 +113,144 @@ class DirectSolver(_LinearSolver):
         return u
 
 
+class StructureSchur:
+    """Preconditioner of the soil + structure block system [[A_ss, A_sp], [A_ps, A_pp]]
+    (a PETSc nest; a petsc4py "python" PC): the structure is condensed exactly, and GAMG
+    works on the soil's Schur complement S = A_ss - A_sp A_pp^-1 A_ps.
+
+    The structure has a few thousand dofs at most and touches the soil only on the interface,
+    so A_pp^-1 is kept dense on every rank and S differs from A_ss only in a dense block on
+    the interface's soil dofs. Each application is the block factorisation: y_p = A_pp^-1
+    b_p, y_s = GAMG(S)(b_s - A_sp y_p), y_p = A_pp^-1 (b_p - A_ps y_s). The stiff interface
+    penalty, which made a field split of the two blocks take ~300 Krylov iterations, is
+    then inside S (measured on the embedded tank: 70-84 iterations at 62k-500k dofs)."""
+
+    def setUp(self, pc):
+        from petsc4py import PETSc
+
+        self.destroy(pc)                # a new operator (the next solve of an iteration)
+        A = pc.getOperators()[0]
+        comm = A.getComm().tompi4py()
+        A_ss, A_sp = A.getNestSubMatrix(0, 0), A.getNestSubMatrix(0, 1)
+        A_ps, A_pp = A.getNestSubMatrix(1, 0), A.getNestSubMatrix(1, 1)
+        self.blocks = (A_sp, A_ps)
+        self.comm = comm
+        n_p = A_pp.getSize()[0]
+        self.p_range = A_pp.getOwnershipRange()
+        # the structure block, whole on every rank, factorised there (its dense inverse
+        # would need threaded BLAS calls, which fight the other ranks for the cores)
+        rows = np.arange(*self.p_range)
+        ip, jp, vp = A_pp.getValuesCSR()
+        lengths = np.concatenate(comm.allgather(np.diff(ip)))
+        csr = (np.concatenate([[0], np.cumsum(lengths)]).astype(PETSc.IntType),
+               np.concatenate(comm.allgather(jp)).astype(PETSc.IntType),
+               np.concatenate(comm.allgather(vp)))
+        self.A_pp = PETSc.Mat().createAIJ((n_p, n_p), csr=csr, comm=PETSc.COMM_SELF)
+        self.lu = PETSc.KSP().create(comm=PETSc.COMM_SELF)
+        self.lu.setOperators(self.A_pp)
+        self.lu.setType("preonly")
+        self.lu.getPC().setType("lu")
+        # (MUMPS: the mixed shell element's shear unknowns leave zeros on the diagonal)
+        self.lu.getPC().setFactorSolverType("mumps")
+        self.lu.setUp()
+        self.b_p, self.x_p = self.A_pp.createVecs()
+        # the interface's soil dofs: the soil columns of A_ps (global numbers)
+        ip, jp, vp = A_ps.getValuesCSR()
+        iface = np.unique(np.concatenate(comm.allgather(np.unique(jp))))
+        coupling = np.zeros((n_p, len(iface)))                 # A_ps[:, iface], dense
+        np.add.at(coupling, (np.repeat(rows, np.diff(ip)), np.searchsorted(iface, jp)), vp)
+        coupling = comm.allreduce(coupling)
+        # this rank's rows of the correction A_sp A_pp^-1 A_ps, on its interface rows
+        s0, s1 = A_ss.getOwnershipRange()
+        mine = iface[(iface >= s0) & (iface < s1)]
+        ip, jp, vp = A_sp.getValuesCSR()
+        srows = np.repeat(np.arange(s0, s1), np.diff(ip))
+        keep = np.isin(srows, mine)
+        left = np.zeros((len(mine), n_p))
+        np.add.at(left, (np.searchsorted(mine, srows[keep]), jp[keep]), vp[keep])
+        B = PETSc.Mat().createDense((n_p, len(iface)), array=coupling, comm=PETSc.COMM_SELF)
+        X = PETSc.Mat().createDense((n_p, len(iface)), comm=PETSc.COMM_SELF)
+        X.setUp()
+        self.lu.getPC().getFactorMatrix().matSolve(B, X)
+        if len(mine):
+            Lm = PETSc.Mat().createDense((len(mine), n_p), array=left, comm=PETSc.COMM_SELF)
+            correction = Lm.matMult(X).getDenseArray().copy()
+            Lm.destroy()
+        else:
+            correction = np.zeros((0, len(iface)))
+        for m in (B, X):
+            m.destroy()
+        nnz = np.zeros(s1 - s0, dtype=PETSc.IntType)
+        nnz[mine - s0] = len(iface)
+        C = PETSc.Mat().createAIJ(A_ss.getSizes(), nnz=(nnz, nnz), comm=A_ss.getComm())
+        C.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+        C.setValues(mine.astype(PETSc.IntType), iface.astype(PETSc.IntType),
+                    -correction.ravel())
+        C.assemble()
+        S = A_ss.duplicate(copy=True)
+        S.axpy(1.0, C, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
+        # GAMG with its default smoother (Chebyshev-Jacobi), as for the soil alone
+        self.gamg = PETSc.PC().create(comm=A_ss.getComm())
+        self.gamg.setOperators(S)
+        self.gamg.setType("gamg")
+        self.gamg.setUp()
+        self.S = S
+
+    def destroy(self, pc):
+        for name in ("gamg", "S", "lu", "A_pp", "b_p", "x_p"):
+            obj = getattr(self, name, None)
+            if obj is not None:
+                obj.destroy()
+                setattr(self, name, None)
+
+    def _structure_solve(self, local):
+        """A_pp^-1 b for b given by its owned part on each rank; returns the owned part."""
+        self.b_p.setArray(np.concatenate(self.comm.allgather(local)))
+        self.lu.solve(self.b_p, self.x_p)
+        return self.x_p.getArray()[self.p_range[0]: self.p_range[1]].copy()
+
+    def apply(self, pc, x, y):
+        A_sp, A_ps = self.blocks
+        x_s, x_p = x.getNestSubVecs()
+        y_s, y_p = y.getNestSubVecs()
+        b_p = x_p.getArray().copy()
+        y_p.setArray(self._structure_solve(b_p))
+        r_s = x_s.duplicate()
+        A_sp.mult(y_p, r_s)
+        r_s.aypx(-1.0, x_s)                                  # b_s - A_sp y_p
+        self.gamg.apply(r_s, y_s)
+        t_p = x_p.duplicate()
+        A_ps.mult(y_s, t_p)
+        y_p.setArray(self._structure_solve(b_p - t_p.getArray()))
+        for v in (r_s, t_p):
+            v.destroy()
+
+
 class IterativeSolver(_LinearSolver):
     """Krylov with algebraic multigrid, for meshes where a factorisation costs too much time
     or memory (``[solver] method = "iterative"``). The soil alone: conjugate gradients with
     PETSc's GAMG (Chebyshev-Jacobi smoothing). Soil and structure: the blocks are assembled
-    as a PETSc nest and solved by FGMRES with a multiplicative field split: GAMG on the soil
-    block (with the interface's soil side), LU (MUMPS) on the small structure block. Each
-    solve must reach ``rtol`` within ``max_iterations``; the true residual is then checked
-    as for a direct solve. Measured (README): the soil alone beats MUMPS in time from about
-    100k dofs and in memory always; with a structure, the penalty coupling costs ~190
-    field-split iterations and MUMPS stays faster at the sizes measured."""
+    as a PETSc nest and solved by FGMRES preconditioned by :class:`StructureSchur` (the
+    structure condensed exactly, GAMG on the soil's Schur complement); a mixed (u, p) soil
+    with a structure keeps a multiplicative field split (GAMG on the soil block, LU on the
+    others). Each solve must reach ``rtol`` within ``max_iterations``; the true residual is
+    then checked as for a direct solve. Measured (README): the soil alone beats MUMPS in time
+    from about 1M dofs and in memory always; with a structure the Schur preconditioner takes
+    70-84 iterations (the field split: ~300)."""
 
     def __init__(self, a, L, bcs, u, entity_maps=None, name: str = "soil", rtol: float = 1e-10,
                  max_iterations: int = 1000):
         blocks = isinstance(u, (list, tuple))
         gamg = {"pc_type": "gamg", "mg_levels_ksp_type": "chebyshev",
                 "mg_levels_pc_type": "jacobi"}
-        if blocks:
+        schur = blocks and len(u) == 2
+        if schur:
+            # soil displacement + structure: the structure condensed exactly, GAMG on the
+            # soil's Schur complement (StructureSchur)
+            opts = {"ksp_type": "fgmres", "ksp_gmres_restart": 200, "pc_type": "python",
+                    "pc_python_type": f"{__name__}.StructureSchur"}
+        elif blocks:
+            # a mixed (u, p) soil and a structure: a multiplicative field split
             names = [f.name for f in u]
             opts = {"ksp_type": "fgmres", "ksp_gmres_restart": 200,
                     "pc_type": "fieldsplit", "pc_fieldsplit_type": "multiplicative"}
@@ -151,8 +272,9 @@ class IterativeSolver(_LinearSolver):
             a, L, bcs=bcs, u=u, kind="nest" if blocks else None,
             petsc_options_prefix=self._start(name), entity_maps=entity_maps,
             petsc_options=opts)
-        self.factorisation = ("FGMRES + field split (GAMG soil, LU structure)" if blocks
-                              else "CG + GAMG")
+        self.factorisation = (
+            "FGMRES + structure condensed, GAMG on the soil's Schur complement" if schur else
+            "FGMRES + field split (GAMG soil, LU structure)" if blocks else "CG + GAMG")
         self.krylov_iterations = 0
         self.rtol, self.max_iterations = rtol, max_iterations
 
