@@ -123,7 +123,7 @@ class StructureSchur:
     the interface's soil dofs. Each application is the block factorisation: y_p = A_pp^-1
     b_p, y_s = GAMG(S)(b_s - A_sp y_p), y_p = A_pp^-1 (b_p - A_ps y_s). The stiff interface
     penalty, which made a field split of the two blocks take ~300 Krylov iterations, is
-    then inside S (measured on the embedded tank: 70-84 iterations at 62k-500k dofs)."""
+    then inside S (measured on the embedded tank: 70-84 iterations at 62k-1.9M dofs)."""
 
     def setUp(self, pc):
         from petsc4py import PETSc
@@ -231,39 +231,27 @@ class IterativeSolver(_LinearSolver):
     or memory (``[solver] method = "iterative"``). The soil alone: conjugate gradients with
     PETSc's GAMG (Chebyshev-Jacobi smoothing). Soil and structure: the blocks are assembled
     as a PETSc nest and solved by FGMRES preconditioned by :class:`StructureSchur` (the
-    structure condensed exactly, GAMG on the soil's Schur complement); a mixed (u, p) soil
-    with a structure keeps a multiplicative field split (GAMG on the soil block, LU on the
-    others). Each solve must reach ``rtol`` within ``max_iterations``; the true residual is
-    then checked as for a direct solve. Measured (README): the soil alone beats MUMPS in time
-    from about 1M dofs and in memory always; with a structure the Schur preconditioner takes
-    70-84 iterations (the field split: ~300)."""
+    structure condensed exactly, GAMG on the soil's Schur complement). Each solve must
+    reach ``rtol`` within ``max_iterations``; the true residual is then checked as for a
+    direct solve. Measured (README): the soil alone beats MUMPS in time from a few million
+    P3 dofs and in memory always; with a structure the Schur preconditioner takes 70-84
+    iterations (a field split of the blocks took ~300), and MUMPS stays faster up to the
+    1.9M dofs measured."""
 
     def __init__(self, a, L, bcs, u, entity_maps=None, name: str = "soil", rtol: float = 1e-10,
                  max_iterations: int = 1000):
         blocks = isinstance(u, (list, tuple))
         gamg = {"pc_type": "gamg", "mg_levels_ksp_type": "chebyshev",
                 "mg_levels_pc_type": "jacobi"}
-        schur = blocks and len(u) == 2
-        if schur:
+        if blocks:
+            if len(u) != 2:
+                # (the scene refuses an iterative solve of the mixed (u, p) soil)
+                raise ValueError("the iterative solver takes the soil displacement and the "
+                                 f"structure, not {len(u)} blocks")
             # soil displacement + structure: the structure condensed exactly, GAMG on the
             # soil's Schur complement (StructureSchur)
             opts = {"ksp_type": "fgmres", "ksp_gmres_restart": 200, "pc_type": "python",
                     "pc_python_type": f"{__name__}.StructureSchur"}
-        elif blocks:
-            # a mixed (u, p) soil and a structure: a multiplicative field split
-            names = [f.name for f in u]
-            opts = {"ksp_type": "fgmres", "ksp_gmres_restart": 200,
-                    "pc_type": "fieldsplit", "pc_fieldsplit_type": "multiplicative"}
-            for f in u:
-                split = f"fieldsplit_{f.name}_"
-                opts[split + "ksp_type"] = "preonly"
-                if f is u[0]:
-                    opts.update({split + k: v for k, v in gamg.items()})
-                else:
-                    opts.update({split + "pc_type": "lu",
-                                 split + "pc_factor_mat_solver_type": "mumps"})
-            if len(set(names)) != len(names):
-                raise ValueError(f"the blocks' functions need distinct names: {names}")
         else:
             opts = {"ksp_type": "cg", **gamg}
         opts.update({"ksp_rtol": rtol, "ksp_atol": 0.0, "ksp_max_it": max_iterations,
@@ -272,9 +260,8 @@ class IterativeSolver(_LinearSolver):
             a, L, bcs=bcs, u=u, kind="nest" if blocks else None,
             petsc_options_prefix=self._start(name), entity_maps=entity_maps,
             petsc_options=opts)
-        self.factorisation = (
-            "FGMRES + structure condensed, GAMG on the soil's Schur complement" if schur else
-            "FGMRES + field split (GAMG soil, LU structure)" if blocks else "CG + GAMG")
+        self.factorisation = ("FGMRES + structure condensed, GAMG on the soil's Schur "
+                              "complement" if blocks else "CG + GAMG")
         self.krylov_iterations = 0
         self.rtol, self.max_iterations = rtol, max_iterations
 
