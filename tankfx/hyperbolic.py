@@ -251,8 +251,9 @@ def _error_estimate(w0_hist) -> float:
 # --------------------------------------------------------------------- first-order excess
 # For a small load (or a small b: only b times the load enters at first order), Kondner's
 # secant modulus is E = 1 / (a + b eps_p) ~ E_0 - b E_0^2 eps_p, with eps_p the strain of the
-# linear solution on E_0 = 1/a. With K v = -e (v the adjoint of w0 = -u_z at the centre) the
-# settlement's derivative is dw0/db = -v^T (dK/db) u = int E_0^2 eps_p sigma_1(u) : eps(v),
+# linear solution on E_0 = 1/a. With K v = -e (v the adjoint of w0, the plate's deflection at
+# its centre) the settlement's derivative is
+# dw0/db = -v^T (dK/db) u = int E_0^2 eps_p sigma_1(u) : eps(v),
 # sigma_1 the stress at unit modulus: one linear solve and one adjoint solve on the same
 # factors, and a density that says where the excess comes from.
 
