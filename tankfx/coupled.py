@@ -774,7 +774,7 @@ class InterfaceIteration:
     def single_pass(self, solver) -> int:
         """One solve and one state update (no cycle handling); returns how many elements
         changed state."""
-        m, ifc = self.model, self.model.scene.interface
+        m = self.model
         ks_used = m.k_s.x.array[:m.n_carrier].copy()
         solver.solve()
         jn, jt = self.element_jumps()
@@ -785,17 +785,7 @@ class InterfaceIteration:
             self._track_reversals(status, sign)[self.owned])))
         # an element that keeps changing state sits at the edge of a zone inside it: after
         # MAX_FLIPS changes it is held in the weaker of its last two states, as in run()
-        flipped = status != m.status
-        self.flips += flipped
-        hold = (self.flips >= self.MAX_FLIPS) & (self.held < 0) & flipped
-        n_hold = m.mesh.comm.allreduce(int(np.sum(hold[self.owned])))
-        if n_hold and ifc.on_cycle == "stop":
-            raise SolveError(
-                f"the interface's active set cycles: {n_hold} element(s) changed state "
-                f"{self.MAX_FLIPS} times during the soil iteration; interface.on_cycle = "
-                f"\"hold\" holds them in the weaker state and goes on", self.history)
-        weaker = np.where((status == interface.SEPARATED) | (m.status == interface.SEPARATED),
-                          interface.SEPARATED, interface.SLIP)
+        hold, weaker = self._flip_holds(status, self.held >= 0, " during the soil iteration")
         self.held = np.where(hold, weaker, self.held)
         status = np.where(self.held >= 0, self.held, status)
         changed = n_reversed + m.mesh.comm.allreduce(
@@ -805,6 +795,25 @@ class InterfaceIteration:
         self.history.append({"iteration": len(self.history) + 1, "changed": changed,
                              "frozen": held})
         return changed
+
+    def _flip_holds(self, status, exempt, where: str = "") -> tuple:
+        """Count each carrier's state changes against the model's states (not those in
+        ``exempt``, already held); returns the carriers that reach MAX_FLIPS now and the
+        weaker of their last two states (separated, else slip). With on_cycle = "stop" such
+        a carrier is refused instead."""
+        m = self.model
+        flipped = (status != m.status) & ~exempt
+        self.flips += flipped
+        hold = flipped & (self.flips >= self.MAX_FLIPS)
+        n_hold = m.mesh.comm.allreduce(int(np.sum(hold[self.owned])))
+        if n_hold and m.scene.interface.on_cycle == "stop":
+            raise SolveError(
+                f"the interface's active set cycles: {n_hold} {m.carrier_name}(s) changed "
+                f"state {self.MAX_FLIPS} times{where}; interface.on_cycle = \"hold\" holds "
+                f"them in the weaker state and goes on", self.history)
+        weaker = np.where((status == interface.SEPARATED) | (m.status == interface.SEPARATED),
+                          interface.SEPARATED, interface.SLIP)
+        return hold, weaker
 
     def reversed_slips(self) -> int:
         """How many state carriers reversed their slip and took the secant law."""
@@ -887,18 +896,7 @@ class InterfaceIteration:
                 # changed state MAX_FLIPS times is held in the weaker of its last two
                 # states, as single_pass holds them (demo tank, tan phi = 10: 10 nodes at
                 # the wall's foot held, 13 solves; without this no convergence in 200)
-                flipped = (status != m.status) & ~frozen
-                self.flips += flipped
-                hold = flipped & (self.flips >= self.MAX_FLIPS)
-                n_hold = comm.allreduce(int(np.sum(hold[self.owned])))
-                if n_hold and ifc.on_cycle == "stop":
-                    raise SolveError(
-                        f"the interface's active set cycles: {n_hold} node(s) changed state "
-                        f"{self.MAX_FLIPS} times; interface.on_cycle = \"hold\" holds them in "
-                        f"the weaker state and goes on", self.history)
-                weaker = np.where((status == interface.SEPARATED)
-                                  | (m.status == interface.SEPARATED),
-                                  interface.SEPARATED, interface.SLIP)
+                hold, weaker = self._flip_holds(status, frozen)
                 forced = np.where(hold, weaker, forced)
                 frozen |= hold
                 status = np.where(frozen, forced, status)

@@ -43,8 +43,8 @@ from . import soil as soil_forms
 from .post import allsum
 from .solve import SolveError
 
-__all__ = ["kondner_deviator", "principal_strains", "secant_update", "HyperbolicIteration",
-           "SoilFailure", "ULTIMATE_FRACTION"]
+__all__ = ["kondner_deviator", "principal_strains", "major_strain", "secant_update",
+           "HyperbolicIteration", "SoilFailure", "ULTIMATE_FRACTION", "first_order_excess"]
 
 #: A cell whose model deviator reaches this fraction of 1/b counts as at the ultimate.
 ULTIMATE_FRACTION = 0.99
@@ -75,6 +75,12 @@ def principal_strains(e_rr, e_zz, e_rz, e_tt):
     return eig.min(axis=0), eig.max(axis=0)
 
 
+def major_strain(eps_min, eps_max, nu):
+    """eps_p = (eps_max - eps_min) / (1 + nu), the strain Kondner's law reads (see
+    secant_update)."""
+    return (eps_max - eps_min) / (1.0 + nu)
+
+
 def secant_update(E, nu, eps_min, eps_max, a, b):
     """Per cell: (q_c, q_m, misfit, E_new, at_ultimate) of the current strains and moduli.
 
@@ -82,7 +88,7 @@ def secant_update(E, nu, eps_min, eps_max, a, b):
     unconfined triaxial test for which Kondner's law is calibrated (there eps_max - eps_min =
     (1 + nu) eps_axial). Then q_c = E eps_p, and the secant rule (Eq. 19) is
     E = q_m / eps_p = 1 / (a + b eps_p): positive, never above the initial modulus."""
-    eps_p = (eps_max - eps_min) / (1.0 + nu)
+    eps_p = major_strain(eps_min, eps_max, nu)
     q_c = E * eps_p
     q_m = kondner_deviator(eps_p, a, b)
     E_new = 1.0 / (a + b * eps_p)
@@ -145,9 +151,7 @@ class HyperbolicIteration:
         for it in range(1, max_it + 1):
             t0 = time.perf_counter()
             unsettled = inner_solve()     # interface elements that changed state (single loop)
-            self.strain.interpolate(self.strain_expr)
-            e = self.strain.x.array.reshape(-1, 4)[self.dof_T]
-            eps_min, eps_max = principal_strains(e[:, 0], e[:, 1], e[:, 2], e[:, 3])
+            eps_min, eps_max = self.cell_principal_strains()
             E = self.modulus.x.array[self.dof_E]
             _, _, misfit, E_new, ultimate = secant_update(E, self.nu, eps_min, eps_max,
                                                           self.a, self.b)
@@ -190,6 +194,13 @@ class HyperbolicIteration:
         raise SolveError(f"the hyperbolic soil iteration did not converge in {max_it} "
                          f"iterations (largest deviator misfit {worst:.3g} > {tol:g})",
                          self.history)
+
+    def cell_principal_strains(self) -> tuple[np.ndarray, np.ndarray]:
+        """The smallest and largest principal strain of the current displacement at each
+        cell's centroid, in cell order."""
+        self.strain.interpolate(self.strain_expr)
+        e = self.strain.x.array.reshape(-1, 4)[self.dof_T]
+        return principal_strains(e[:, 0], e[:, 1], e[:, 2], e[:, 3])
 
     def _anderson(self, E, G, floor, own):
         """Anderson acceleration (type II, depth ``anderson_depth``) of the secant map on
@@ -310,11 +321,8 @@ def first_order_excess(scene, comm: MPI.Comm = MPI.COMM_WORLD) -> dict:
     for f in v:
         f.x.scatter_forward()
     # E_0^2 eps_p per cell (eps_p at the centroid, as the Picard iteration takes it)
-    it.strain.interpolate(it.strain_expr)
-    e = it.strain.x.array.reshape(-1, 4)[it.dof_T]
-    eps_min, eps_max = principal_strains(e[:, 0], e[:, 1], e[:, 2], e[:, 3])
+    eps_p = major_strain(*it.cell_principal_strains(), it.nu)
     weight = fem.Function(it.modulus.function_space)
-    eps_p = (eps_max - eps_min) / (1.0 + it.nu)
     a = scene.plate.radius if scene.wall is None else scene.foundation_radius
     corner = np.hypot(it.mid[:, 0] - a, it.mid[:, 1] + D) < EDGE_ZONE * a
     below = (it.mid[:, 0] < a) & (it.mid[:, 1] < -D) & ~corner

@@ -97,8 +97,9 @@ def _locate(msh, pts: np.ndarray, cells) -> tuple[np.ndarray, np.ndarray]:
             (all_keys[k, :, 0] == all_keys[best, np.arange(len(pts)), 0])
             & (all_keys[k, :, 1] < all_keys[best, np.arange(len(pts)), 1]))
         best[better] = k
-    if np.any(np.isinf(all_keys[best, np.arange(len(pts)), 0])):
-        missing = pts[np.isinf(all_keys[best, np.arange(len(pts)), 0])]
+    outside = np.isinf(all_keys[best, np.arange(len(pts)), 0])
+    if np.any(outside):
+        missing = pts[outside]
         raise ValueError(f"points outside the mesh (or the given cells): "
                          f"{missing[:3, :2].tolist()}")
     return chosen, (best == comm.rank) & (chosen >= 0)

@@ -113,13 +113,26 @@ class DirectSolver(_LinearSolver):
         return u
 
 
+def _dense_rows(csr, row_numbers, rows, cols) -> np.ndarray:
+    """A PETSc matrix's owned rows (``csr`` from getValuesCSR, global numbers
+    ``row_numbers``) restricted to the sorted global ``rows`` x ``cols``, as a dense array
+    (zeros where the matrix has none)."""
+    ip, jp, vp = csr
+    r = np.repeat(row_numbers, np.diff(ip))
+    keep = np.isin(r, rows) & np.isin(jp, cols)
+    out = np.zeros((len(rows), len(cols)))
+    np.add.at(out, (np.searchsorted(rows, r[keep]), np.searchsorted(cols, jp[keep])),
+              vp[keep])
+    return out
+
+
 class StructureSchur:
     """Preconditioner of the soil + structure block system [[A_ss, A_sp], [A_ps, A_pp]]
     (a PETSc nest; a petsc4py "python" PC): the structure is condensed exactly, and GAMG
     works on the soil's Schur complement S = A_ss - A_sp A_pp^-1 A_ps.
 
     The structure has a few thousand dofs at most and touches the soil only on the interface,
-    so A_pp^-1 is kept dense on every rank and S differs from A_ss only in a dense block on
+    so A_pp is factorised whole on every rank and S differs from A_ss only in a dense block on
     the interface's soil dofs. Each application is the block factorisation: y_p = A_pp^-1
     b_p, y_s = GAMG(S)(b_s - A_sp y_p), y_p = A_pp^-1 (b_p - A_ps y_s). The stiff interface
     penalty, which made a field split of the two blocks take ~300 Krylov iterations, is
@@ -155,19 +168,14 @@ class StructureSchur:
         self.lu.setUp()
         self.b_p, self.x_p = self.A_pp.createVecs()
         # the interface's soil dofs: the soil columns of A_ps (global numbers)
-        ip, jp, vp = A_ps.getValuesCSR()
-        iface = np.unique(np.concatenate(comm.allgather(np.unique(jp))))
-        coupling = np.zeros((n_p, len(iface)))                 # A_ps[:, iface], dense
-        np.add.at(coupling, (np.repeat(rows, np.diff(ip)), np.searchsorted(iface, jp)), vp)
-        coupling = comm.allreduce(coupling)
+        csr_ps = A_ps.getValuesCSR()
+        iface = np.unique(np.concatenate(comm.allgather(np.unique(csr_ps[1]))))
+        coupling = comm.allreduce(                            # A_ps[:, iface], dense
+            _dense_rows(csr_ps, rows, np.arange(n_p), iface))
         # this rank's rows of the correction A_sp A_pp^-1 A_ps, on its interface rows
         s0, s1 = A_ss.getOwnershipRange()
         mine = iface[(iface >= s0) & (iface < s1)]
-        ip, jp, vp = A_sp.getValuesCSR()
-        srows = np.repeat(np.arange(s0, s1), np.diff(ip))
-        keep = np.isin(srows, mine)
-        left = np.zeros((len(mine), n_p))
-        np.add.at(left, (np.searchsorted(mine, srows[keep]), jp[keep]), vp[keep])
+        left = _dense_rows(A_sp.getValuesCSR(), np.arange(s0, s1), mine, np.arange(n_p))
         B = PETSc.Mat().createDense((n_p, len(iface)), array=coupling, comm=PETSc.COMM_SELF)
         X = PETSc.Mat().createDense((n_p, len(iface)), comm=PETSc.COMM_SELF)
         X.setUp()
@@ -195,9 +203,11 @@ class StructureSchur:
         self.gamg.setType("gamg")
         self.gamg.setUp()
         self.S = S
+        # work vectors of apply()
+        self.r_s, self.t_p = A_ss.createVecLeft(), A_ps.createVecLeft()
 
     def destroy(self, pc):
-        for name in ("gamg", "S", "lu", "A_pp", "b_p", "x_p"):
+        for name in ("gamg", "S", "lu", "A_pp", "b_p", "x_p", "r_s", "t_p"):
             obj = getattr(self, name, None)
             if obj is not None:
                 obj.destroy()
@@ -215,15 +225,11 @@ class StructureSchur:
         y_s, y_p = y.getNestSubVecs()
         b_p = x_p.getArray().copy()
         y_p.setArray(self._structure_solve(b_p))
-        r_s = x_s.duplicate()
-        A_sp.mult(y_p, r_s)
-        r_s.aypx(-1.0, x_s)                                  # b_s - A_sp y_p
-        self.gamg.apply(r_s, y_s)
-        t_p = x_p.duplicate()
-        A_ps.mult(y_s, t_p)
-        y_p.setArray(self._structure_solve(b_p - t_p.getArray()))
-        for v in (r_s, t_p):
-            v.destroy()
+        A_sp.mult(y_p, self.r_s)
+        self.r_s.aypx(-1.0, x_s)                             # b_s - A_sp y_p
+        self.gamg.apply(self.r_s, y_s)
+        A_ps.mult(y_s, self.t_p)
+        y_p.setArray(self._structure_solve(b_p - self.t_p.getArray()))
 
 
 class IterativeSolver(_LinearSolver):
