@@ -110,7 +110,8 @@ class SoilBlock:
             modulus = fem.Function(Q0, name="secant_modulus")
             modulus.interpolate(fem.Expression(self.E, Q0.element.interpolation_points))
             self.E = modulus
-        self.dx = ufl.Measure("dx", domain=msh, subdomain_data=domain.cell_tags)(
+        self.dx = ufl.Measure("dx", domain=msh, subdomain_data=domain.cell_tags, metadata={
+            "quadrature_degree": soil_forms.quadrature_degree(scene.mesh.degree)})(
             CELL_TAGS["soil"])
         self.trial, self.test = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
         self.mixed = s.nu > MIXED_FROM_NU

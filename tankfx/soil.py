@@ -17,7 +17,17 @@ import ufl
 
 __all__ = ["radius", "depth", "strain", "stress", "lame", "modulus_with_depth",
            "stiffness_form", "hoop_strain", "mixed_stress", "mixed_stiffness_forms",
-           "inverse_lambda"]
+           "inverse_lambda", "quadrature_degree"]
+
+
+def quadrature_degree(degree: int) -> int:
+    """Quadrature degree of the soil's forms for Lagrange elements of ``degree`` p: 2p + 1.
+    The r-weighted products of gradients, times a modulus linear in depth, are polynomials
+    of degree 2p, integrated exactly; the hoop term u_r v_r / r is rational, so no rule is
+    exact for it. UFL's estimate (it counts 1 / r as degree 1: 2p + 3 to 2p + 4) takes twice
+    the points for nothing measurable: w0 of the embedded tank at 274k dofs changes by 1e-9
+    (relative), and a matrix assembly of the nonlinear tank there takes 0.39 instead of 0.66 s."""
+    return 2 * degree + 1
 
 
 def radius(mesh) -> ufl.core.expr.Expr:
