@@ -2,7 +2,8 @@
 
 All for a linear elastic, homogeneous, isotropic half-space (modulus E, Poisson's ratio nu)
 under a uniform pressure p on a circle of radius a (Boussinesq's flexible load; Poulos &
-Davis, "Elastic solutions for soil and rock mechanics", 1974, Table 3.1 and Eq. 3.1).
+Davis, "Elastic solutions for soil and rock mechanics", 1974, Table 3.1 and Eq. 3.1), and
+the rigid limit of a free plate on it (:func:`rigid_plate_centre_moment`).
 """
 from __future__ import annotations
 
@@ -12,7 +13,8 @@ import numpy as np
 
 __all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settlement",
            "flexible_edge_settlement",
-           "flexible_mean_settlement", "flexible_axis_stress", "point_load_displacement"]
+           "flexible_mean_settlement", "flexible_axis_stress", "point_load_displacement",
+           "rigid_plate_centre_moment"]
 
 
 def flexible_centre_settlement(p, a, E, nu):
@@ -77,3 +79,23 @@ def point_load_displacement(P, E, nu, r, depth):
     w = c * (2.0 * (1.0 - nu) + depth**2 / rho**2)
     u_r = c * (r * depth / rho**2 - (1.0 - 2.0 * nu) * r / (rho + depth))
     return u_r, w
+
+
+def rigid_plate_centre_moment(q, a, nu_plate):
+    """Bending moment at the centre (N m/m, sagging positive) of a free circular plate of
+    radius a under a uniform pressure q, in the rigid limit (Kp -> infinity) on a smooth
+    half-space.
+
+    The plate then carries q down and the smooth rigid punch's contact pressure
+    p(r) = q a / (2 sqrt(a^2 - r^2)) up (Boussinesq; Poulos & Davis 1974, Eq. 7.1): a
+    self-equilibrated load, under which the free plate is the simply supported one (no edge
+    reaction). Summing the centre moment of a ring load P at radius b on a simply supported
+    plate, P / (8 pi) [(1 - nu)(1 - b^2/a^2) + 2 (1 + nu) ln(a / b)] (Timoshenko &
+    Woinowsky-Krieger 1959, Sec. 19), over q gives (3 + nu) q a^2 / 16, and over -p, with
+    int_0^(pi/2) sin t ln(sin t) dt = ln 2 - 1:
+
+        M0 = q a^2 [(3 + nu) / 16 - (1 - nu) / 24 - (1 + nu)(1 - ln 2) / 4]
+
+    (0.07736 q a^2 at nu = 0.3; Brown's (1969) free raft at Kp = 10 has 0.0747)."""
+    return q * a**2 * ((3.0 + nu_plate) / 16.0 - (1.0 - nu_plate) / 24.0
+                       - (1.0 + nu_plate) * (1.0 - math.log(2.0)) / 4.0)
