@@ -312,7 +312,12 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                          entity_maps=model.entity_maps, name="tank",
                          symmetric=scene.interface.condition != "mohr_coulomb",
                          one_shot=len(stages) == 1 and scene.soil.model == "linear"
-                         and scene.interface.condition != "mohr_coulomb")
+                         and scene.interface.condition != "mohr_coulomb",
+                         # only the interface's states change between the solves of a
+                         # Mohr-Coulomb iteration on a linear soil: the rest is kept
+                         split=getattr(model, "a_split", None)
+                         if scene.soil.model == "linear"
+                         and scene.interface.condition == "mohr_coulomb" else None)
     timings["forms"] = time.perf_counter() - t
     warnings = list(getattr(model, "warnings", []))
     for w in warnings:
@@ -356,7 +361,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         results["warnings"] = warnings
         results["linear_solver"] = {
             "method": scene.solver.method, "solves": solver.solves,
-            "factorisation": solver.factorisation,
+            "factorisation": solver.factorisation, "assembly": solver.assembly,
             "last_relative_residual": solver.relative_residual}
         if scene.solver.method == "iterative":
             results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations

@@ -231,30 +231,35 @@ class TankModel:
         u_b, beta, Q = ufl.TrialFunctions(self.W)
         v_b, gamma, P = ufl.TestFunctions(self.W)
         th = self.thickness
-        # structure: shell energy, Kirchhoff constraint, and the interface on its side
+        # structure: shell energy and Kirchhoff constraint
         a_bb = (st.shell_stiffness(u_b, beta, v_b, gamma, r_b, t_b, self.E, self.nu, th,
                                    self.dx_b, self.offset)
                 + st.kirchhoff_constraint(Q, gamma, v_b, t_b, r_b, self.dx_b)
                 + st.kirchhoff_constraint(P, beta, u_b, t_b, r_b, self.dx_b))
         # the interface on the structure's side, -u_b in the jump; the soil's side and the
         # cross terms are integrated over the parent's facets below
-        a_bb += interface.interface_form(u_b, v_b, st.normal(t_b), t_b, self.k_n, self.k_s,
-                                         self.mu, r_b, self.dx_interface)
-        a_ss, a_sb, a_bs = soil.a, 0, 0
+        i_bb = interface.interface_form(u_b, v_b, st.normal(t_b), t_b, self.k_n, self.k_s,
+                                        self.mu, r_b, self.dx_interface)
+        i_ss, i_sb, i_bs = 0, 0, 0
         r = soil.r
         for _, n, t, pieces in self._interface_measures():
             for measure, R in pieces:
                 kn, ks, mu = R(self.k_n), R(self.k_s), R(self.mu)
-                a_ss += interface.interface_form(R(soil.trial), R(soil.test), n, t, kn, ks, mu,
+                i_ss += interface.interface_form(R(soil.trial), R(soil.test), n, t, kn, ks, mu,
                                                  r, measure)
-                a_sb -= interface.interface_form(R(u_b), R(soil.test), n, t, kn, ks, mu, r,
+                i_sb -= interface.interface_form(R(u_b), R(soil.test), n, t, kn, ks, mu, r,
                                                  measure)
-                a_bs -= interface.interface_form(R(soil.trial), R(v_b), n, t, kn, ks, mu, r,
+                i_bs -= interface.interface_form(R(soil.trial), R(v_b), n, t, kn, ks, mu, r,
                                                  measure)
+        # Without the soil's pressure, the interface's part alone, for a solver that keeps
+        # the rest assembled while only the interface states change (a linear soil under a
+        # Mohr-Coulomb interface)
+        self.a_split = None if soil.mixed else ([[soil.a, None], [None, a_bb]],
+                                                [[i_ss, i_sb], [i_bs, i_bb]])
         # the soil's rows (with its pressure's, in the mixed form), then the structure's
-        soil_rows = soil.matrix_rows(a_ss)
-        rows = [row + [a_sb if i == 0 else None] for i, row in enumerate(soil_rows)]
-        rows.append([a_bs] + [None] * (len(soil_rows) - 1) + [a_bb])
+        soil_rows = soil.matrix_rows(soil.a + i_ss)
+        rows = [row + [i_sb if i == 0 else None] for i, row in enumerate(soil_rows)]
+        rows.append([i_bs] + [None] * (len(soil_rows) - 1) + [a_bb + i_bb])
         return rows
 
     def _loads(self):

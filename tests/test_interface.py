@@ -262,3 +262,37 @@ def test_slip_follows_its_jump_and_sits_on_the_limit():
     assert node["w0"] == pytest.approx(r["w0"], rel=1e-4)
     for key in ("wd", "M0"):
         assert node[key] == pytest.approx(r[key], rel=5e-3), key
+
+
+def test_only_the_interface_is_reassembled_between_solves(monkeypatch):
+    """A linear soil under a Mohr-Coulomb interface: between the solves of the iteration
+    only the interface's coefficients change, so the soil and structure blocks are
+    assembled once and only the interface part at each solve. Same solves, states and
+    numbers as re-assembling the whole system every time; a hyperbolic soil re-assembles
+    the whole."""
+    from dolfinx.fem import petsc as fem_petsc
+
+    from tankfx.solve import SPLIT_ASSEMBLY, WHOLE_ASSEMBLY, DirectSolver
+
+    tank = _demo_tank(tan_phi=0.1).with_changes(mesh={"edge_size": 0.05, "near_size": 2.0})
+    split = analyse(tank).results
+    assert split["linear_solver"]["assembly"] == SPLIT_ASSEMBLY
+    assert split["linear_solves"] >= 3
+
+    def whole(self):
+        p = self.problem
+        p.A.zeroEntries()
+        fem_petsc.assemble_matrix(p.A, p.a, bcs=p.bcs)
+        p.A.assemble()
+
+    monkeypatch.setattr(DirectSolver, "_assemble_split", whole)
+    full = analyse(tank).results
+    assert full["linear_solves"] == split["linear_solves"]
+    assert [h["changed"] for h in full["interface"]["history"]] == \
+        [h["changed"] for h in split["interface"]["history"]]
+    _close(split, full, 1e-10)
+    data = tank.to_dict()
+    data["soil"] = {"model": "hyperbolic", "hyperbolic_a": 2.1e-7, "hyperbolic_b": 1e-5,
+                    "nu": 0.3}
+    hyperbolic = analyse(Scene.from_dict(data)).results
+    assert hyperbolic["linear_solver"]["assembly"] == WHOLE_ASSEMBLY
