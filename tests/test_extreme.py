@@ -84,15 +84,28 @@ def test_a_slightly_stiff_plate_loads_its_centre():
 
 
 def test_wall_rigidity_range():
-    """Kt from 1e-5 to 10: a stiffer wall holds the plate's edge more (w0 falls) and takes
-    more moment at the junction; the residual stays small."""
-    res = {Kt: analyse(plate(wall={"Kt": Kt})).results for Kt in (1e-5, 1e-3, 1e-1, 10.0)}
-    w0 = [res[k]["w0"] for k in sorted(res)]
-    M_wall = [abs(res[k]["junction"]["M_wall"]) for k in sorted(res)]
-    assert all(b < a for a, b in zip(w0, w0[1:])), w0
+    """Kt from 1e-5 to 1e3: a stiffer wall holds the plate's edge more (w0, wd and M0
+    fall) and takes more moment at the junction; the residual stays small. The limits:
+    towards Kt = 1e3 the results settle on the clamping wall's (the last two decades move
+    them 3 % of the way from Kt = 1e-5, measured 2.9 %); at Kt = 1e-5 the wall is the
+    wall-less plate's (on the default mesh: w0 +0.003 %, wd -0.09 %, M0 -0.08 %; the coarse
+    mesh of this test resolves the wall-less plate's M0 only to 1.7 %, the wall refines
+    the mesh at its foot)."""
+    kts = (1e-5, 1e-3, 1e-1, 10.0, 1e3)
+    res = [analyse(plate(wall={"Kt": Kt})).results for Kt in kts]
+    for key in ("w0", "wd", "M0"):
+        values = [r[key] for r in res]
+        assert all(b < a for a, b in zip(values, values[1:])), (key, values)
+        assert abs(values[-1] - values[-2]) < 0.05 * abs(values[0] - values[-2]), key
+    M_wall = [abs(r["junction"]["M_wall"]) for r in res]
     assert all(b > a for a, b in zip(M_wall, M_wall[1:])), M_wall
-    for r in res.values():
+    for r in res:
         assert r["linear_solver"]["last_relative_residual"] < 1e-7 and _finite(r)
+    default = {"edge_size": 0.002, "near_size": 0.1}
+    soft = analyse(plate(wall={"Kt": 1e-5}).with_changes(mesh=default)).results
+    bare = analyse(plate().with_changes(mesh=default)).results
+    for key in ("w0", "wd", "M0"):
+        assert soft[key] == pytest.approx(bare[key], rel=2e-3), key
 
 
 def test_modulus_rising_from_almost_zero_at_the_surface():
