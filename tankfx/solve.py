@@ -192,7 +192,7 @@ class StructureSchur:
     then inside S (measured on the embedded tank: 40-50 iterations at 149k-494k dofs)."""
 
     def setUp(self, pc):
-        self.destroy(pc)                # a new operator (the next solve of an iteration)
+        self._release(keep_multigrid=True)   # a new operator (the next solve of an iteration)
         A = pc.getOperators()[0]
         comm = A.getComm().tompi4py()
         A_ss, A_sp = A.getNestSubMatrix(0, 0), A.getNestSubMatrix(0, 1)
@@ -248,27 +248,47 @@ class StructureSchur:
         C.assemble()
         S = A_ss.duplicate(copy=True)
         S.axpy(1.0, C, structure=PETSc.Mat.Structure.DIFFERENT_NONZERO_PATTERN)
-        # GAMG with its default smoother (Chebyshev-Jacobi) and the threshold of the soil alone
-        self.gamg = PETSc.PC().create(comm=A_ss.getComm())
-        self.gamg.setOperators(S)
-        self.gamg.setType("gamg")
-        prefix = f"{pc.getOptionsPrefix() or ''}schur_"
-        self.gamg.setOptionsPrefix(prefix)
-        options = PETSc.Options()
-        options.setValue(f"{prefix}pc_gamg_threshold", GAMG_THRESHOLD)
-        self.gamg.setFromOptions()
-        options.delValue(f"{prefix}pc_gamg_threshold")
+        if self.gamg is not None and np.array_equal(iface, self._iface):
+            # The next solve of a nonlinear iteration: S has the last one's pattern (the
+            # same interface dofs), so GAMG keeps its interpolation and only recomputes its
+            # coarse operators (bonded hyperbolic tank at 494k dofs: 79.8 -> 64.7 s for 7
+            # solves, 300 -> 301 iterations)
+            S.copy(self.S, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+            S.destroy()
+        else:
+            for old in (self.gamg, self.S):
+                if old is not None:
+                    old.destroy()
+            self.S, self._iface = S, iface
+            # GAMG with its default smoother (Chebyshev-Jacobi) and the soil's threshold
+            self.gamg = PETSc.PC().create(comm=A_ss.getComm())
+            self.gamg.setType("gamg")
+            prefix = f"{pc.getOptionsPrefix() or ''}schur_"
+            self.gamg.setOptionsPrefix(prefix)
+            options = PETSc.Options()
+            values = {"pc_gamg_threshold": GAMG_THRESHOLD, "pc_gamg_reuse_interpolation": True}
+            for key, value in values.items():
+                options.setValue(prefix + key, value)
+            self.gamg.setOperators(self.S)
+            self.gamg.setFromOptions()
+            for key in values:
+                options.delValue(prefix + key)
         self.gamg.setUp()
-        self.S = S
         # work vectors of apply()
         self.r_s, self.t_p = A_ss.createVecLeft(), A_ps.createVecLeft()
 
-    def destroy(self, pc):
+    gamg = S = _iface = None
+
+    def _release(self, keep_multigrid: bool = False):
+        """Free the PETSc objects; ``keep_multigrid``: all but GAMG and its operator S."""
         for name in ("gamg", "S", "lu", "A_pp", "b_p", "x_p", "r_s", "t_p"):
             obj = getattr(self, name, None)
-            if obj is not None:
+            if obj is not None and not (keep_multigrid and name in ("gamg", "S")):
                 obj.destroy()
                 setattr(self, name, None)
+
+    def destroy(self, pc):
+        self._release()
 
     def _structure_solve(self, local):
         """A_pp^-1 b for b given by its owned part on each rank; returns the owned part."""
