@@ -311,7 +311,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     solver = make_solver(scene, model.a, model.L, model.bcs, model.unknowns,
                          entity_maps=model.entity_maps, name="tank",
                          symmetric=scene.interface.condition != "mohr_coulomb",
-                         one_shot=len(stages) == 1 and scene.soil.model == "linear"
+                         # one factorisation: a linear soil under a bonded or smooth
+                         # interface (its load stages share the matrix)
+                         one_shot=scene.soil.model == "linear"
                          and scene.interface.condition != "mohr_coulomb",
                          # only the interface's states change between the solves of a
                          # Mohr-Coulomb iteration on a linear soil: the rest is kept
@@ -341,6 +343,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                 lambda: model.solve(solver, log, single_pass=not nested), log)
         else:
             model.solve(solver, log)
+            if scene.interface.condition != "mohr_coulomb":
+                solver.keep_matrix()       # only the load changes from stage to stage
         timings["assemble_solve"] = time.perf_counter() - t
         log.info("solved in %.2f s", timings["assemble_solve"])
 

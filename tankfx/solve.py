@@ -22,6 +22,7 @@ _ids = itertools.count()
 #: What a solve re-assembles (``results["linear_solver"]["assembly"]``).
 WHOLE_ASSEMBLY = "the whole system at every solve"
 SPLIT_ASSEMBLY = "soil and structure once, the interface at every solve"
+KEPT_ASSEMBLY = "once, factorised once: every load stage has the same matrix"
 
 #: Steps of iterative refinement after the LU solve.
 REFINEMENT_STEPS = 2
@@ -77,7 +78,15 @@ class _LinearSolver:
     def _start(self, name: str) -> str:
         self.prefix = f"tankfx_{name}_{next(_ids)}_"
         self.solves = 0   # linear solves so far (each one an assembly and a solve)
+        self._matrix_kept = False
         return self.prefix
+
+    def keep_matrix(self) -> None:
+        """The matrix will not change any more (the next load stages of a linear soil under
+        a bonded or smooth interface): the direct solver then assembles only the right-hand
+        side and reuses its factorisation. (The iterative solver re-assembles, and rebuilds
+        its preconditioner only if PETSc sees a changed matrix.)"""
+        self._matrix_kept = True
 
     @property
     def matrix_size(self) -> int:
@@ -134,10 +143,12 @@ class DirectSolver(_LinearSolver):
         fem_petsc.assemble_matrix(p.A, varying, bcs=p.bcs)
         p.A.assemble()
 
-    def _solve_split(self):
-        """LinearProblem.solve with the matrix from :meth:`_assemble_split`."""
+    def _solve_keeping(self, assemble_matrix):
+        """LinearProblem.solve with the matrix assembled by ``assemble_matrix`` (or, None,
+        left as it is: PETSc then keeps its factorisation)."""
         p = self.problem
-        self._assemble_split()
+        if assemble_matrix is not None:
+            assemble_matrix()
         with p.b.localForm() as b:
             b.set(0.0)
         fem_petsc.assemble_vector(p.b, p.L)
@@ -152,7 +163,13 @@ class DirectSolver(_LinearSolver):
 
     def solve(self):
         self.solves += 1
-        u = self._solve_split() if self._split else self.problem.solve()
+        if self._matrix_kept and self.solves > 1:
+            self.assembly = KEPT_ASSEMBLY
+            u = self._solve_keeping(None)
+        elif self._split:
+            u = self._solve_keeping(self._assemble_split)
+        else:
+            u = self.problem.solve()
         ksp = self.problem.solver
         reason = ksp.getConvergedReason()
         x = self.problem.x

@@ -65,6 +65,35 @@ def test_nonlinear_tank_iterative_equals_direct():
     assert it["linear_solver"]["krylov_iterations"] < 100 * it["linear_solves"]
 
 
+def test_load_stages_of_a_linear_scene_share_one_factorisation():
+    """Bonded, linear soil: every load stage has the same matrix, so later stages assemble
+    only their load and reuse the factorisation (one numeric factorisation in all), with the
+    numbers of separate analyses."""
+    from petsc4py import PETSc
+
+    from tankfx.analysis import analyse_path
+    from tankfx.solve import KEPT_ASSEMBLY
+
+    data = {"soil": {"E": 10e6, "nu": 0.3},
+            "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": 0.3},
+            "wall": {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2},
+            "interface": {"condition": "bonded"}, "load": {"pressure": 50e3},
+            "mesh": COARSE}
+    loads = [{"pressure": 50e3}, {"pressure": 20e3, "liquid_unit_weight": 9810.0,
+                                  "liquid_height": 2.5}]
+    PETSc.Log.begin()
+    event = PETSc.Log.Event("MatCholFctrNum")
+    before = event.getPerfInfo()["count"]
+    staged = analyse_path(Scene.from_dict(data), loads)
+    assert event.getPerfInfo()["count"] - before == 1
+    assert staged[-1].results["linear_solver"]["assembly"] == KEPT_ASSEMBLY
+    for stage, load in zip(staged, loads):
+        alone = analyse(Scene.from_dict(data | {"load": load})).results
+        for key in ("w0", "wd", "M0"):
+            assert stage.results[key] == pytest.approx(alone[key], rel=1e-9), key
+        assert stage.results["equilibrium"]["relative_error"] < 1e-8
+
+
 def test_too_few_iterations_is_a_clear_failure():
     scene = flexible_scene(mesh=COARSE, solver={"method": "iterative", "max_iterations": 2})
     with pytest.raises(SolveError, match="did not reach the relative residual .* raise "
