@@ -249,6 +249,13 @@ class FlexibleLoad:
     def begin_stage(self) -> None:
         pass
 
+    def set_loads(self, load) -> None:
+        """The pressure of a later load stage (on the same, meshed, loaded circle)."""
+        from dataclasses import replace
+
+        self.scene = replace(self.scene, load=load)
+        self.pressure.value = load.pressure
+
     def solve(self, solver, log, single_pass: bool = False) -> int:
         solver.solve()
         return 0
@@ -296,6 +303,12 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     from dataclasses import replace
 
     stages = [ld if isinstance(ld, Load) else scene.with_changes(load=ld).load for ld in loads]
+    if scene.plate is None:
+        for ld in stages:
+            if ld.load_radius != scene.load.load_radius:
+                raise ValueError(f"load.load_radius: every load stage keeps the meshed loaded "
+                                 f"circle ({scene.load.load_radius:g} m), got "
+                                 f"{ld.load_radius:g} m; analyse the other radius separately")
     t_start = time.perf_counter()
     timings: dict[str, float] = {}
     log.info("scene '%s': meshing on rank 0, distributing over %d rank(s)", scene.title,

@@ -152,10 +152,15 @@ class DirectSolver(_LinearSolver):
         with p.b.localForm() as b:
             b.set(0.0)
         fem_petsc.assemble_vector(p.b, p.L)
-        spaces = fem.extract_function_spaces(p.a, 1)
-        fem_petsc.apply_lifting(p.b, p.a, bcs=fem.bcs_by_block(spaces, p.bcs))
-        p.b.ghostUpdate(PETSc.InsertMode.ADD, PETSc.ScatterMode.REVERSE)
-        fem_petsc.set_bc(p.b, fem.bcs_by_block(fem.extract_function_spaces(p.L), p.bcs))
+        if isinstance(p.u, (list, tuple)):                     # blocks, kind="mpi"
+            spaces = fem.extract_function_spaces(p.a, 1)
+            fem_petsc.apply_lifting(p.b, p.a, bcs=fem.bcs_by_block(spaces, p.bcs))
+            p.b.ghostUpdate(PETSc.InsertMode.ADD, PETSc.ScatterMode.REVERSE)
+            fem_petsc.set_bc(p.b, fem.bcs_by_block(fem.extract_function_spaces(p.L), p.bcs))
+        else:
+            fem_petsc.apply_lifting(p.b, [p.a], bcs=[p.bcs])
+            p.b.ghostUpdate(PETSc.InsertMode.ADD, PETSc.ScatterMode.REVERSE)
+            fem_petsc.set_bc(p.b, p.bcs)
         p.solver.solve(p.b, p.x)
         p.x.ghostUpdate(PETSc.InsertMode.INSERT, PETSc.ScatterMode.FORWARD)
         fem_petsc.assign(p.x, p.u)

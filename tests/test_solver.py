@@ -92,6 +92,15 @@ def test_load_stages_of_a_linear_scene_share_one_factorisation():
         for key in ("w0", "wd", "M0"):
             assert stage.results[key] == pytest.approx(alone[key], rel=1e-9), key
         assert stage.results["equilibrium"]["relative_error"] < 1e-8
+    # the bare soil too; its loaded circle is meshed, so a stage cannot change it
+    flexible = flexible_scene(mesh=COARSE)
+    first, second = analyse_path(flexible, [{"pressure": 1e5, "load_radius": 1.0},
+                                            {"pressure": 3e5, "load_radius": 1.0}])
+    assert second.results["w0"] == pytest.approx(3 * first.results["w0"], rel=1e-9)
+    assert second.results["linear_solver"]["assembly"] == KEPT_ASSEMBLY
+    with pytest.raises(ValueError, match="load.load_radius: every load stage keeps"):
+        analyse_path(flexible, [{"pressure": 1e5, "load_radius": 1.0},
+                                {"pressure": 1e5, "load_radius": 2.0}])
 
 
 def test_too_few_iterations_is_a_clear_failure():
