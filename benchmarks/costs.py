@@ -11,9 +11,9 @@ on this machine:
 3. ``sweep``: a sweep of N default cases (the surface tank over Kp and nu_s) on 1 and on 2
    ranks. Target (N = 100): >= 1.8 x faster.
 4. ``iterative``: where the iterative option (``[solver] method = "iterative"``) beats MUMPS
-   in time and memory: the flexible load (soil alone) and the embedded tank (soil +
-   structure, field split) at growing mesh sizes, each a fresh process (peak memory from
-   the operating system).
+   in time and memory: the flexible load (soil alone, CG + GAMG) and the embedded tank
+   (soil + structure: GMRES, the structure condensed, GAMG on the soil's Schur complement)
+   at growing mesh sizes, each a fresh process (peak memory from the operating system).
 
     python benchmarks/costs.py [--only profile|parallel|sweep|iterative] [--cases 100]
                                [--out results/benchmarks]
