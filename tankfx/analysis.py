@@ -219,6 +219,8 @@ class SoilBlock:
 class FlexibleLoad:
     """A uniform pressure on r <= load_radius of the bare soil (no structure)."""
 
+    a_split = None      # no interface whose part alone could be re-assembled
+
     def __init__(self, scene: Scene, domain: Domain):
         self.scene, self.domain = scene, domain
         self.soil = soil = SoilBlock(scene, domain)
@@ -330,7 +332,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                          and scene.interface.condition != "mohr_coulomb",
                          # only the interface's states change between the solves of a
                          # Mohr-Coulomb iteration on a linear soil: the rest is kept
-                         split=getattr(model, "a_split", None)
+                         split=model.a_split
                          if scene.soil.model == "linear"
                          and scene.interface.condition == "mohr_coulomb" else None)
     timings["forms"] = time.perf_counter() - t

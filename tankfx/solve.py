@@ -122,7 +122,13 @@ class DirectSolver(_LinearSolver):
         self._split = None if split is None else tuple(
             fem.form(forms, entity_maps=entity_maps) for forms in split)
         self._fixed_matrix = None
-        self.assembly = SPLIT_ASSEMBLY if split is not None else WHOLE_ASSEMBLY
+
+    @property
+    def assembly(self) -> str:
+        """What a solve re-assembles (see :meth:`solve`)."""
+        if self._matrix_kept and self.solves > 1:
+            return KEPT_ASSEMBLY
+        return SPLIT_ASSEMBLY if self._split else WHOLE_ASSEMBLY
 
     def _assemble_split(self):
         """A = fixed + varying, with the fixed part assembled at the first solve only. Both
@@ -169,7 +175,6 @@ class DirectSolver(_LinearSolver):
     def solve(self):
         self.solves += 1
         if self._matrix_kept and self.solves > 1:
-            self.assembly = KEPT_ASSEMBLY
             u = self._solve_keeping(None)
         elif self._split:
             u = self._solve_keeping(self._assemble_split)
@@ -332,6 +337,8 @@ class StructureSchur:
 
 
 class IterativeSolver(_LinearSolver):
+    assembly = WHOLE_ASSEMBLY
+
     """Krylov with algebraic multigrid, for meshes where a factorisation costs too much time
     or memory (``[solver] method = "iterative"``). The soil alone: conjugate gradients with
     PETSc's GAMG (Chebyshev-Jacobi smoothing). Soil and structure: the blocks are assembled
@@ -368,7 +375,6 @@ class IterativeSolver(_LinearSolver):
             petsc_options=opts)
         self.factorisation = ("GMRES + structure condensed, GAMG on the soil's Schur "
                               "complement" if blocks else "CG + GAMG")
-        self.assembly = WHOLE_ASSEMBLY
         self.krylov_iterations = 0
         self.rtol, self.max_iterations = rtol, max_iterations
 
