@@ -25,6 +25,7 @@ from . import soil as soil_forms
 from .mesh import CELL_TAGS, FACET_TAGS, Domain, build_domain
 from .post import assemble_scalar, evaluate_at, nodal_values_on_facets
 from .scene import MIXED_FROM_NU, Load, Scene
+from ._memory import keep_freed_memory
 from .solve import make_solver, mass_solve, reaction_force
 
 __all__ = ["Solution", "analyse", "analyse_path", "CONVENTIONS"]
@@ -381,7 +382,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         results["linear_solver"] = {
             "method": scene.solver.method, "solves": solver.solves,
             "factorisation": solver.factorisation, "assembly": solver.assembly,
-            "last_relative_residual": solver.relative_residual}
+            "last_relative_residual": solver.relative_residual,
+            "keeps_freed_memory": keep_freed_memory()}
         if scene.solver.method == "iterative":
             results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,

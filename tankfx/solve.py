@@ -12,6 +12,7 @@ from dolfinx import fem, la
 from dolfinx.fem import petsc as fem_petsc
 from petsc4py import PETSc
 
+from ._memory import keep_freed_memory
 from .post import allsum
 
 __all__ = ["SolveError", "DirectSolver", "IterativeSolver", "make_solver", "mass_solve",
@@ -415,6 +416,7 @@ def make_solver(scene, a, L, bcs, u, entity_maps=None, name: str = "tank",
     """The solver a scene asks for (``[solver] method``); ``one_shot``: a single solve is
     expected (the direct solver's ordering is chosen for it); ``split``: (fixed, varying)
     block forms summing to ``a``, the fixed part assembled once by the direct solver."""
+    keep_freed_memory()        # factorisations reuse the pages of the last one (_memory)
     if scene.solver.method == "iterative":
         return IterativeSolver(a, L, bcs, u, entity_maps=entity_maps, name=name,
                                rtol=scene.solver.rtol,

@@ -1,6 +1,11 @@
 """The iterative solver option ([solver] method = "iterative"): the same numbers as the
 direct solver, a reported iteration count that does not grow with the mesh, and clear
 refusals."""
+import json
+import os
+import subprocess
+import sys
+
 import pytest
 
 from conftest import flexible_scene
@@ -119,3 +124,35 @@ def test_too_few_iterations_is_a_clear_failure():
 def test_bad_solver_options_are_refused(solver, soil, message):
     with pytest.raises(SceneError, match=message):
         flexible_scene(solver=solver, soil=soil)
+
+
+_MALLOC_RUN = """
+import json
+import tankfx
+from tankfx import Scene, analyse
+data = {"soil": {"E": 10e6, "nu": 0.3},
+        "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2},
+        "wall": {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2},
+        "interface": {"condition": "mohr_coulomb", "friction_angle": 5.0},
+        "load": {"pressure": 50e3}, "mesh": %r}
+r = analyse(Scene.from_dict(data)).results
+print("RESULT " + json.dumps({k: r[k] for k in ("w0", "wd", "M0", "linear_solves")}
+                             | {"kept": r["linear_solver"]["keeps_freed_memory"]}))
+"""
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="glibc's malloc")
+def test_keeping_freed_memory_changes_no_number():
+    """Factorisations that reuse the freed pages of the last one (tankfx._memory) give the
+    same numbers to the last digit as the system's malloc; the environment can opt out."""
+    out = {}
+    for keep in ("1", "0"):
+        env = os.environ | {"TANKFX_KEEP_FREED_MEMORY": keep}
+        proc = subprocess.run([sys.executable, "-c", _MALLOC_RUN % COARSE], env=env,
+                              capture_output=True, text=True, timeout=600)
+        assert proc.returncode == 0, proc.stderr[-2000:]
+        line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")][-1]
+        out[keep] = json.loads(line[len("RESULT "):])
+    assert out["1"].pop("kept") is True and out["0"].pop("kept") is False
+    assert out["1"]["linear_solves"] > 2          # several factorisations
+    assert out["1"] == out["0"]
