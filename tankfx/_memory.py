@@ -6,8 +6,8 @@ dofs) and frees them when the factors are replaced. glibc's malloc serves such b
 nonlinear analysis faults its pages in afresh and the kernel zeroes them: measured on the
 nonlinear embedded tank at 274k dofs (``perf``: 1.8 million page faults, 80 % in
 ``memset``), 6.5 s of system time in a 39.6 s run. Keeping freed blocks in the heap for the
-next factorisation cut that run to 32.3 s (system time 1.0 s) at the same peak memory
-(0.89 GB), and the same run on 2 ranks from 29.8 to 24.3 s.
+next factorisation cut the system time to 1.0 s and the run to 33.6 s (``benchmarks/
+costs.py``) at the same peak memory (0.89 GB), and the same run on 2 ranks 28.9 -> 25.6 s.
 
 The price: memory freed inside the process is kept for reuse rather than returned, so the
 process holds its peak until it ends (a notebook that runs one large analysis keeps its
