@@ -280,7 +280,11 @@ class StructureSchur:
             # The next solve of a nonlinear iteration: S has the last one's pattern (the
             # same interface dofs), so GAMG keeps its interpolation and only recomputes its
             # coarse operators (bonded hyperbolic tank at 494k dofs: 79.8 -> 64.7 s for 7
-            # solves, 300 -> 301 iterations)
+            # solves, 300 -> 301 iterations). The interpolation thus comes from the first
+            # solve, where every interface element sticks (the Mohr-Coulomb iteration's
+            # start) and S is symmetric; rebuilt on the unsymmetric S of a slipping
+            # interface it took 2.5-4 x the iterations (nonlinear demo tank: 236 against 57
+            # a solve, 84 against 25 s)
             S.copy(self.S, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
             S.destroy()
         else:
