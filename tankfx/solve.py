@@ -49,17 +49,23 @@ def _ordering(u, one_shot: bool) -> dict:
     whose analysis is cheap (measured at 274k dofs: analysis 0.4 s against METIS's 2.1 s,
     numeric factorisation 2.4 s against 1.5 s on one rank; whole process times in the
     README, "Where the time goes"). Several (a nonlinear or staged scene, each iteration a
-    numeric factorisation on the same analysis), or a large mesh: METIS's sparser factors
-    pay back (1.5M dofs, whole process: 57.6 s against AMD's 65.1 s on one rank, 38.9 s
-    against 50.6 s on two); on more than one rank its analysis runs in parallel with
-    PT-SCOTCH (solve 3.7 -> 3.2 s on 2 ranks)."""
+    numeric factorisation on the same analysis): METIS, whose sparser factors pay back, with
+    its analysis on one rank whatever the number of ranks: PT-SCOTCH's parallel analysis is
+    faster (on 2 ranks, 274k / 755k dofs: 1.7 / 4.9 s against 2.1 / 6.5 s) but its ordering
+    costs more flops in every factorisation (LU: 22.2 / 99.8 against 18.2 / 93.5 GFlop),
+    which a nonlinear tank pays ~13 times (274k: numeric factorisations 14.3 -> 10.9 s, the
+    whole run 26.0 -> 22.3 s on 2 ranks). One large factorisation (a linear scene of
+    AMD_LIMIT unknowns or more): METIS's sparser factors pay back too (1.5M dofs, whole
+    process: 57.6 s against AMD's 65.1 s on one rank, 38.9 s against 50.6 s on two), and on
+    more than one rank its analysis runs in parallel with PT-SCOTCH (solve 3.7 -> 3.2 s on 2
+    ranks)."""
     functions = u if isinstance(u, (list, tuple)) else [u]
     size = sum(f.function_space.dofmap.index_map.size_global
                * f.function_space.dofmap.index_map_bs for f in functions)
     if one_shot and size < AMD_LIMIT:
         return {"mat_mumps_icntl_28": 1, "mat_mumps_icntl_7": 0}
-    if functions[0].function_space.mesh.comm.size == 1:
-        return {}
+    if not one_shot or functions[0].function_space.mesh.comm.size == 1:
+        return {"mat_mumps_icntl_28": 1, "mat_mumps_icntl_7": 5}      # METIS, on one rank
     return {"mat_mumps_icntl_28": 2, "mat_mumps_icntl_29": 1}
 
 
