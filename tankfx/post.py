@@ -83,9 +83,13 @@ def _locate(msh, pts: np.ndarray, cells) -> tuple[np.ndarray, np.ndarray]:
         tree = geometry.bb_tree(msh, tdim, entities=candidates, padding=pad)
         colliding = geometry.compute_colliding_cells(
             msh, geometry.compute_collisions_points(tree, pts), pts)
+        # a mask over the local cells, not np.isin per point (0.05 s of a 1 s analysis)
+        allowed = np.zeros(msh.topology.index_map(tdim).size_local
+                           + msh.topology.index_map(tdim).num_ghosts, dtype=bool)
+        allowed[candidates] = True
         for i in range(len(pts)):
             found = colliding.links(i)
-            found = found[np.isin(found, candidates)]
+            found = found[allowed[found]]
             if len(found):
                 mids = dmesh.compute_midpoints(msh, tdim, found.astype(np.int32))[:, :2]
                 k = np.lexsort((mids[:, 1], mids[:, 0]))[0]
