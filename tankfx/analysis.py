@@ -22,10 +22,10 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from . import soil as soil_forms
+from ._memory import keep_freed_memory
 from .mesh import CELL_TAGS, FACET_TAGS, Domain, build_domain
 from .post import assemble_scalar, evaluate_at, nodal_values_on_facets
 from .scene import MIXED_FROM_NU, Load, Scene
-from ._memory import keep_freed_memory
 from .solve import make_solver, mass_solve, reaction_force
 
 __all__ = ["Solution", "analyse", "analyse_path", "CONVENTIONS"]

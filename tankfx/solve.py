@@ -55,11 +55,10 @@ def _ordering(u, one_shot: bool) -> dict:
     costs more flops in every factorisation (LU: 22.2 / 99.8 against 18.2 / 93.5 GFlop),
     which a nonlinear tank pays ~13 times (274k on 2 ranks: its 13 numeric factorisations
     13.9-14.3 s -> median 12.6 s of 10 runs (10.4-13.3), the whole run 25.6-26.0 s -> median
-    24.6 s). One large factorisation (a linear scene of
-    AMD_LIMIT unknowns or more): METIS's sparser factors pay back too (1.5M dofs, whole
-    process: 57.6 s against AMD's 65.1 s on one rank, 38.9 s against 50.6 s on two), and on
-    more than one rank its analysis runs in parallel with PT-SCOTCH (solve 3.7 -> 3.2 s on 2
-    ranks)."""
+    24.6 s). One large factorisation (a linear scene of AMD_LIMIT unknowns or more):
+    METIS's sparser factors pay back too (1.5M dofs, whole process: 57.6 s against AMD's
+    65.1 s on one rank, 38.9 s against 50.6 s on two), and on more than one rank its
+    analysis runs in parallel with PT-SCOTCH (solve 3.7 -> 3.2 s on 2 ranks)."""
     functions = u if isinstance(u, (list, tuple)) else [u]
     size = sum(f.function_space.dofmap.index_map.size_global
                * f.function_space.dofmap.index_map_bs for f in functions)

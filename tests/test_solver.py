@@ -1,6 +1,8 @@
-"""The iterative solver option ([solver] method = "iterative"): the same numbers as the
-direct solver, a reported iteration count that does not grow with the mesh, and clear
-refusals."""
+"""The linear solvers. The iterative option ([solver] method = "iterative"): the same
+numbers as the direct solver (also through nonlinear iterations and a slipping, unsymmetric
+interface), a reported iteration count that does not grow with the mesh, clear refusals.
+The direct solver: load stages sharing one factorisation; malloc keeping freed pages
+changes no number."""
 import json
 import os
 import subprocess
