@@ -5,6 +5,7 @@ The direct solver: load stages sharing one factorisation; malloc keeping freed p
 changes no number."""
 import json
 import os
+import platform
 import subprocess
 import sys
 
@@ -143,7 +144,7 @@ print("RESULT " + json.dumps({k: r[k] for k in ("w0", "wd", "M0", "linear_solves
 """
 
 
-@pytest.mark.skipif(sys.platform != "linux", reason="glibc's malloc")
+@pytest.mark.skipif(platform.libc_ver()[0] != "glibc", reason="glibc's malloc")
 def test_keeping_freed_memory_changes_no_number():
     """Factorisations that reuse the freed pages of the last one (tankfx._memory) give the
     same numbers to the last digit as the system's malloc; the environment can opt out."""
