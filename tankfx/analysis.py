@@ -324,18 +324,17 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
 
     t = time.perf_counter()
     model = build_model(replace(scene, load=stages[0]), domain)
+    linear_soil = scene.soil.model == "linear"
+    mohr_coulomb = scene.interface.condition == "mohr_coulomb"
+    # one factorisation: a linear soil under a bonded or smooth interface (its load stages
+    # share the matrix)
+    one_shot = linear_soil and not mohr_coulomb
     solver = make_solver(scene, model.a, model.L, model.bcs, model.unknowns,
                          entity_maps=model.entity_maps, name="tank",
-                         symmetric=scene.interface.condition != "mohr_coulomb",
-                         # one factorisation: a linear soil under a bonded or smooth
-                         # interface (its load stages share the matrix)
-                         one_shot=scene.soil.model == "linear"
-                         and scene.interface.condition != "mohr_coulomb",
+                         symmetric=not mohr_coulomb, one_shot=one_shot,
                          # only the interface's states change between the solves of a
                          # Mohr-Coulomb iteration on a linear soil: the rest is kept
-                         split=model.a_split
-                         if scene.soil.model == "linear"
-                         and scene.interface.condition == "mohr_coulomb" else None)
+                         split=model.a_split if linear_soil and mohr_coulomb else None)
     timings["forms"] = time.perf_counter() - t
     warnings = list(getattr(model, "warnings", []))
     for w in warnings:
@@ -359,7 +358,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                 lambda: model.solve(solver, log, single_pass=not nested), log)
         else:
             model.solve(solver, log)
-            if scene.interface.condition != "mohr_coulomb":
+            if one_shot:
                 solver.keep_matrix()       # only the load changes from stage to stage
         timings["assemble_solve"] = time.perf_counter() - t
         log.info("solved in %.2f s", timings["assemble_solve"])

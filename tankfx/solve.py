@@ -348,8 +348,6 @@ class StructureSchur:
 
 
 class IterativeSolver(_LinearSolver):
-    assembly = WHOLE_ASSEMBLY
-
     """Krylov with algebraic multigrid, for meshes where a factorisation costs too much time
     or memory (``[solver] method = "iterative"``). The soil alone: conjugate gradients with
     PETSc's GAMG (Chebyshev-Jacobi smoothing). Soil and structure: the blocks are assembled
@@ -357,6 +355,8 @@ class IterativeSolver(_LinearSolver):
     structure condensed exactly, GAMG on the soil's Schur complement). Each solve must
     reach ``rtol`` within ``max_iterations``; the true residual is then checked as for a
     direct solve. Measured: README, "Iterative against direct"."""
+
+    assembly = WHOLE_ASSEMBLY
 
     def __init__(self, a, L, bcs, u, entity_maps=None, name: str = "soil", rtol: float = 1e-10,
                  max_iterations: int = 1000):
@@ -423,8 +423,9 @@ def _checked_residual(problem, why: str) -> float:
 
 def make_solver(scene, a, L, bcs, u, entity_maps=None, name: str = "tank",
                 symmetric: bool = False, one_shot: bool = False, split=None):
-    """The solver a scene asks for (``[solver] method``); ``one_shot``: a single solve is
-    expected (the direct solver's ordering is chosen for it); ``split``: (fixed, varying)
+    """The solver a scene asks for (``[solver] method``); ``one_shot``: a single
+    factorisation is expected, shared by all solves (the direct solver's ordering is chosen
+    for it); ``split``: (fixed, varying)
     block forms summing to ``a``, the fixed part assembled once by the direct solver."""
     keep_freed_memory()        # factorisations reuse the pages of the last one (_memory)
     if scene.solver.method == "iterative":

@@ -19,6 +19,25 @@ def flexible_scene(nu=0.3, **sections):
     return Scene.from_dict(data)
 
 
+#: A coarse mesh for the 1 m tanks of the solver tests.
+COARSE = {"edge_size": 0.01, "near_size": 0.25, "growth": 0.3}
+#: The paper's hyperbolic soil (its a and b in SI units) and a water-filled tank's load.
+HYPERBOLIC_SOIL = {"model": "hyperbolic", "hyperbolic_a": 2.1e-7, "hyperbolic_b": 1e-5,
+                   "nu": 0.3}
+WATER_LOAD = {"pressure": 30e3, "liquid_unit_weight": 9810.0, "liquid_height": 2.5}
+
+
+def small_tank(**sections) -> dict:
+    """A 1 m tank as a scene dict: a Kp = 1 plate 0.3 m below ground, a 3 m wall (Kt = 0.1),
+    on a 10 MPa soil, bonded, under 50 kPa, on the COARSE mesh; ``sections`` replace whole
+    sections (``soil``, ``interface``, ``load``, ``mesh``, ``solver``)."""
+    return {"soil": {"E": 10e6, "nu": 0.3},
+            "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": 0.3},
+            "wall": {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2},
+            "interface": {"condition": "bonded"}, "load": {"pressure": 50e3},
+            "mesh": COARSE} | sections
+
+
 @pytest.fixture(autouse=True)
 def _collect_and_barrier():
     """PETSc objects are freed collectively: collect garbage on all ranks together."""

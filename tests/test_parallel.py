@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
-from conftest import flexible_scene
+from conftest import HYPERBOLIC_SOIL, WATER_LOAD, flexible_scene, small_tank
 from tankfx import Scene, analyse
 
 pytestmark = pytest.mark.mpi
@@ -132,14 +132,7 @@ def test_structure_condensed_iterative_through_picard_parallel_equals_serial():
     """GMRES with the structure condensed and GAMG on the soil's Schur complement, through a
     hyperbolic soil's Picard iteration (GAMG keeps its interpolation between solves): the
     same solves and, to the solver's tolerance, the same numbers on 1 and 2 ranks."""
-    data = {"soil": {"model": "hyperbolic", "hyperbolic_a": 2.1e-7, "hyperbolic_b": 1e-5,
-                     "nu": 0.3},
-            "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": 0.3},
-            "wall": {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2},
-            "interface": {"condition": "bonded"},
-            "load": {"pressure": 30e3, "liquid_unit_weight": 9810.0, "liquid_height": 2.5},
-            "mesh": {"edge_size": 0.01, "near_size": 0.25, "growth": 0.3},
-            "solver": {"method": "iterative"}}
+    data = small_tank(soil=HYPERBOLIC_SOIL, load=WATER_LOAD, solver={"method": "iterative"})
     parallel, serial = _solve_both(Scene.from_dict(data))
     assert parallel["linear_solves"] == serial["linear_solves"] >= 3
     for key in ("w0", "wd", "M0"):
@@ -152,12 +145,7 @@ def test_load_stages_sharing_one_factorisation_parallel_equals_serial():
     from tankfx.analysis import analyse_path
     from tankfx.solve import KEPT_ASSEMBLY
 
-    scene = Scene.from_dict({
-        "soil": {"E": 10e6, "nu": 0.3},
-        "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": 0.3},
-        "wall": {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2},
-        "interface": {"condition": "bonded"}, "load": {"pressure": 50e3},
-        "mesh": {"edge_size": 0.01, "near_size": 0.25, "growth": 0.3}})
+    scene = Scene.from_dict(small_tank())
     loads = [{"pressure": 50e3}, {"pressure": 20e3, "liquid_unit_weight": 9810.0,
                                   "liquid_height": 2.5}]
     parallel = analyse_path(scene, loads, MPI.COMM_WORLD)[-1].results

@@ -11,11 +11,8 @@ import sys
 
 import pytest
 
-from conftest import flexible_scene
+from conftest import COARSE, HYPERBOLIC_SOIL, WATER_LOAD, flexible_scene, small_tank
 from tankfx import Scene, SceneError, SolveError, analyse
-
-COARSE = {"edge_size": 0.01, "near_size": 0.25, "growth": 0.3}
-
 
 def test_soil_alone_cg_gamg_equals_direct_and_scales():
     its = []
@@ -36,11 +33,8 @@ def test_soil_alone_cg_gamg_equals_direct_and_scales():
 def test_tank_structure_condensed_equals_direct_and_scales():
     """Soil + plate + wall: GMRES with the structure condensed and GAMG on the soil's Schur
     complement gives the direct solution, in about as many iterations on a finer mesh."""
-    data = {"soil": {"E": 10e6, "nu": 0.3},
-            "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": 0.3},
-            "wall": {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2},
-            "interface": {"condition": "bonded"},
-            "load": {"pressure": 50e3, "liquid_unit_weight": 9810.0, "liquid_height": 2.5}}
+    data = small_tank(load={"pressure": 50e3, "liquid_unit_weight": 9810.0,
+                            "liquid_height": 2.5})
     its = []
     for mesh in (COARSE, {"edge_size": 0.005, "near_size": 0.125, "growth": 0.3}):
         direct = analyse(Scene.from_dict(data | {"mesh": mesh})).results
@@ -58,13 +52,7 @@ def test_nonlinear_tank_iterative_equals_direct():
     """Hyperbolic soil under a bonded plate and wall: every Picard iteration is a new
     operator, on which GAMG keeps the first solve's interpolation (only its coarse operators
     are recomputed); the iteration takes the same solves and reaches the direct answer."""
-    data = {"soil": {"model": "hyperbolic", "hyperbolic_a": 2.1e-7, "hyperbolic_b": 1e-5,
-                     "nu": 0.3},
-            "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": 0.3},
-            "wall": {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2},
-            "interface": {"condition": "bonded"},
-            "load": {"pressure": 30e3, "liquid_unit_weight": 9810.0, "liquid_height": 2.5},
-            "mesh": COARSE}
+    data = small_tank(soil=HYPERBOLIC_SOIL, load=WATER_LOAD)
     direct = analyse(Scene.from_dict(data)).results
     it = analyse(Scene.from_dict(data | {"solver": {"method": "iterative"}})).results
     assert it["linear_solves"] == direct["linear_solves"] >= 3
@@ -82,11 +70,7 @@ def test_load_stages_of_a_linear_scene_share_one_factorisation():
     from tankfx.analysis import analyse_path
     from tankfx.solve import KEPT_ASSEMBLY
 
-    data = {"soil": {"E": 10e6, "nu": 0.3},
-            "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": 0.3},
-            "wall": {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2},
-            "interface": {"condition": "bonded"}, "load": {"pressure": 50e3},
-            "mesh": COARSE}
+    data = small_tank()
     loads = [{"pressure": 50e3}, {"pressure": 20e3, "liquid_unit_weight": 9810.0,
                                   "liquid_height": 2.5}]
     PETSc.Log.begin()
@@ -166,13 +150,8 @@ def test_slipping_interface_iterative_equals_direct():
     couples the shear to the normal jump): GMRES with GAMG, whose interpolation was built on
     the first, all-stick solve, reaches the direct answer in the same solves, in under 80
     iterations a solve (built afresh on each unsymmetric operator: 124)."""
-    data = {"soil": {"model": "hyperbolic", "hyperbolic_a": 2.1e-7, "hyperbolic_b": 1e-5,
-                     "nu": 0.3},
-            "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": 0.3},
-            "wall": {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2},
-            "interface": {"condition": "mohr_coulomb", "friction_angle": 26.6},
-            "load": {"pressure": 30e3, "liquid_unit_weight": 9810.0, "liquid_height": 2.5},
-            "mesh": COARSE}
+    data = small_tank(soil=HYPERBOLIC_SOIL, load=WATER_LOAD,
+                      interface={"condition": "mohr_coulomb", "friction_angle": 26.6})
     direct = analyse(Scene.from_dict(data)).results
     it = analyse(Scene.from_dict(data | {"solver": {"method": "iterative"}})).results
     assert direct["interface"]["slip_length"]["wall"] > 0.5 * 0.3   # most of the wall slips
