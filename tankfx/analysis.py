@@ -381,6 +381,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         results["linear_solver"] = {
             "method": scene.solver.method, "solves": solver.solves,
             "factorisation": solver.factorisation, "assembly": solver.assembly,
+            "scaling": solver.scaling,
             "last_relative_residual": solver.relative_residual,
             "keeps_freed_memory": keep_freed_memory()}
         if scene.solver.method == "iterative":

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
-from conftest import HYPERBOLIC_SOIL, WATER_LOAD, flexible_scene, small_tank
+from conftest import (HYPERBOLIC_SOIL, WATER_LOAD, flexible_scene,
+                      incompressible_hyperbolic_punch, small_tank)
 from tankfx import Scene, analyse
 
 pytestmark = pytest.mark.mpi
@@ -151,4 +152,17 @@ def test_load_stages_sharing_one_factorisation_parallel_equals_serial():
     parallel = analyse_path(scene, loads, MPI.COMM_WORLD)[-1].results
     serial = analyse_path(scene, loads, MPI.COMM_SELF)[-1].results
     assert parallel["linear_solver"]["assembly"] == KEPT_ASSEMBLY
+    _assert_same_numbers(parallel, serial)
+
+
+@needs_two_ranks
+def test_failed_unscaled_factorisation_redone_scaled_parallel_equals_serial():
+    """An unscaled factorisation that fails (tankfx.solve) is redone scaled on all ranks
+    together: the same solves and numbers as serially."""
+    from tankfx.solve import RESCALED
+
+    parallel, serial = _solve_both(Scene.from_dict(incompressible_hyperbolic_punch()))
+    assert parallel["linear_solver"]["scaling"] == serial["linear_solver"]["scaling"] \
+        == RESCALED
+    assert parallel["linear_solves"] == serial["linear_solves"]
     _assert_same_numbers(parallel, serial)

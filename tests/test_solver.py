@@ -2,8 +2,10 @@
 numbers as the direct solver (also through nonlinear iterations and a slipping, unsymmetric
 interface), a reported iteration count that does not grow with the mesh, clear refusals.
 The direct solver: load stages sharing one factorisation; malloc keeping freed pages
-changes no number."""
+changes no number; unscaled refactorisations give the scaled numbers, and one that fails is
+redone scaled."""
 import json
+import math
 import os
 import platform
 import subprocess
@@ -11,7 +13,8 @@ import sys
 
 import pytest
 
-from conftest import COARSE, HYPERBOLIC_SOIL, WATER_LOAD, flexible_scene, small_tank
+from conftest import (COARSE, HYPERBOLIC_SOIL, WATER_LOAD, flexible_scene,
+                      incompressible_hyperbolic_punch, small_tank)
 from tankfx import Scene, SceneError, SolveError, analyse
 
 def test_soil_alone_cg_gamg_equals_direct_and_scales():
@@ -160,3 +163,41 @@ def test_slipping_interface_iterative_equals_direct():
         assert it[key] == pytest.approx(direct[key], rel=1e-6), key
     assert it["interface"]["slip_length"] == direct["interface"]["slip_length"]
     assert it["linear_solver"]["krylov_iterations"] < 80 * it["linear_solves"]
+
+
+def test_repeated_factorisations_unscaled_give_the_scaled_numbers(monkeypatch):
+    """The factorisations of a nonlinear iteration skip MUMPS's scaling: with the two
+    refinement steps they give the numbers of scaled factorisations (the nonlinear tank
+    with a slipping Mohr-Coulomb wall), at the same residual floor; a single factorisation
+    keeps the scaling."""
+    from tankfx import solve
+
+    data = small_tank(soil=HYPERBOLIC_SOIL, load=WATER_LOAD,
+                      interface={"condition": "mohr_coulomb", "friction_angle": 26.6})
+    unscaled = analyse(Scene.from_dict(data)).results
+    monkeypatch.setattr(solve, "UNSCALED_REFACTORISATIONS", False)
+    scaled = analyse(Scene.from_dict(data)).results
+    assert unscaled["linear_solver"]["scaling"] == solve.NO_SCALING
+    assert scaled["linear_solver"]["scaling"] == solve.AUTOMATIC_SCALING
+    assert unscaled["linear_solves"] == scaled["linear_solves"] >= 3
+    for key in ("w0", "wd", "M0"):
+        assert unscaled[key] == pytest.approx(scaled[key], rel=1e-8), key
+    assert unscaled["linear_solver"]["last_relative_residual"] < \
+        10 * scaled["linear_solver"]["last_relative_residual"]
+    linear = analyse(Scene.from_dict(small_tank())).results
+    assert linear["linear_solver"]["scaling"] == solve.AUTOMATIC_SCALING
+
+
+def test_a_failed_unscaled_factorisation_is_redone_scaled():
+    """A hyperbolic soil at nu = 0.5 (the mixed displacement-pressure form: a saddle point)
+    under a rigid punch: its unscaled factorisation runs out of MUMPS's pivoting workspace,
+    the solver factorises again with the scaling and keeps it. At a load far below the
+    soil's strength the settlement is that of a linear soil of E = 1/a:
+    P (1 - nu^2) / (2 a E)."""
+    from tankfx import solve
+
+    a_hyp = 1e-7
+    r = analyse(Scene.from_dict(incompressible_hyperbolic_punch(a_hyp))).results
+    assert r["linear_solver"]["scaling"] == solve.RESCALED
+    assert r["linear_solver"]["last_relative_residual"] < 1e-9
+    assert r["w0"] == pytest.approx(1e3 * math.pi * (1 - 0.25) / (2 / a_hyp), rel=1e-2)
