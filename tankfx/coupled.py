@@ -695,6 +695,11 @@ class InterfaceIteration:
     #: state changes after which a carrier is held: in single_pass, and for node states in
     #: run() (element states in run() are held when the whole active set repeats)
     MAX_FLIPS = 4
+    #: a carrier held separated may be pressed into by the soil by at most this fraction of
+    #: the largest soil displacement: a hold at a contact zone's edge leaves it unloaded
+    #: with a jump near zero, while a hold of carriers whose tractions no state decides (an
+    #: interface far stiffer than the soil) leaves the soil pressing through it
+    MAX_HELD_PENETRATION = 0.02
 
     def __init__(self, model: "TankModel"):
         self.model = model
@@ -799,6 +804,8 @@ class InterfaceIteration:
         held = m.mesh.comm.allreduce(int(np.sum(self.held[self.owned] >= 0)))
         self.history.append({"iteration": len(self.history) + 1, "changed": changed,
                              "frozen": held})
+        if changed == 0:
+            self._check_holds(self.held == interface.SEPARATED, jn)
         return changed
 
     def _flip_holds(self, status, exempt, where: str = "") -> tuple:
@@ -819,6 +826,28 @@ class InterfaceIteration:
         weaker = np.where((status == interface.SEPARATED) | (m.status == interface.SEPARATED),
                           interface.SEPARATED, interface.SLIP)
         return hold, weaker
+
+    def _check_holds(self, held_separated, jn) -> None:
+        """Refuse a converged state whose carriers held separated are pressed into by the
+        soil by more than MAX_HELD_PENETRATION of the largest soil displacement."""
+        m = self.model
+        comm = m.mesh.comm
+        into = np.where(held_separated, jn, 0.0)[self.owned]
+        deepest = comm.allreduce(float(np.max(into, initial=0.0)), op=MPI.MAX)
+        scale = comm.allreduce(float(np.max(np.abs(m.soil.u.x.array), initial=0.0)),
+                               op=MPI.MAX)
+        if deepest <= self.MAX_HELD_PENETRATION * scale:
+            return
+        what = m.carrier_name
+        n = comm.allreduce(int(np.sum(into > self.MAX_HELD_PENETRATION * scale)))
+        raise SolveError(
+            f"the interface iteration held {n} {what}(s) in the separated state although the "
+            f"soil presses into them, by up to {deepest:.2e} m ({deepest / scale:.0%} of the "
+            f"largest soil displacement): their tractions change sign from one solve to "
+            f"the next, which no state at a contact zone's edge explains. The usual cause is "
+            f"an interface far stiffer than the soil (interface.normal_stiffness, "
+            f"interface.shear_stiffness): lower them, or leave them out for the default",
+            self.history)
 
     def reversed_slips(self) -> int:
         """How many state carriers reversed their slip and took the secant law."""
@@ -926,6 +955,7 @@ class InterfaceIteration:
                      n_frozen, "-" if change is None else f"{change:.3e}", excess,
                      row["time_s"])
             if changed == 0 and excess <= self.MAX_OUT_OF_BALANCE:
+                self._check_holds(frozen & (status == interface.SEPARATED), jn)
                 what = m.carrier_name
                 note = (f"no {what} changed state; out-of-balance force {excess:.1e} of the "
                         f"load")
