@@ -846,8 +846,9 @@ class InterfaceIteration:
             f"largest soil displacement): their tractions change sign from one solve to "
             f"the next, which no state at a contact zone's edge explains. The usual cause is "
             f"an interface far stiffer than the soil (interface.normal_stiffness, "
-            f"interface.shear_stiffness): lower them, or leave them out for the default",
-            self.history)
+            f"interface.shear_stiffness): lower them, leave them out for the default, or "
+            f"take a state per node (interface.states = \"node\"), whose tractions do not "
+            f"oscillate so", self.history)
 
     def reversed_slips(self) -> int:
         """How many state carriers reversed their slip and took the secant law."""
