@@ -139,12 +139,13 @@ class DirectSolver(_LinearSolver):
         self.factorisation = "LDL^T (MUMPS)" if symmetric else "LU (MUMPS)"
         # Repeated factorisations (a nonlinear or Mohr-Coulomb iteration) skip MUMPS's
         # scaling: it is recomputed at every numeric factorisation and does not scale over
-        # ranks (nonlinear tank, 274k dofs, 13 factorisations: 17.2-18.6 -> 15.2-16.6 s on
-        # one rank, 12.1 -> 10.1-10.3 s on two), while the two refinement steps bring the
-        # residual to the same floor (2.6e-8 against 2.2-2.7e-8; w0 to 1e-9). A factorisation
-        # that fails unscaled (a saddle-point system of a nearly incompressible soil) is
-        # redone scaled, and the solver stays scaled (see _rescale). A single factorisation
-        # keeps the scaling: it is paid once there.
+        # ranks (nonlinear tank, 274k dofs, its 13 numeric factorisations: 17.2-18.6 ->
+        # 15.2-16.7 s on one rank, 12.1-12.2 -> 8.8-11.2 s on two, over two batches; README,
+        # "Where the time goes"), while the two refinement steps bring the residual to the
+        # same floor (2.6e-8 against 2.2-2.7e-8; w0 to 1e-9). A factorisation that fails
+        # unscaled (a saddle-point system of a nearly incompressible soil) is redone
+        # scaled, and the solver stays scaled (see _rescale). A single factorisation keeps
+        # the scaling: it is paid once there.
         self.scaling = NO_SCALING if self._unscaled(one_shot) else AUTOMATIC_SCALING
         # (fixed, varying): block forms that sum to ``a``, of which only ``varying`` changes
         # between solves; the fixed part is then assembled once and copied
