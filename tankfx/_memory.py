@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
+import functools
 import os
 
 __all__ = ["keep_freed_memory"]
@@ -25,15 +26,12 @@ __all__ = ["keep_freed_memory"]
 _M_TRIM_THRESHOLD = -1
 _M_MMAP_MAX = -4
 
-_state: dict[str, bool] = {}
 
-
+@functools.cache
 def keep_freed_memory() -> bool:
     """Make glibc's malloc serve every block from the heap (no ``mmap``) and never trim it,
     once per process. Returns whether it is in effect: False where the C library is not
     glibc (macOS, musl) or the environment opts out."""
-    if "applied" in _state:
-        return _state["applied"]
     applied = False
     if os.environ.get("TANKFX_KEEP_FREED_MEMORY", "1") != "0":
         try:
@@ -47,5 +45,4 @@ def keep_freed_memory() -> bool:
             # but still mmaps its large blocks would gain nothing
             applied = bool(mallopt(_M_MMAP_MAX, 0)) and bool(
                 mallopt(_M_TRIM_THRESHOLD, 2**31 - 1))
-    _state["applied"] = applied
     return applied

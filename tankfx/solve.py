@@ -120,6 +120,7 @@ class DirectSolver(_LinearSolver):
 
     def __init__(self, a, L, bcs, u, entity_maps=None, name: str = "soil",
                  symmetric: bool = False, one_shot: bool = False, split=None):
+        unscaled = UNSCALED_REFACTORISATIONS and not one_shot
         self._options = {
             # LU with MUMPS, then two steps of iterative refinement (Richardson on the
             # same factors): they recover the digits a bare LU solve loses to the
@@ -131,7 +132,7 @@ class DirectSolver(_LinearSolver):
             "pc_factor_mat_solver_type": "mumps",
             # more working memory for pivoting in stiff, contrasted systems
             "mat_mumps_icntl_14": 80, **_ordering(u, one_shot),
-            **({"mat_mumps_icntl_8": 0} if self._unscaled(one_shot) else {})}
+            **({"mat_mumps_icntl_8": 0} if unscaled else {})}
         self.problem = fem_petsc.LinearProblem(
             a, L, bcs=bcs, u=u, kind="mpi" if isinstance(u, (list, tuple)) else None,
             petsc_options_prefix=self._start(name), entity_maps=entity_maps,
@@ -146,7 +147,7 @@ class DirectSolver(_LinearSolver):
         # unscaled (a saddle-point system of a nearly incompressible soil) is redone
         # scaled, and the solver stays scaled (see _rescale). A single factorisation keeps
         # the scaling: it is paid once there.
-        self.scaling = NO_SCALING if self._unscaled(one_shot) else AUTOMATIC_SCALING
+        self.scaling = NO_SCALING if unscaled else AUTOMATIC_SCALING
         # (fixed, varying): block forms that sum to ``a``, of which only ``varying`` changes
         # between solves; the fixed part is then assembled once and copied
         self._split = None if split is None else tuple(
@@ -197,6 +198,11 @@ class DirectSolver(_LinearSolver):
             fem_petsc.apply_lifting(p.b, [p.a], bcs=[p.bcs])
             p.b.ghostUpdate(PETSc.InsertMode.ADD, PETSc.ScatterMode.REVERSE)
             fem_petsc.set_bc(p.b, p.bcs)
+        return self._solve_assembled()
+
+    def _solve_assembled(self):
+        """Solve the assembled system for the assembled right-hand side into ``u``."""
+        p = self.problem
         p.solver.solve(p.b, p.x)
         p.x.ghostUpdate(PETSc.InsertMode.INSERT, PETSc.ScatterMode.FORWARD)
         fem_petsc.assign(p.x, p.u)
@@ -218,10 +224,6 @@ class DirectSolver(_LinearSolver):
                 u = self._rescale()
         self.relative_residual = self._checked()
         return u
-
-    @staticmethod
-    def _unscaled(one_shot: bool) -> bool:
-        return UNSCALED_REFACTORISATIONS and not one_shot
 
     def _checked(self) -> float:
         """The relative residual of the last solve; SolveError if it failed."""
@@ -252,10 +254,7 @@ class DirectSolver(_LinearSolver):
         p.solver.setFromOptions()
         for key in self._options:
             del opts[self.prefix + key]
-        p.solver.solve(p.b, p.x)
-        p.x.ghostUpdate(PETSc.InsertMode.INSERT, PETSc.ScatterMode.FORWARD)
-        fem_petsc.assign(p.x, p.u)
-        return p.u
+        return self._solve_assembled()
 
 
 def _dense_rows(csr, row_numbers, rows, cols) -> np.ndarray:
