@@ -23,6 +23,7 @@ from mpi4py import MPI
 
 from . import soil as soil_forms
 from ._memory import keep_freed_memory
+from ._threads import limit_blas_threads
 from .mesh import CELL_TAGS, FACET_TAGS, Domain, build_domain
 from .post import assemble_scalar, evaluate_at, nodal_values_on_facets
 from .scene import MIXED_FROM_NU, Load, Scene
@@ -312,6 +313,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                 raise ValueError(f"load.load_radius: every load stage keeps the meshed loaded "
                                  f"circle ({scene.load.load_radius:g} m), got "
                                  f"{ld.load_radius:g} m; analyse the other radius separately")
+    limit_blas_threads()       # before the meshing: every part of a parallel run gains
     t_start = time.perf_counter()
     timings: dict[str, float] = {}
     log.info("scene '%s': meshing on rank 0, distributing over %d rank(s)", scene.title,
@@ -383,7 +385,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             "factorisation": solver.factorisation, "assembly": solver.assembly,
             "scaling": solver.scaling,
             "last_relative_residual": solver.relative_residual,
-            "keeps_freed_memory": keep_freed_memory()}
+            "keeps_freed_memory": keep_freed_memory(),
+            "numpy_blas_threads": limit_blas_threads()}
         if scene.solver.method == "iterative":
             results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,

@@ -13,6 +13,7 @@ from dolfinx.fem import petsc as fem_petsc
 from petsc4py import PETSc
 
 from ._memory import keep_freed_memory
+from ._threads import limit_blas_threads
 from .post import allsum
 
 __all__ = ["SolveError", "DirectSolver", "IterativeSolver", "make_solver", "mass_solve",
@@ -485,6 +486,7 @@ def make_solver(scene, a, L, bcs, u, entity_maps=None, name: str = "tank",
     for it); ``split``: (fixed, varying)
     block forms summing to ``a``, the fixed part assembled once by the direct solver."""
     keep_freed_memory()        # factorisations reuse the pages of the last one (_memory)
+    limit_blas_threads()       # numpy's BLAS threads leave the cores to the ranks (_threads)
     if scene.solver.method == "iterative":
         return IterativeSolver(a, L, bcs, u, entity_maps=entity_maps, name=name,
                                rtol=scene.solver.rtol,

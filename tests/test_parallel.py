@@ -3,13 +3,17 @@ made on rank 0 and distributed, so both solve the same discrete problem.
 
 Run on two ranks by `make test-mpi`; each rank also solves the scene alone on COMM_SELF
 for the serial reference."""
+import os
+
 import numpy as np
 import pytest
 from mpi4py import MPI
+from threadpoolctl import threadpool_info
 
 from conftest import (HYPERBOLIC_SOIL, WATER_LOAD, flexible_scene,
                       incompressible_hyperbolic_punch, small_tank)
 from tankfx import Scene, analyse
+from tankfx._threads import USER_SETTINGS, usable_cores
 
 pytestmark = pytest.mark.mpi
 
@@ -55,6 +59,12 @@ def test_parallel_equals_serial(soil):
     parallel, serial = _solve_both(scene)
     assert parallel["mpi_ranks"] == MPI.COMM_WORLD.size and serial["mpi_ranks"] == 1
     _assert_same_numbers(parallel, serial)
+    if not any(os.environ.get(key) for key in USER_SETTINGS):
+        # numpy's BLAS keeps to this rank's share of the cores (tankfx._threads)
+        share = max(1, usable_cores() // MPI.COMM_WORLD.size)
+        assert parallel["linear_solver"]["numpy_blas_threads"] == share
+        assert max(i["num_threads"] for i in threadpool_info()
+                   if i["user_api"] == "blas") == share
 
 
 @needs_two_ranks

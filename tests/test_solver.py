@@ -3,7 +3,7 @@ numbers as the direct solver (also through nonlinear iterations and a slipping, 
 interface), a reported iteration count that does not grow with the mesh, clear refusals.
 The direct solver: load stages sharing one factorisation; malloc keeping freed pages
 changes no number; unscaled refactorisations give the scaled numbers, and one that fails is
-redone scaled."""
+redone scaled; numpy's BLAS threads keep to each rank's share of the cores."""
 import json
 import math
 import os
@@ -142,6 +142,51 @@ def test_keeping_freed_memory_changes_no_number():
     assert out["1"].pop("kept") is True and out["0"].pop("kept") is False
     assert out["1"]["linear_solves"] > 2          # several factorisations
     assert out["1"] == out["0"]
+
+
+_THREADS_RUN = """
+import json, sys
+from threadpoolctl import threadpool_info
+from tankfx import Scene, analyse
+r = analyse(Scene.from_dict(json.loads(sys.argv[1]))).results
+blas = [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
+print("RESULT " + json.dumps({k: r[k] for k in ("w0", "wd", "M0", "linear_solves")}
+                             | {"limit": r["linear_solver"]["numpy_blas_threads"],
+                                "threads": max(blas)}))
+"""
+
+
+def test_blas_threads_keep_to_the_share_of_each_rank():
+    """Where the MPI launcher says two processes share the machine (MPICH's
+    MPI_LOCALNRANKS), numpy's BLAS keeps to half the cores (tankfx._threads: its spinning
+    threads took the cores from the other rank); a thread count set by the user is left
+    alone, and so is a serial run. The numbers do not change. The hyperbolic soil's
+    Anderson steps are numpy BLAS calls."""
+    from tankfx._threads import USER_SETTINGS, usable_cores
+
+    data = small_tank(soil=HYPERBOLIC_SOIL, load=WATER_LOAD)
+    base = {k: v for k, v in os.environ.items()
+            if k not in USER_SETTINGS + ("MPI_LOCALNRANKS", "OMPI_COMM_WORLD_LOCAL_SIZE")}
+    out = {}
+    for case, extra in (("serial", {}), ("two ranks", {"MPI_LOCALNRANKS": "2"}),
+                        ("user's choice", {"MPI_LOCALNRANKS": "2",
+                                           "OPENBLAS_NUM_THREADS": "2"})):
+        proc = subprocess.run([sys.executable, "-c", _THREADS_RUN, json.dumps(data)],
+                              env=base | extra, capture_output=True, text=True, timeout=600)
+        assert proc.returncode == 0, proc.stderr[-2000:]
+        line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")][-1]
+        out[case] = json.loads(line[len("RESULT "):])
+    share = max(1, usable_cores() // 2)
+    assert out["serial"]["limit"] is None
+    assert out["two ranks"]["limit"] == share and out["two ranks"]["threads"] == share
+    # OpenBLAS's own count under the user's setting (it never exceeds the machine's)
+    assert out["user's choice"]["limit"] is None
+    assert out["user's choice"]["threads"] == min(2, out["serial"]["threads"])
+    assert out["serial"]["linear_solves"] > 3          # several Anderson steps
+    for case in ("two ranks", "user's choice"):
+        assert out[case]["linear_solves"] == out["serial"]["linear_solves"]
+        for key in ("w0", "wd", "M0"):
+            assert out[case][key] == pytest.approx(out["serial"][key], rel=1e-9), key
 
 
 def test_slipping_interface_iterative_equals_direct():
