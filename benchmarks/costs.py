@@ -8,6 +8,8 @@ on this machine:
    <= 5 x linear.
 2. ``parallel``: the embedded tank, linear and nonlinear, refined to about 270k dofs, on 1
    and on 2 MPI ranks, each ``--repeat`` times (medians). Target: 2 ranks >= 1.5 x faster.
+   ``--near-size`` sets the refinement (element size within 6 radii, m): 0.35 (default)
+   gives 274k dofs, 0.27 gives 434k, 0.2 gives 755k.
 3. ``sweep``: a sweep of N default cases (the surface tank over Kp and nu_s) on 1 and on 2
    ranks. Target (N = 100): >= 1.8 x faster.
 4. ``iterative``: where the iterative option (``[solver] method = "iterative"``) beats MUMPS
@@ -16,7 +18,7 @@ on this machine:
    at growing mesh sizes, each a fresh process (peak memory from the operating system).
 
     python benchmarks/costs.py [--only profile|parallel|sweep|iterative] [--cases 100]
-                               [--repeat 3] [--out results/benchmarks]
+                               [--repeat 3] [--near-size 0.35] [--out results/benchmarks]
 
 Every measurement runs in its own process (``mpiexec -n N python ...``), so that the ranks
 and the memory are those a user gets.
@@ -116,12 +118,12 @@ def profile(out: dict) -> None:
     out["profile"] = {"nonlinear": nl, "linear": li, "ratio": ratio}
 
 
-def parallel(out: dict, repeat: int) -> None:
+def parallel(out: dict, repeat: int, near_size: float = 0.35) -> None:
     """One analysis on 1 and 2 ranks, whole process: the linear embedded tank (one
     factorisation) and the nonlinear one (hyperbolic soil + Mohr-Coulomb, ~13), both refined
-    to about 270k dofs. This machine's timings of one run vary by 10-15 %, so each is run
+    by ``near_size`` (0.35 m: about 270k dofs). This machine's timings of one run vary by 10-15 %, so each is run
     ``repeat`` times, 1 and 2 ranks alternating, and the medians are compared."""
-    fine = {"mesh": {"near_size": 0.35, "edge_size": 0.01}}
+    fine = {"mesh": {"near_size": near_size, "edge_size": 0.01}}
     out["parallel"] = {}
     for name in ("embedded_tank.toml", "embedded_tank_nonlinear.toml"):
         scene = ROOT / "demos" / "scenes" / name
@@ -210,13 +212,15 @@ def main():
     ap.add_argument("--cases", type=int, default=100, help="cases of the sweep benchmark")
     ap.add_argument("--repeat", type=int, default=3,
                     help="runs of each parallel measurement (medians compared)")
+    ap.add_argument("--near-size", type=float, default=0.35,
+                    help="element size within 6 radii (m) of the parallel benchmark's meshes")
     ap.add_argument("--out", default="results/benchmarks")
     args = ap.parse_args()
     out: dict = {}
     if args.only in (None, "profile"):
         profile(out)
     if args.only in (None, "parallel"):
-        parallel(out, args.repeat)
+        parallel(out, args.repeat, args.near_size)
     if args.only in (None, "sweep"):
         sweep(out, args.cases)
     if args.only in (None, "iterative"):
