@@ -121,8 +121,9 @@ def profile(out: dict) -> None:
 def parallel(out: dict, repeat: int, near_size: float = 0.35) -> None:
     """One analysis on 1 and 2 ranks, whole process: the linear embedded tank (one
     factorisation) and the nonlinear one (hyperbolic soil + Mohr-Coulomb, ~13), both refined
-    by ``near_size`` (0.35 m: about 270k dofs). This machine's timings of one run vary by 10-15 %, so each is run
-    ``repeat`` times, 1 and 2 ranks alternating, and the medians are compared."""
+    by ``near_size`` (0.35 m: about 270k dofs). This machine's timings of one run vary by
+    10-15 %, so each is run ``repeat`` times, 1 and 2 ranks alternating, and the medians
+    are compared."""
     fine = {"mesh": {"near_size": near_size, "edge_size": 0.01}}
     out["parallel"] = {}
     for name in ("embedded_tank.toml", "embedded_tank_nonlinear.toml"):
