@@ -13,11 +13,14 @@ processes on the same cores.
 So when more than one MPI process runs on this machine, each keeps numpy's BLAS to its
 share of the cores (at least one thread). A thread count the user set in the environment
 (``OPENBLAS_NUM_THREADS``, ``OMP_NUM_THREADS``, ``MKL_NUM_THREADS``) is left alone, and
-so is a serial run (its second core is idle anyway).
+so is a serial run (its second core is idle anyway). Without threadpoolctl (an environment
+that installed tankfx's dependencies by hand) nothing is limited and the log says how to
+do it at launch.
 """
 from __future__ import annotations
 
 import functools
+import logging
 import os
 
 from mpi4py import MPI
@@ -52,8 +55,14 @@ def limit_blas_threads() -> int | None:
     ranks = ranks_on_this_machine()
     if ranks <= 1 or any(os.environ.get(key) for key in USER_SETTINGS):
         return None
-    from threadpoolctl import threadpool_limits
-
     share = max(1, usable_cores() // ranks)
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:
+        logging.getLogger("tankfx").warning(
+            "threadpoolctl is not installed: numpy's BLAS threads are not limited on %d "
+            "processes sharing this machine (slower); pip install threadpoolctl, or launch "
+            "with OPENBLAS_NUM_THREADS=%d", ranks, share)
+        return None
     threadpool_limits(limits=share, user_api="blas")
     return share

@@ -147,6 +147,8 @@ def test_keeping_freed_memory_changes_no_number():
 _THREADS_RUN = """
 import json, sys
 from threadpoolctl import threadpool_info
+if sys.argv[2] == "without threadpoolctl":
+    sys.modules["threadpoolctl"] = None        # its import now fails, as where not installed
 from tankfx import Scene, analyse
 r = analyse(Scene.from_dict(json.loads(sys.argv[1]))).results
 blas = [i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"]
@@ -160,8 +162,9 @@ def test_blas_threads_keep_to_the_share_of_each_rank():
     """Where the MPI launcher says two processes share the machine (MPICH's
     MPI_LOCALNRANKS), numpy's BLAS keeps to half the cores (tankfx._threads: its spinning
     threads took the cores from the other rank); a thread count set by the user is left
-    alone, and so is a serial run. The numbers do not change. The hyperbolic soil's
-    Anderson steps are numpy BLAS calls."""
+    alone, and so is a serial run; without threadpoolctl nothing is limited and the log
+    says so. The numbers do not change. The hyperbolic soil's Anderson steps are numpy BLAS
+    calls."""
     from tankfx._threads import USER_SETTINGS, usable_cores
 
     data = small_tank(soil=HYPERBOLIC_SOIL, load=WATER_LOAD)
@@ -170,20 +173,26 @@ def test_blas_threads_keep_to_the_share_of_each_rank():
     out = {}
     for case, extra in (("serial", {}), ("two ranks", {"MPI_LOCALNRANKS": "2"}),
                         ("user's choice", {"MPI_LOCALNRANKS": "2",
-                                           "OPENBLAS_NUM_THREADS": "2"})):
-        proc = subprocess.run([sys.executable, "-c", _THREADS_RUN, json.dumps(data)],
+                                           "OPENBLAS_NUM_THREADS": "2"}),
+                        ("without threadpoolctl", {"MPI_LOCALNRANKS": "2"})):
+        proc = subprocess.run([sys.executable, "-c", _THREADS_RUN, json.dumps(data), case],
                               env=base | extra, capture_output=True, text=True, timeout=600)
         assert proc.returncode == 0, proc.stderr[-2000:]
         line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")][-1]
         out[case] = json.loads(line[len("RESULT "):])
+        out[case]["log"] = proc.stderr
     share = max(1, usable_cores() // 2)
     assert out["serial"]["limit"] is None
     assert out["two ranks"]["limit"] == share and out["two ranks"]["threads"] == share
     # OpenBLAS's own count under the user's setting (it never exceeds the machine's)
     assert out["user's choice"]["limit"] is None
     assert out["user's choice"]["threads"] == min(2, out["serial"]["threads"])
+    assert out["without threadpoolctl"]["limit"] is None
+    assert out["without threadpoolctl"]["threads"] == out["serial"]["threads"]
+    assert "pip install threadpoolctl" in out["without threadpoolctl"]["log"]
+    assert "threadpoolctl" not in out["two ranks"]["log"]
     assert out["serial"]["linear_solves"] > 3          # several Anderson steps
-    for case in ("two ranks", "user's choice"):
+    for case in ("two ranks", "user's choice", "without threadpoolctl"):
         assert out[case]["linear_solves"] == out["serial"]["linear_solves"]
         for key in ("w0", "wd", "M0"):
             assert out[case][key] == pytest.approx(out["serial"][key], rel=1e-9), key
