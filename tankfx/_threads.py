@@ -41,11 +41,16 @@ def ranks_on_this_machine() -> int:
     return MPI.COMM_WORLD.size
 
 
-def usable_cores() -> int:
+def cores_per_rank(ranks: int) -> int:
+    """This process's share of the machine's cores, at least one: the cores it is bound to
+    where the launcher bound it to some of them (``mpiexec -bind-to``), else an equal share
+    of all."""
+    total = os.cpu_count() or 1
     try:
-        return len(os.sched_getaffinity(0))     # a rank bound to cores sees only those
+        mine = len(os.sched_getaffinity(0))
     except AttributeError:                      # (not on macOS)
-        return os.cpu_count() or 1
+        mine = total
+    return max(1, mine if mine < total else total // ranks)
 
 
 @functools.cache
@@ -55,7 +60,7 @@ def limit_blas_threads() -> int | None:
     ranks = ranks_on_this_machine()
     if ranks <= 1 or any(os.environ.get(key) for key in USER_SETTINGS):
         return None
-    share = max(1, usable_cores() // ranks)
+    share = cores_per_rank(ranks)
     try:
         from threadpoolctl import threadpool_limits
     except ImportError:

@@ -13,7 +13,7 @@ from threadpoolctl import threadpool_info
 from conftest import (HYPERBOLIC_SOIL, WATER_LOAD, flexible_scene,
                       incompressible_hyperbolic_punch, small_tank)
 from tankfx import Scene, analyse
-from tankfx._threads import USER_SETTINGS, usable_cores
+from tankfx._threads import USER_SETTINGS, cores_per_rank
 
 pytestmark = pytest.mark.mpi
 
@@ -61,7 +61,7 @@ def test_parallel_equals_serial(soil):
     _assert_same_numbers(parallel, serial)
     if not any(os.environ.get(key) for key in USER_SETTINGS):
         # numpy's BLAS keeps to this rank's share of the cores (tankfx._threads)
-        share = max(1, usable_cores() // MPI.COMM_WORLD.size)
+        share = cores_per_rank(MPI.COMM_WORLD.size)
         assert parallel["linear_solver"]["numpy_blas_threads"] == share
         assert max(i["num_threads"] for i in threadpool_info()
                    if i["user_api"] == "blas") == share

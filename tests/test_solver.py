@@ -165,7 +165,7 @@ def test_blas_threads_keep_to_the_share_of_each_rank():
     alone, and so is a serial run; without threadpoolctl nothing is limited and the log
     says so. The numbers do not change. The hyperbolic soil's Anderson steps are numpy BLAS
     calls."""
-    from tankfx._threads import USER_SETTINGS, usable_cores
+    from tankfx._threads import USER_SETTINGS, cores_per_rank
 
     data = small_tank(soil=HYPERBOLIC_SOIL, load=WATER_LOAD)
     base = {k: v for k, v in os.environ.items()
@@ -181,7 +181,7 @@ def test_blas_threads_keep_to_the_share_of_each_rank():
         line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")][-1]
         out[case] = json.loads(line[len("RESULT "):])
         out[case]["log"] = proc.stderr
-    share = max(1, usable_cores() // 2)
+    share = cores_per_rank(2)
     assert out["serial"]["limit"] is None
     assert out["two ranks"]["limit"] == share and out["two ranks"]["threads"] == share
     # OpenBLAS's own count under the user's setting (it never exceeds the machine's)
