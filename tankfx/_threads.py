@@ -28,13 +28,15 @@ from mpi4py import MPI
 __all__ = ["limit_blas_threads"]
 
 USER_SETTINGS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+#: how MPI launchers tell a process how many share its machine (MPICH, Open MPI)
+LAUNCHER_SETTINGS = ("MPI_LOCALNRANKS", "OMPI_COMM_WORLD_LOCAL_SIZE")
 
 
 def ranks_on_this_machine() -> int:
     """The MPI processes sharing this machine, from the launcher's environment (MPICH:
     MPI_LOCALNRANKS, Open MPI: OMPI_COMM_WORLD_LOCAL_SIZE), else all of COMM_WORLD. No
     collective: a sweep's ranks call this a different number of times."""
-    for key in ("MPI_LOCALNRANKS", "OMPI_COMM_WORLD_LOCAL_SIZE"):
+    for key in LAUNCHER_SETTINGS:
         value = os.environ.get(key, "")
         if value.isdigit() and int(value) > 0:
             return int(value)

@@ -313,7 +313,6 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                 raise ValueError(f"load.load_radius: every load stage keeps the meshed loaded "
                                  f"circle ({scene.load.load_radius:g} m), got "
                                  f"{ld.load_radius:g} m; analyse the other radius separately")
-    limit_blas_threads()       # before the meshing: every part of a parallel run gains
     t_start = time.perf_counter()
     timings: dict[str, float] = {}
     log.info("scene '%s': meshing on rank 0, distributing over %d rank(s)", scene.title,

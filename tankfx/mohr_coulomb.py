@@ -250,7 +250,6 @@ class InterfaceIteration:
         return tuple(out)
 
     def run(self, solver, log) -> dict:
-
         m, s = self.model, self.model.scene
         ifc = s.interface
         comm = m.mesh.comm

@@ -483,8 +483,8 @@ def make_solver(scene, a, L, bcs, u, entity_maps=None, name: str = "tank",
                 symmetric: bool = False, one_shot: bool = False, split=None):
     """The solver a scene asks for (``[solver] method``); ``one_shot``: a single
     factorisation is expected, shared by all solves (the direct solver's ordering is chosen
-    for it); ``split``: (fixed, varying)
-    block forms summing to ``a``, the fixed part assembled once by the direct solver."""
+    for it); ``split``: (fixed, varying) block forms summing to ``a``, the fixed part
+    assembled once by the direct solver."""
     keep_freed_memory()        # factorisations reuse the pages of the last one (_memory)
     limit_blas_threads()       # numpy's BLAS threads leave the cores to the ranks (_threads)
     if scene.solver.method == "iterative":

@@ -17,6 +17,7 @@ from conftest import (COARSE, HYPERBOLIC_SOIL, WATER_LOAD, flexible_scene,
                       incompressible_hyperbolic_punch, small_tank)
 from tankfx import Scene, SceneError, SolveError, analyse
 
+
 def test_soil_alone_cg_gamg_equals_direct_and_scales():
     its = []
     for near in (0.2, 0.1):
@@ -116,6 +117,17 @@ def test_bad_solver_options_are_refused(solver, soil, message):
         flexible_scene(solver=solver, soil=soil)
 
 
+def _results_in_new_process(script: str, data: dict, env: dict, *args: str) -> dict:
+    """Run ``script`` (which analyses the scene dict in argv[1] and prints one line
+    "RESULT <json>") in a fresh Python process with environment ``env``; its JSON, and the
+    process's stderr as "log"."""
+    proc = subprocess.run([sys.executable, "-c", script, json.dumps(data), *args], env=env,
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")][-1]
+    return json.loads(line[len("RESULT "):]) | {"log": proc.stderr}
+
+
 _MALLOC_RUN = """
 import json, sys
 from tankfx import Scene, analyse
@@ -133,12 +145,9 @@ def test_keeping_freed_memory_changes_no_number():
     data["plate"]["embedment"] = 0.0           # a surface tank
     out = {}
     for keep in ("1", "0"):
-        env = os.environ | {"TANKFX_KEEP_FREED_MEMORY": keep}
-        proc = subprocess.run([sys.executable, "-c", _MALLOC_RUN, json.dumps(data)], env=env,
-                              capture_output=True, text=True, timeout=600)
-        assert proc.returncode == 0, proc.stderr[-2000:]
-        line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")][-1]
-        out[keep] = json.loads(line[len("RESULT "):])
+        out[keep] = _results_in_new_process(
+            _MALLOC_RUN, data, os.environ | {"TANKFX_KEEP_FREED_MEMORY": keep})
+        del out[keep]["log"]
     assert out["1"].pop("kept") is True and out["0"].pop("kept") is False
     assert out["1"]["linear_solves"] > 2          # several factorisations
     assert out["1"] == out["0"]
@@ -165,22 +174,15 @@ def test_blas_threads_keep_to_the_share_of_each_rank():
     alone, and so is a serial run; without threadpoolctl nothing is limited and the log
     says so. The numbers do not change. The hyperbolic soil's Anderson steps are numpy BLAS
     calls."""
-    from tankfx._threads import USER_SETTINGS, cores_per_rank
+    from tankfx._threads import LAUNCHER_SETTINGS, USER_SETTINGS, cores_per_rank
 
     data = small_tank(soil=HYPERBOLIC_SOIL, load=WATER_LOAD)
-    base = {k: v for k, v in os.environ.items()
-            if k not in USER_SETTINGS + ("MPI_LOCALNRANKS", "OMPI_COMM_WORLD_LOCAL_SIZE")}
-    out = {}
-    for case, extra in (("serial", {}), ("two ranks", {"MPI_LOCALNRANKS": "2"}),
-                        ("user's choice", {"MPI_LOCALNRANKS": "2",
-                                           "OPENBLAS_NUM_THREADS": "2"}),
-                        ("without threadpoolctl", {"MPI_LOCALNRANKS": "2"})):
-        proc = subprocess.run([sys.executable, "-c", _THREADS_RUN, json.dumps(data), case],
-                              env=base | extra, capture_output=True, text=True, timeout=600)
-        assert proc.returncode == 0, proc.stderr[-2000:]
-        line = [ln for ln in proc.stdout.splitlines() if ln.startswith("RESULT ")][-1]
-        out[case] = json.loads(line[len("RESULT "):])
-        out[case]["log"] = proc.stderr
+    base = {k: v for k, v in os.environ.items() if k not in USER_SETTINGS + LAUNCHER_SETTINGS}
+    out = {case: _results_in_new_process(_THREADS_RUN, data, base | extra, case)
+           for case, extra in (("serial", {}), ("two ranks", {"MPI_LOCALNRANKS": "2"}),
+                               ("user's choice", {"MPI_LOCALNRANKS": "2",
+                                                  "OPENBLAS_NUM_THREADS": "2"}),
+                               ("without threadpoolctl", {"MPI_LOCALNRANKS": "2"}))}
     share = cores_per_rank(2)
     assert out["serial"]["limit"] is None
     assert out["two ranks"]["limit"] == share and out["two ranks"]["threads"] == share
