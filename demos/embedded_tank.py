@@ -24,6 +24,7 @@ from tankfx import analyse, load_scene
 from tankfx.cli import setup_logging, write_json
 from tankfx.plots import (plot_contact, plot_cutaway, plot_moment_diagrams, plot_section,
                           plot_structure_profiles)
+from tankfx.post import soil_cell_fields, write_fields
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)
@@ -101,9 +102,9 @@ say(f"moments about the joint: plate {j['M_plate_about_corner'] / 1e3:.2f}, wall
     f"{j['M_wall_about_corner'] / 1e3:.2f} kN m/m")
 
 # ## Figures
-# The deformed section coloured by vertical stress, the moment diagrams on the structure,
-# the profiles, and the contact stresses with the Mohr-Coulomb limit and the slipping and
-# separated elements.
+# The deformed section coloured by vertical stress and by the soil's stress level, the
+# moment diagrams on the structure, the profiles, and the contact stresses with the
+# Mohr-Coulomb limit and the slipping and separated elements.
 
 if comm.rank == 0:
     write_json(out / "results.json", r)
@@ -111,6 +112,11 @@ a = scene.plate.radius
 figures = [
     plot_section(solution.u, solution.sigma_zz, out / "section.png", extent=1.6 * a,
                  depth_offset=scene.embedment, title=scene.title,
+                 soil_cells=solution.domain.cells("soil"), structure=r),
+    # Kondner's stress level q / q_ult per cell: where the soil nears its ultimate deviator
+    plot_section(solution.u, soil_cell_fields(solution.model)["stress_level"],
+                 out / "stress_level.png", extent=1.6 * a, depth_offset=scene.embedment,
+                 title=scene.title, label="q / q_ult", scalar_scale=1.0,
                  soil_cells=solution.domain.cells("soil"), structure=r),
     plot_moment_diagrams(r, out / "moments.png", title="Embedded tank"),
     plot_structure_profiles(r, out / "profiles.png", title="Embedded tank"),
@@ -121,6 +127,15 @@ figures = [
 ]
 say("\nresults: " + str(out / "results.json"))
 say("figures: " + ", ".join(str(f) for f in figures if f is not None))
+
+# ## The soil's fields, for ParaView
+# The displacement, sigma_zz and, cell by cell, the secant modulus, the deviator and
+# Kondner's stress level (the share of the ultimate deviator 1/b the soil has reached: where
+# it nears 1 the soil is close to failure) go to one VTK file. Open `soil.pvd` in ParaView,
+# colour by `stress_level`, threshold `soil` > 0.5 to hide the tank's inside, and warp by
+# `u`. (`tankfx run` writes the same file beside its results.)
+
+say("fields: " + str(write_fields(solution, out / "fields" / "soil.pvd")))
 
 # The demo ends with its own checks: both iterations converged, equilibrium, no tension and
 # no shear beyond the Mohr-Coulomb limit at the interface.

@@ -1,8 +1,11 @@
 """Command line: ``tankfx run SCENE.toml --out DIR`` (also ``python -m tankfx run ...``).
 
-Writes ``DIR/results.json`` and ``DIR/tankfx.log``. A bad scene, an existing result that
-would be overwritten, or a failed solve ends with a one-paragraph message and a non-zero
-exit code, never a Python traceback.
+Writes ``DIR/results.json`` and ``DIR/tankfx.log``, the figures (``DIR/section.png``, and
+``moments.png``, ``profiles.png``, ``contact.png`` with a plate, ``settlement.png``
+without) and the soil's fields for ParaView (``DIR/fields/soil.pvd``); ``--no-figures``
+and ``--no-fields`` leave them out. A bad scene, an existing output that would be
+overwritten, or a failed solve ends with a one-paragraph message and a non-zero exit code,
+never a Python traceback.
 """
 from __future__ import annotations
 
@@ -17,6 +20,8 @@ __all__ = ["main", "write_json", "setup_logging"]
 
 EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
+#: where ``tankfx run`` writes the soil's fields, under --out
+FIELDS = Path("fields") / "soil.pvd"
 
 
 def write_json(path: Path, data: dict) -> None:
@@ -63,9 +68,14 @@ def cmd_run(args) -> int:
     except SceneError as e:
         return _fail(f"{args.scene}: {e}", EXIT_BAD_INPUT)
     target = out / "results.json"
-    if target.exists() and not args.force:
-        return _fail(f"{target} exists; choose another --out or add --force to overwrite it",
-                     EXIT_BAD_INPUT)
+    from .plots import FIGURES
+
+    ours = [target, *([out / f for f in FIGURES] if args.figures else []),
+            *([out / FIELDS] if args.fields else [])]
+    existing = [str(p) for p in ours if p.exists()]
+    if existing and not args.force:
+        return _fail(f"{', '.join(existing)} exist(s); choose another --out or add --force to "
+                     "overwrite", EXIT_BAD_INPUT)
     if comm.rank == 0:
         out.mkdir(parents=True, exist_ok=True)
     comm.barrier()
@@ -92,7 +102,27 @@ def cmd_run(args) -> int:
              r["equilibrium"]["reaction"], r["equilibrium"]["applied_load"],
              r["equilibrium"]["relative_error"])
     log.info("results: %s; log: %s", target, out / "tankfx.log")
+    if args.fields:
+        from .post import write_fields
+
+        log.info("fields for ParaView: %s", write_fields(solution, out / FIELDS))
+    if args.figures:
+        log.info("figures: %s", ", ".join(map(str, _figures(solution, out, comm))))
     return 0
+
+
+def _figures(solution, out: Path, comm) -> list[Path]:
+    """The figures, or none with a warning where this machine cannot render (no EGL or
+    display): the numbers are written by then and stay valid."""
+    from .plots import write_figures
+
+    try:
+        return write_figures(solution, out)
+    except Exception as e:   # rank 0's rendering: the grid was gathered before it started
+        logging.getLogger("tankfx").warning(
+            "figures not written (%s: %s); run with --no-figures to skip them",
+            type(e).__name__, e)
+        return []
 
 
 def cmd_sweep(args) -> int:
@@ -131,7 +161,11 @@ def main(argv: list[str] | None = None) -> int:
     run.add_argument("scene", help="scene file (TOML)")
     run.add_argument("--out", required=True, help="directory for results.json and the log")
     run.add_argument("--force", action="store_true",
-                     help="overwrite an existing DIR/results.json")
+                     help="overwrite an existing DIR/results.json, figures and fields")
+    run.add_argument("--no-figures", dest="figures", action="store_false",
+                     help="do not draw the figures (PNG)")
+    run.add_argument("--no-fields", dest="fields", action="store_false",
+                     help="do not write the soil's fields (DIR/fields/soil.pvd)")
     sweep = sub.add_parser("sweep", help="run a parametric study (resumes where it stopped)")
     sweep.add_argument("sweep", help="sweep file (TOML): base scene and axes")
     sweep.add_argument("--out", required=True, help="directory for cases/, table.csv, log")

@@ -209,7 +209,9 @@ class HyperbolicIteration:
         cells of all ranks, so every rank takes the same step; the result is kept between
         the floor and the initial modulus."""
         comm = self.model.domain.mesh.comm
-        x, g = np.log(E), np.log(G)
+        # only soil cells take part; the others (inside the tank, above the ground, where
+        # E(h) of a steep gradient is negative) are given 1 so that log stays quiet
+        x, g = (np.log(np.where(self.is_soil, v, 1.0)) for v in (E, G))
         f = g - x
         self._x_hist.append(x)
         self._f_hist.append(f)

@@ -11,7 +11,13 @@ from pathlib import Path
 import numpy as np
 from dolfinx import fem, plot
 
-__all__ = ["gather_grid", "plot_section", "plot_surface_settlement"]
+__all__ = ["gather_grid", "plot_section", "plot_surface_settlement", "plot_moment_diagrams",
+           "plot_structure_profiles", "plot_contact", "plot_cutaway", "plot_sweep",
+           "FIGURES", "write_figures"]
+
+#: The figures ``write_figures`` may write (which ones depends on the scene).
+FIGURES = ("section.png", "stress_level.png", "settlement.png", "moments.png", "profiles.png",
+           "contact.png")
 
 if not os.environ.get("DISPLAY"):
     # no X server: render through EGL rather than let VTK try (and warn about) X first
@@ -174,7 +180,7 @@ def plot_surface_settlement(results: dict, path: str | Path, *, reference=None,
     pv = _pyvista()
     scene = results["scene"]
     a = scene["load"]["load_radius"]
-    scale = scene["load"]["pressure"] * a / scene["soil"]["E"]
+    scale = results["reference_pressure"] * a / scene["soil"]["E"]
     r = np.asarray(results["profiles"]["surface"]["r"])
     w = np.asarray(results["profiles"]["surface"]["w"])
     chart = pv.Chart2D(x_label="r / a", y_label="w E_s / (p a)")
@@ -379,3 +385,34 @@ def plot_contact(results: dict, path: str | Path, title: str = "") -> Path | Non
         p.subplot(0, col)
         p.add_chart(chart)
     return _save(p, path)
+
+
+def write_figures(solution, directory: str | Path) -> list[Path]:
+    """A solved scene's figures in ``directory``: the deformed section coloured by sigma_zz
+    (and, for a hyperbolic soil, by Kondner's stress level: how near each cell is to the
+    ultimate deviator); with a plate, the moment diagrams, the plate (and wall) profiles and
+    the contact stresses; without, the surface settlement. Collective; returns the paths
+    written (on rank 0; an empty list elsewhere)."""
+    from .post import soil_cell_fields
+
+    directory = Path(directory)
+    r, scene = solution.results, solution.scene
+    a = scene.foundation_radius
+    title = scene.title or ""
+    section = {"extent": (1.6 if scene.plate is not None else 3.0) * a,
+               "depth_offset": scene.embedment, "title": title,
+               "soil_cells": solution.domain.cells("soil"), "structure": r}
+    written = [plot_section(solution.u, solution.sigma_zz, directory / "section.png",
+                            **section)]
+    if scene.soil.model == "hyperbolic":
+        level = soil_cell_fields(solution.model)["stress_level"]
+        written.append(plot_section(solution.u, level, directory / "stress_level.png",
+                                    label="q / q_ult", scalar_scale=1.0,
+                                    **section))
+    if scene.plate is not None:
+        written += [plot_moment_diagrams(r, directory / "moments.png", title=title),
+                    plot_structure_profiles(r, directory / "profiles.png", title=title),
+                    plot_contact(r, directory / "contact.png", title=title)]
+    else:
+        written.append(plot_surface_settlement(r, directory / "settlement.png", title=title))
+    return [p for p in written if p is not None]

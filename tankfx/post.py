@@ -7,13 +7,16 @@ discontinuous field (a stress, a moment) evaluates identically in serial and in 
 from __future__ import annotations
 
 import weakref
+from pathlib import Path
 
 import numpy as np
+import ufl
 from dolfinx import fem, geometry
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-__all__ = ["allsum", "assemble_scalar", "evaluate_at", "nodal_values_on_facets"]
+__all__ = ["allsum", "assemble_scalar", "evaluate_at", "nodal_values_on_facets",
+           "soil_cell_fields", "write_fields"]
 
 
 def allsum(comm: MPI.Comm, value: float) -> float:
@@ -127,3 +130,78 @@ def nodal_values_on_facets(func: fem.Function, facets: np.ndarray):
     key = np.round(x / scale, 12)
     order = np.lexsort((key[:, 1], key[:, 0]))
     return x[order], vals[order]
+
+
+def _cellwise(expr, space) -> np.ndarray:
+    """An expression's value at each cell's centroid (a DG0 interpolation), in cell order,
+    as an (n_cells, value size) array."""
+    f = fem.Function(space)
+    f.interpolate(fem.Expression(expr, space.element.interpolation_points))
+    return f.x.array.reshape(-1, space.dofmap.index_map_bs)[space.dofmap.list[:, 0]]
+
+
+def soil_cell_fields(model) -> dict[str, fem.Function]:
+    """The soil's state cell by cell (DG0: each cell's centroid), for viewing.
+
+    ``modulus``: Young's modulus, Pa (E(h), or a hyperbolic soil's secant modulus);
+    ``deviator``: sigma_1 - sigma_3, Pa; ``mean_stress``: -(sigma_rr + sigma_zz +
+    sigma_theta) / 3, Pa, compression positive like ``sigma_zz``; for a hyperbolic soil
+    ``stress_level``: the deviator Kondner's law gives the cell's strain (Eq. 17) over the
+    ultimate 1/b, 1 at failure (converged, it equals deviator x b to the Eq. 18 tolerance);
+    ``soil``: 1 on soil cells, 0 where the foundation took the soil's place."""
+    from . import hyperbolic
+    from . import soil as soil_forms
+
+    block, s = model.soil, model.scene.soil
+    msh = block.u.function_space.mesh
+    Q0 = fem.functionspace(msh, ("DG", 0))
+    T = fem.functionspace(msh, ("DG", 0, (4,)))
+
+    def components(t):       # (rr, zz, rz, theta) of an axisymmetric tensor
+        return ufl.as_vector([t[0, 0], t[1, 1], t[0, 1], t[2, 2]])
+
+    sig = _cellwise(components(block.stress()), T)
+    # principal_strains is the eigen-split of any axisymmetric tensor: here, of the stress
+    s_min, s_max = hyperbolic.principal_strains(sig[:, 0], sig[:, 1], sig[:, 2], sig[:, 3])
+    values = {"modulus": _cellwise(block.E, Q0)[:, 0],
+              "deviator": s_max - s_min,
+              "mean_stress": -(sig[:, 0] + sig[:, 1] + sig[:, 3]) / 3.0}
+    if s.model == "hyperbolic":
+        eps = _cellwise(components(soil_forms.strain(block.u, block.r)), T)
+        depth = np.maximum(_cellwise(soil_forms.depth(msh), Q0)[:, 0], 0.0)
+        a = s.hyperbolic_a / (1.0 + s.E_gradient * depth)    # as the iteration's cells
+        eps_min, eps_max = hyperbolic.principal_strains(eps[:, 0], eps[:, 1], eps[:, 2],
+                                                        eps[:, 3])
+        eps_p = hyperbolic.major_strain(eps_min, eps_max, s.nu)
+        values["stress_level"] = hyperbolic.kondner_deviator(eps_p, a, s.hyperbolic_b) \
+            * s.hyperbolic_b
+    is_soil = np.zeros(len(Q0.dofmap.list))
+    is_soil[model.domain.cells("soil")] = 1.0
+    # the other cells (the foundation's excavation, the tank's inside) carry no soil
+    values = {name: np.where(is_soil > 0, v, 0.0) for name, v in values.items()}
+    values["soil"] = is_soil
+    fields = {}
+    for name, v in values.items():
+        f = fem.Function(Q0, name=name)
+        f.x.array[Q0.dofmap.list[:, 0]] = v
+        fields[name] = f
+    return fields
+
+
+def write_fields(solution, path) -> Path:
+    """The soil's fields in a VTK file for ParaView (``path``, a .pvd; beside it one .pvtu and
+    a .vtu per rank): the displacement ``u`` (u_r, u_z, m) and ``sigma_zz`` (Pa, compression
+    positive, the field of the results' axis profile) at the nodes of the soil's elements
+    (higher-order VTK cells), and :func:`soil_cell_fields` per cell. Coordinates: x = r, y =
+    elevation above the ground surface, m. Collective: every rank calls it."""
+    from dolfinx import io
+
+    path = Path(path)
+    comm = solution.u.function_space.mesh.comm
+    if comm.rank == 0:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    comm.barrier()
+    cells = soil_cell_fields(solution.model)
+    with io.VTKFile(comm, str(path), "w") as f:
+        f.write_function([solution.u, solution.sigma_zz, *cells.values()], 0.0)
+    return path

@@ -5,8 +5,10 @@ import os
 import shutil
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -23,6 +25,21 @@ def _run(*args, np_=1, cwd=None):
     return subprocess.run(cmd, capture_output=True, text=True, cwd=cwd, timeout=600)
 
 
+def _png_size(path: Path) -> tuple[int, int]:
+    head = path.read_bytes()[:24]
+    assert head[:8] == b"\x89PNG\r\n\x1a\n", f"{path} is not a PNG"
+    return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
+
+
+def _owned_grid(pvd: Path):
+    """The fields file read back with PyVista, without the ranks' ghost cells."""
+    import pyvista
+
+    grid = pyvista.read(pvd)[0]
+    ghost = grid.cell_data.get("vtkGhostType")
+    return grid if ghost is None else grid.extract_cells(np.flatnonzero(ghost == 0))
+
+
 def test_run_writes_results_and_log_and_refuses_to_overwrite(tmp_path):
     out = tmp_path / "out"
     proc = _run("run", SCENE, "--out", out)
@@ -34,19 +51,87 @@ def test_run_writes_results_and_log_and_refuses_to_overwrite(tmp_path):
     assert set(r["profiles"]["axis"]) == {"z", "sigma_zz"}
     assert r["converged"] is True and r["M0"] is None
     assert "solved" in (out / "tankfx.log").read_text()
+    # a load without a plate: its section and settlement figures, and the soil's fields
+    for name in ("section.png", "settlement.png"):
+        width, height = _png_size(out / name)
+        assert width >= 800 and height >= 500
+    assert not (out / "moments.png").exists()
+    grid = _owned_grid(out / "fields" / "soil.pvd")
+    centre = np.argmin(np.hypot(grid.points[:, 0], grid.points[:, 1]))
+    assert -grid.point_data["u"][centre, 1] == pytest.approx(r["w0"], rel=1e-12)
     before = (out / "results.json").read_text()
     again = _run("run", SCENE, "--out", out)
     assert again.returncode == 2 and "--force" in again.stderr
     assert (out / "results.json").read_text() == before
-    assert _run("run", SCENE, "--out", out, "--force").returncode == 0
+    # a figure or field file of ours is not overwritten either
+    (out / "results.json").unlink()
+    again = _run("run", SCENE, "--out", out)
+    assert again.returncode == 2 and "section.png" in again.stderr
+    assert _run("run", SCENE, "--out", out, "--force", "--no-figures",
+                "--no-fields").returncode == 0
+    assert (out / "results.json").read_text() != before    # rewritten (new timings)
+
+
+def test_without_figures_and_fields_writes_neither(tmp_path):
+    out = tmp_path / "out"
+    assert _run("run", SCENE, "--out", out, "--no-figures", "--no-fields").returncode == 0
+    assert sorted(p.name for p in out.iterdir()) == ["results.json", "tankfx.log"]
+
+
+def test_fields_file_holds_the_soil_state(tmp_path):
+    """The cell fields of a hyperbolic soil under the 1 m tank, read back from the VTK file:
+    the secant modulus and Kondner's stress level obey Eq. 17's identity q_m b = 1 - E_sec /
+    E_initial, the deviator of the stress is the model's to the Eq. 18 tolerance, the
+    centre's displacement is the soil's, and the soil cells are the soil's."""
+    from conftest import small_tank
+
+    from tankfx import Scene, analyse
+    from tankfx.post import write_fields
+
+    lam, a, b = 0.5, 1e-7, 1e-5
+    scene = Scene.from_dict(small_tank(soil={"model": "hyperbolic", "hyperbolic_a": a,
+                                             "hyperbolic_b": b, "nu": 0.3, "E_gradient": lam}))
+    with warnings.catch_warnings():
+        # E(h) of this steep gradient is negative in the cells above the ground (inside
+        # the tank, not soil): the secant iteration must leave them out quietly
+        warnings.simplefilter("error", RuntimeWarning)
+        solution = analyse(scene)
+    r = solution.results
+    path = write_fields(solution, tmp_path / "fields" / "soil.pvd")
+    grid = _owned_grid(path)
+    soil = grid.cell_data["soil"] > 0.5
+    assert soil.sum() == len(solution.domain.cells("soil"))
+    depth = np.maximum(-grid.cell_centers().points[soil, 1], 0.0)
+    E_initial = (1.0 + lam * depth) / a
+    E, level = grid.cell_data["modulus"][soil], grid.cell_data["stress_level"][soil]
+    deviator = grid.cell_data["deviator"][soil]
+    tol = scene.soil.tolerance
+    assert 0.3 < level.max() < 1.0 and level.min() >= 0.0
+    assert np.all(E <= E_initial * (1 + 1e-12))
+    assert np.max(np.abs(level - (1.0 - E / E_initial))) <= tol
+    assert np.all(np.abs(deviator * b - level) <= tol * deviator * b + 1e-12)
+    assert np.all(grid.cell_data["modulus"][~soil] == 0.0)
+    # the soil's settlement under the plate's centre (w0 is the plate's: the bonded
+    # interface's penalty lets the two differ by a little)
+    centre = np.argmin(np.hypot(grid.points[:, 0], grid.points[:, 1] + scene.embedment))
+    surface = r["profiles"]["surface"]
+    w_soil = surface["w"][int(np.argmin(surface["r"]))]
+    assert -grid.point_data["u"][centre, 1] == pytest.approx(w_soil, rel=1e-12)
+    # the figures `tankfx run` draws for a tank on a hyperbolic soil
+    from tankfx.plots import write_figures
+
+    written = write_figures(solution, tmp_path)
+    assert sorted(p.name for p in written) == ["contact.png", "moments.png", "profiles.png",
+                                                "section.png", "stress_level.png"]
+    assert all(_png_size(p)[0] >= 800 for p in written)
 
 
 def test_mpiexec_writes_the_same_numbers(tmp_path):
     if shutil.which("mpiexec", path=os.path.dirname(sys.executable)) is None:
         pytest.skip("no mpiexec beside this Python")
     serial, parallel = tmp_path / "s", tmp_path / "p"
-    assert _run("run", SCENE, "--out", serial).returncode == 0
-    proc = _run("run", SCENE, "--out", parallel, np_=2)
+    assert _run("run", SCENE, "--out", serial, "--no-figures").returncode == 0
+    proc = _run("run", SCENE, "--out", parallel, np_=2)     # figures and fields too
     assert proc.returncode == 0, proc.stderr
     rs = json.loads((serial / "results.json").read_text())
     rp = json.loads((parallel / "results.json").read_text())
@@ -57,6 +142,13 @@ def test_mpiexec_writes_the_same_numbers(tmp_path):
                                                           rel=1e-8)
     assert rp["profiles"]["axis"]["sigma_zz"] == pytest.approx(
         rs["profiles"]["axis"]["sigma_zz"], rel=1e-8, abs=1e-3)
+    # the fields file of 2 ranks (one piece each) holds the serial one's cells and values
+    gs, gp = (_owned_grid(d / "fields" / "soil.pvd") for d in (serial, parallel))
+    assert gp.n_cells == gs.n_cells
+    for name in ("deviator", "mean_stress", "modulus", "soil"):
+        assert np.sort(gp.cell_data[name]) == pytest.approx(np.sort(gs.cell_data[name]),
+                                                           rel=1e-8, abs=1e-6)
+    assert all(_png_size(parallel / f)[0] >= 800 for f in ("section.png", "settlement.png"))
 
 
 def test_every_shipped_scene_is_valid():
