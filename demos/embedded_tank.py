@@ -24,7 +24,7 @@ from tankfx import analyse, load_scene
 from tankfx.cli import setup_logging, write_json
 from tankfx.plots import (plot_contact, plot_cutaway, plot_moment_diagrams, plot_section,
                           plot_structure_profiles)
-from tankfx.post import soil_cell_fields, write_fields
+from tankfx.post import soil_cell_fields, summary_table, write_fields
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)
@@ -59,37 +59,14 @@ r = solution.results
 # The paper's non-dimensional measures (Eqs. 21-23, p = the water pressure on the floor),
 # the moments, the interface's state, and what a tank code asks of the settlements.
 
-j, ifc, soil, ss = r["junction"], r["interface"], r["soil"], r["settlement_summary"]
-wall = r["profiles"]["wall"]
-rows = [
-    ("centre settlement w0", f"{1e3 * r['w0']:.1f} mm", f"w0_bar = {r['nondim']['w0']:.4f}"),
-    ("differential settlement wd", f"{1e3 * r['wd']:.1f} mm",
-     f"wd_bar = {r['nondim']['wd']:.4f}"),
-    ("centre moment M0", f"{r['M0'] / 1e3:.1f} kN m/m", f"M0_bar = {r['nondim']['M0']:.5f}"),
-    ("plate moment at the joint", f"{j['M_plate'] / 1e3:.1f} kN m/m", ""),
-    ("wall base moment", f"{j['M_wall'] / 1e3:.1f} kN m/m", ""),
-    ("largest wall hoop force", f"{max(wall['N_theta']) / 1e3:.0f} kN/m", ""),
-    ("uniform settlement (mean)", f"{1e3 * ss['uniform_settlement']:.1f} mm", ""),
-    ("settlement at the shell", f"{1e3 * ss['shell_settlement']:.1f} mm", ""),
-    ("centre-to-shell dish", f"{1e3 * ss['dish']:.1f} mm",
-     f"dish / radius = {ss['dish_over_radius']:.2e}"),
-    ("interface slipping", f"{ifc['slip_length']['plate']:.2f} m plate, "
-     f"{ifc['slip_length']['wall']:.2f} m wall", ""),
-    ("interface separated", f"{ifc['separated_length']['plate']:.2f} m plate, "
-     f"{ifc['separated_length']['wall']:.2f} m wall", ""),
-    ("iterations (solves)", f"{soil['iterations']} ({r['linear_solves']})",
-     f"cells at the ultimate: {soil['cells_at_ultimate']}"),
-]
-say(f"\n{'quantity':28s} {'value':>30s}   non-dimensional / note")
-for name, value, nd in rows:
-    say(f"{name:28s} {value:>30s}   {nd}")
+say("\n" + summary_table(r))
 say("(an axisymmetric model gives no planar tilt of the tank)")
 
 # ## Checks
 # Equilibrium of the water's weight with the supports and with the contact tractions; the
 # Mohr-Coulomb condition at every interface station; the moments about the joint.
 
-eq = r["equilibrium"]
+eq, j = r["equilibrium"], r["junction"]
 plate = r["profiles"]["plate"]
 tan_phi = r["scene"]["interface"]["tan_phi"]
 sn, tau = np.array(plate["contact_normal"]), np.array(plate["contact_shear"])
@@ -140,6 +117,6 @@ say("fields: " + str(write_fields(solution, out / "fields" / "soil.pvd")))
 # The demo ends with its own checks: both iterations converged, equilibrium, no tension and
 # no shear beyond the Mohr-Coulomb limit at the interface.
 
-assert soil["converged"] and ifc["converged"]
+assert r["soil"]["converged"] and r["interface"]["converged"]
 assert eq["relative_error"] < 1e-6 and eq["contact_relative_error"] < 1e-6
 assert sn.min() >= 0.0 and mc_excess <= 1e-9 * np.abs(sn).max()

@@ -82,6 +82,7 @@ def cmd_run(args) -> int:
     setup_logging(out, comm.rank)
 
     from .analysis import analyse
+    from .post import summary_table
     from .solve import SolveError
 
     try:
@@ -101,6 +102,7 @@ def cmd_run(args) -> int:
     log.info("equilibrium: reaction %.6g N for %.6g N applied (relative error %.1e)",
              r["equilibrium"]["reaction"], r["equilibrium"]["applied_load"],
              r["equilibrium"]["relative_error"])
+    log.info("summary:\n%s", summary_table(r))
     log.info("results: %s; log: %s", target, out / "tankfx.log")
     if args.fields:
         from .post import write_fields

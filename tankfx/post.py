@@ -16,7 +16,7 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 __all__ = ["allsum", "assemble_scalar", "evaluate_at", "nodal_values_on_facets",
-           "soil_cell_fields", "write_fields"]
+           "soil_cell_fields", "write_fields", "summary_rows", "summary_table"]
 
 
 def allsum(comm: MPI.Comm, value: float) -> float:
@@ -205,3 +205,53 @@ def write_fields(solution, path) -> Path:
     with io.VTKFile(comm, str(path), "w") as f:
         f.write_function([solution.u, solution.sigma_zz, *cells.values()], 0.0)
     return path
+
+
+def summary_rows(results: dict) -> list[tuple[str, str, str]]:
+    """What an engineer reads first, as (quantity, value, non-dimensional / note) rows: the
+    settlements and their Eq. 23 measures, the moments and the wall's hoop force, what a tank
+    code asks of the settlements, the interface's state and the iterations. Only the rows
+    the scene has (no moments without a plate, no interface lengths for a bonded one)."""
+    r, nd = results, results["nondim"]
+    rows = [("centre settlement w0", f"{1e3 * r['w0']:.2f} mm", f"w0_bar = {nd['w0']:.4f}"),
+            ("differential settlement wd", f"{1e3 * r['wd']:.2f} mm",
+             f"wd_bar = {nd['wd']:.4f}")]
+    if r.get("M0") is not None:
+        rows.append(("centre moment M0", f"{r['M0'] / 1e3:.2f} kN m/m",
+                     f"M0_bar = {nd['M0']:.5f}"))
+    if "junction" in r:
+        j = r["junction"]
+        rows += [("plate moment at the joint", f"{j['M_plate'] / 1e3:.2f} kN m/m", ""),
+                 ("wall base moment", f"{j['M_wall'] / 1e3:.2f} kN m/m", "")]
+    wall = r["profiles"].get("wall")
+    if wall:
+        rows.append(("largest wall hoop force", f"{max(wall['N_theta']) / 1e3:.1f} kN/m", ""))
+    ss = r.get("settlement_summary")
+    if ss:
+        rows += [("uniform settlement (mean)", f"{1e3 * ss['uniform_settlement']:.2f} mm", ""),
+                 ("settlement at the shell", f"{1e3 * ss['shell_settlement']:.2f} mm", ""),
+                 ("centre-to-shell dish", f"{1e3 * ss['dish']:.2f} mm",
+                  f"dish / radius = {ss['dish_over_radius']:.2e}")]
+    ifc = r.get("interface", {})
+    if ifc.get("condition") == "mohr_coulomb":
+        parts = [p for p in ("plate", "wall") if p in r["profiles"]]
+        for state, label in (("slip", "slipping"), ("separated", "separated")):
+            rows.append((f"interface {label}", ", ".join(
+                f"{ifc[f'{state}_length'][p]:.2f} m {p}" for p in parts), ""))
+    soil = r.get("soil", {})
+    note = (f"cells at the ultimate: {soil['cells_at_ultimate']}"
+            if soil.get("model") == "hyperbolic" else "")
+    rows.append(("iterations: soil, interface (solves)", f"{soil.get('iterations', 0)}, "
+                 f"{ifc.get('iterations', 0)} ({r['linear_solves']})", note))
+    eq = r["equilibrium"]
+    rows.append(("equilibrium error", f"{eq['relative_error']:.1e}",
+                 "supports' reaction against the applied load"))
+    return rows
+
+
+def summary_table(results: dict) -> str:
+    """:func:`summary_rows` as a plain-text table."""
+    lines = [f"{'quantity':36s} {'value':>26s}   non-dimensional / note"]
+    lines += [f"{name:36s} {value:>26s}   {note}" for name, value, note in
+              summary_rows(results)]
+    return "\n".join(lines)

@@ -50,7 +50,12 @@ def test_run_writes_results_and_log_and_refuses_to_overwrite(tmp_path):
     assert set(r["profiles"]["surface"]) == {"r", "z", "w", "u_r"}
     assert set(r["profiles"]["axis"]) == {"z", "sigma_zz"}
     assert r["converged"] is True and r["M0"] is None
-    assert "solved" in (out / "tankfx.log").read_text()
+    log = (out / "tankfx.log").read_text()
+    assert "solved" in log
+    # the summary table: the soil's rows only (no plate, no interface), w0 as in results
+    w0_row = f"{1e3 * r['w0']:.2f} mm"
+    assert f"{'centre settlement w0':36s} {w0_row:>26s}" in log
+    assert "M0" not in log.split("summary:")[1] and "interface slipping" not in log
     # a load without a plate: its section and settlement figures, and the soil's fields
     for name in ("section.png", "settlement.png"):
         width, height = _png_size(out / name)
@@ -86,7 +91,7 @@ def test_fields_file_holds_the_soil_state(tmp_path):
     from conftest import small_tank
 
     from tankfx import Scene, analyse
-    from tankfx.post import write_fields
+    from tankfx.post import summary_rows, write_fields
 
     lam, a, b = 0.5, 1e-7, 1e-5
     scene = Scene.from_dict(small_tank(soil={"model": "hyperbolic", "hyperbolic_a": a,
@@ -117,6 +122,12 @@ def test_fields_file_holds_the_soil_state(tmp_path):
     surface = r["profiles"]["surface"]
     w_soil = surface["w"][int(np.argmin(surface["r"]))]
     assert -grid.point_data["u"][centre, 1] == pytest.approx(w_soil, rel=1e-12)
+    # the summary of a bonded tank: its moments and hoop force, no interface states
+    rows = {name: value for name, value, _ in summary_rows(r)}
+    assert rows["centre moment M0"] == f"{r['M0'] / 1e3:.2f} kN m/m"
+    assert rows["largest wall hoop force"] == \
+        f"{max(r['profiles']['wall']['N_theta']) / 1e3:.1f} kN/m"
+    assert "interface slipping" not in rows
     # the figures `tankfx run` draws for a tank on a hyperbolic soil
     from tankfx.plots import write_figures
 
