@@ -1,11 +1,11 @@
 """Command line: ``tankfx run SCENE.toml --out DIR`` (also ``python -m tankfx run ...``).
 
-Writes ``DIR/results.json`` and ``DIR/tankfx.log``, the figures (``DIR/section.png``, and
-``moments.png``, ``profiles.png``, ``contact.png`` with a plate, ``settlement.png``
-without) and the soil's fields for ParaView (``DIR/fields/soil.pvd``); ``--no-figures``
-and ``--no-fields`` leave them out. A bad scene, an existing output that would be
-overwritten, or a failed solve ends with a one-paragraph message and a non-zero exit code,
-never a Python traceback.
+Writes ``DIR/results.json`` and ``DIR/tankfx.log``, the figures (``DIR/section.png``;
+``stress_level.png`` for a hyperbolic soil; ``moments.png``, ``profiles.png``,
+``contact.png`` with a plate, ``settlement.png`` without) and the soil's fields for
+ParaView (``DIR/fields/soil.pvd``); ``--no-figures`` and ``--no-fields`` leave them out.
+A bad scene, an existing output that would be overwritten, or a failed solve ends with a
+one-paragraph message and a non-zero exit code, never a Python traceback.
 """
 from __future__ import annotations
 
@@ -109,22 +109,10 @@ def cmd_run(args) -> int:
 
         log.info("fields for ParaView: %s", write_fields(solution, out / FIELDS))
     if args.figures:
-        log.info("figures: %s", ", ".join(map(str, _figures(solution, out, comm))))
+        from .plots import write_figures
+
+        log.info("figures: %s", ", ".join(map(str, write_figures(solution, out))))
     return 0
-
-
-def _figures(solution, out: Path, comm) -> list[Path]:
-    """The figures, or none with a warning where this machine cannot render (no EGL or
-    display): the numbers are written by then and stay valid."""
-    from .plots import write_figures
-
-    try:
-        return write_figures(solution, out)
-    except Exception as e:   # rank 0's rendering: the grid was gathered before it started
-        logging.getLogger("tankfx").warning(
-            "figures not written (%s: %s); run with --no-figures to skip them",
-            type(e).__name__, e)
-        return []
 
 
 def cmd_sweep(args) -> int:

@@ -392,27 +392,42 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
     (and, for a hyperbolic soil, by Kondner's stress level: how near each cell is to the
     ultimate deviator); with a plate, the moment diagrams, the plate (and wall) profiles and
     the contact stresses; without, the surface settlement. Collective; returns the paths
-    written (on rank 0; an empty list elsewhere)."""
+    written (on rank 0; an empty list elsewhere). A figure rank 0 cannot render (no EGL or
+    display) is left out with a warning, and the others are still drawn: the other ranks
+    take part in every section's gathering whatever rank 0's renderer does."""
+    import logging
+
     from .post import soil_cell_fields
 
     directory = Path(directory)
     r, scene = solution.results, solution.scene
-    a = scene.foundation_radius
     title = scene.title or ""
-    section = {"extent": (1.6 if scene.plate is not None else 3.0) * a,
+    section = {"extent": (1.6 if scene.plate is not None else 3.0) * scene.foundation_radius,
                "depth_offset": scene.embedment, "title": title,
                "soil_cells": solution.domain.cells("soil"), "structure": r}
-    written = [plot_section(solution.u, solution.sigma_zz, directory / "section.png",
-                            **section)]
+    figures = [(plot_section, (solution.u, solution.sigma_zz, directory / "section.png"),
+                section)]
     if scene.soil.model == "hyperbolic":
         level = soil_cell_fields(solution.model)["stress_level"]
-        written.append(plot_section(solution.u, level, directory / "stress_level.png",
-                                    label="q / q_ult", scalar_scale=1.0,
-                                    **section))
+        figures.append((plot_section, (solution.u, level, directory / "stress_level.png"),
+                        {**section, "label": "q / q_ult", "scalar_scale": 1.0}))
     if scene.plate is not None:
-        written += [plot_moment_diagrams(r, directory / "moments.png", title=title),
-                    plot_structure_profiles(r, directory / "profiles.png", title=title),
-                    plot_contact(r, directory / "contact.png", title=title)]
+        figures += [(plot_moment_diagrams, (r, directory / "moments.png"), {"title": title}),
+                    (plot_structure_profiles, (r, directory / "profiles.png"),
+                     {"title": title}),
+                    (plot_contact, (r, directory / "contact.png"), {"title": title})]
     else:
-        written.append(plot_surface_settlement(r, directory / "settlement.png", title=title))
-    return [p for p in written if p is not None]
+        figures.append((plot_surface_settlement, (r, directory / "settlement.png"),
+                        {"title": title}))
+    written = []
+    for plot_fn, args, kwargs in figures:
+        try:
+            path = plot_fn(*args, **kwargs)
+        except Exception as e:      # rank 0's rendering, after the gathering
+            logging.getLogger("tankfx").warning(
+                "%s not written (%s: %s); --no-figures skips the figures", args[-1].name,
+                type(e).__name__, e)
+            continue
+        if path is not None:
+            written.append(path)
+    return written

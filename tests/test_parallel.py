@@ -3,6 +3,7 @@ made on rank 0 and distributed, so both solve the same discrete problem.
 
 Run on two ranks by `make test-mpi`; each rank also solves the scene alone on COMM_SELF
 for the serial reference."""
+import logging
 import os
 
 import numpy as np
@@ -176,3 +177,39 @@ def test_failed_unscaled_factorisation_redone_scaled_parallel_equals_serial():
         == RESCALED
     assert parallel["linear_solves"] == serial["linear_solves"]
     _assert_same_numbers(parallel, serial)
+
+
+def test_a_figure_rank_0_cannot_render_leaves_the_others(tmp_path_factory, monkeypatch):
+    """Rank 0's renderer fails on the first figure (as on a machine without EGL): a warning
+    names it, the other figures are drawn, and no rank is left waiting in a gathering."""
+    from tankfx import plots
+
+    comm = MPI.COMM_WORLD
+    out = comm.bcast(tmp_path_factory.mktemp("figures") if comm.rank == 0 else None)
+    solution = analyse(Scene.from_dict(small_tank(soil=HYPERBOLIC_SOIL)), comm)
+    save, calls = plots._save, []
+
+    def failing_once(plotter, path, *args, **kwargs):
+        calls.append(path)
+        if len(calls) == 1:
+            plotter.close()
+            raise RuntimeError("no rendering context")
+        return save(plotter, path, *args, **kwargs)
+
+    monkeypatch.setattr(plots, "_save", failing_once)
+    warned = []
+    handler = logging.Handler(logging.WARNING)
+    handler.emit = lambda record: warned.append(record.getMessage())
+    logging.getLogger("tankfx").addHandler(handler)     # whatever the logger's propagation
+    try:
+        written = plots.write_figures(solution, out)
+    finally:
+        logging.getLogger("tankfx").removeHandler(handler)
+    comm.barrier()              # every rank got here: no gathering was left open
+    if comm.rank == 0:
+        assert [p.name for p in written] == ["stress_level.png", "moments.png",
+                                             "profiles.png", "contact.png"]
+        assert any("section.png not written (RuntimeError: no rendering context)" in w
+                   for w in warned)
+    else:
+        assert written == []
