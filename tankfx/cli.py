@@ -51,8 +51,28 @@ def setup_logging(out: Path | None, rank: int) -> None:
 
 
 def _fail(msg: str, code: int) -> int:
-    print(f"tankfx: error: {msg}", file=sys.stderr)
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank == 0:         # every rank fails alike: one message is enough
+        print(f"tankfx: error: {msg}", file=sys.stderr)
     return code
+
+
+def _make_out(out: Path, comm) -> str | None:
+    """Create the output directory on rank 0; the reason it cannot be, the same on every
+    rank (None when it is there), before any work is done."""
+    problem = None
+    if comm.rank == 0:
+        try:
+            if out.exists() and not out.is_dir():
+                raise NotADirectoryError(0, "a file, not a directory")
+            out.mkdir(parents=True, exist_ok=True)
+            if not os.access(out, os.W_OK):
+                raise PermissionError("not writable")
+        except OSError as e:             # a file of that name, a read-only place, ...
+            problem = (f"--out {out}: cannot write there ({e.strerror or e}); choose "
+                       "another --out")
+    return comm.bcast(problem)
 
 
 def cmd_run(args) -> int:
@@ -76,9 +96,8 @@ def cmd_run(args) -> int:
     if existing and not args.force:
         return _fail(f"{', '.join(existing)} exist(s); choose another --out or add --force to "
                      "overwrite", EXIT_BAD_INPUT)
-    if comm.rank == 0:
-        out.mkdir(parents=True, exist_ok=True)
-    comm.barrier()
+    if (problem := _make_out(out, comm)) is not None:
+        return _fail(problem, EXIT_BAD_INPUT)
     setup_logging(out, comm.rank)
 
     from .analysis import analyse
@@ -127,8 +146,9 @@ def cmd_sweep(args) -> int:
     except SceneError as e:
         return _fail(f"{args.sweep}: {e}", EXIT_BAD_INPUT)
     out = Path(args.out)
+    if (problem := _make_out(out, comm)) is not None:
+        return _fail(problem, EXIT_BAD_INPUT)
     if comm.rank == 0:
-        out.mkdir(parents=True, exist_ok=True)
         if args.force:
             # only what a sweep writes: the case files, the table and the chart
             for f in [*(out / "cases").glob("[0-9][0-9][0-9][0-9].json"),

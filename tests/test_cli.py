@@ -77,6 +77,18 @@ def test_run_writes_results_and_log_and_refuses_to_overwrite(tmp_path):
     assert (out / "results.json").read_text() != before    # rewritten (new timings)
 
 
+def test_an_out_that_cannot_be_written_is_refused_before_any_work(tmp_path):
+    a_file = tmp_path / "taken"
+    a_file.write_text("a user's file")
+    for args in (("run", SCENE), ("sweep", ROOT / "demos" / "sweeps" / "kp_interface.toml")):
+        for out, why in ((a_file, "a file, not a directory"), (a_file / "sub", "")):
+            proc = _run(*args, "--out", out)
+            assert proc.returncode == 2, proc.stderr
+            assert f"--out {out}: cannot write there" in proc.stderr and why in proc.stderr
+            assert "Traceback" not in proc.stderr
+    assert a_file.read_text() == "a user's file"
+
+
 def test_without_figures_and_fields_writes_neither(tmp_path):
     out = tmp_path / "out"
     assert _run("run", SCENE, "--out", out, "--no-figures", "--no-fields").returncode == 0
