@@ -13,7 +13,8 @@ import numpy as np
 
 __all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settlement",
            "flexible_edge_settlement",
-           "flexible_mean_settlement", "flexible_axis_stress", "point_load_displacement",
+           "flexible_mean_settlement", "flexible_axis_stress", "flexible_axis_radial_stress",
+           "point_load_displacement",
            "rigid_plate_centre_moment"]
 
 
@@ -68,6 +69,14 @@ def flexible_axis_stress(p, a, depth):
     """Vertical stress on the axis (compression positive), p [1 - z^3 / (a^2 + z^2)^1.5]."""
     z = np.asarray(depth, dtype=float)
     return p * (1.0 - z**3 / (a**2 + z**2) ** 1.5)
+
+
+def flexible_axis_radial_stress(p, a, nu, depth):
+    """Radial (= hoop) stress on the axis (compression positive), p/2 [(1 + 2 nu) - 2 (1 +
+    nu) z / R + (z / R)^3], R = sqrt(a^2 + z^2) (Poulos & Davis, Eq. 3.6)."""
+    z = np.asarray(depth, dtype=float)
+    c = z / np.sqrt(a**2 + z**2)
+    return 0.5 * p * ((1.0 + 2.0 * nu) - 2.0 * (1.0 + nu) * c + c**3)
 
 
 def point_load_displacement(P, E, nu, r, depth):

@@ -86,3 +86,30 @@ def test_whole_surface_profile(solved):
     exact = ref.flexible_surface_settlement(P, A, E, nu, rr)
     w0 = ref.flexible_centre_settlement(P, A, E, nu)
     assert np.max(np.abs(w - exact)) / w0 < 3e-3
+
+
+@pytest.mark.parametrize("nu", [0.3, 0.499])
+def test_cell_stresses_near_the_axis(nu):
+    """The fields file's cell values (`tankfx.post.soil_cell_fields`) in the cells hugging
+    the axis (r < 0.15 z), 0.25 a < z < 3 a: the deviator |sigma_z - sigma_r| and the mean
+    stress (sigma_z + 2 sigma_r) / 3 of Boussinesq's axis stresses (sigma_theta = sigma_r
+    there), to 1 % of p; nu = 0.499 through the mixed form's pressure."""
+    from dolfinx import mesh as dmesh
+
+    from tankfx.post import soil_cell_fields
+
+    solution = analyse(flexible_scene(nu=nu))
+    fields = soil_cell_fields(solution.model)
+    msh = solution.u.function_space.mesh
+    n = msh.topology.index_map(2).size_local
+    mid = dmesh.compute_midpoints(msh, 2, np.arange(n, dtype=np.int32))
+    cell_dofs = fields["deviator"].function_space.dofmap.list[:n, 0]
+    r, z = mid[:, 0], -mid[:, 1]
+    near = (r < 0.15 * z) & (z > 0.25 * A) & (z < 3.0 * A)
+    assert near.sum() >= 20
+    sz = ref.flexible_axis_stress(P, A, z[near])
+    sr = ref.flexible_axis_radial_stress(P, A, nu, z[near])
+    deviator = fields["deviator"].x.array[cell_dofs][near]
+    mean = fields["mean_stress"].x.array[cell_dofs][near]
+    assert np.abs(deviator - np.abs(sz - sr)).max() < 0.01 * P
+    assert np.abs(mean - (sz + 2.0 * sr) / 3.0).max() < 0.01 * P
