@@ -105,14 +105,15 @@ figures = [
 say("\nresults: " + str(out / "results.json"))
 say("figures: " + ", ".join(str(f) for f in figures if f is not None))
 
-# ## The soil's fields, for ParaView
-# The displacement, sigma_zz and, cell by cell, the secant modulus, the deviator and
+# ## The fields, for ParaView
+# The soil's displacement, sigma_zz and, cell by cell, the secant modulus, the deviator and
 # Kondner's stress level (the share of the ultimate deviator 1/b the soil has reached: where
-# it nears 1 the soil is close to failure) go to one VTK file. Open `soil.pvd` in ParaView,
-# colour by `stress_level`, threshold `soil` > 0.5 to hide the tank's inside, and warp by
-# `u`. (`tankfx run` writes the same file beside its results.)
+# it nears 1 the soil is close to failure) go to `soil.pvd`; the plate's and the wall's
+# profiles to `plate.vtp` and `wall.vtp`. Open them in ParaView, colour the soil by
+# `stress_level`, threshold `soil` > 0.5 to hide the tank's inside, warp all by `u`, and
+# revolve with Rotational Extrusion for a 3D view. (`tankfx run` writes the same files.)
 
-say("fields: " + str(write_fields(solution, out / "fields" / "soil.pvd")))
+say("fields: " + ", ".join(str(f) for f in write_fields(solution, out / "fields")))
 
 # The demo ends with its own checks: both iterations converged, equilibrium, no tension and
 # no shear beyond the Mohr-Coulomb limit at the interface.

@@ -3,7 +3,8 @@
 Writes ``DIR/results.json`` and ``DIR/tankfx.log``, the figures (``DIR/section.png``;
 ``stress_level.png`` for a hyperbolic soil; ``moments.png``, ``profiles.png``,
 ``contact.png`` with a plate, ``settlement.png`` without) and the soil's fields for
-ParaView (``DIR/fields/soil.pvd``); ``--no-figures`` and ``--no-fields`` leave them out.
+ParaView (``DIR/fields/``: soil.pvd, plate.vtp, wall.vtp); ``--no-figures`` and
+``--no-fields`` leave them out.
 A bad scene, an existing output that would be overwritten, or a failed solve ends with a
 one-paragraph message and a non-zero exit code, never a Python traceback.
 """
@@ -20,8 +21,8 @@ __all__ = ["main", "write_json", "setup_logging"]
 
 EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
-#: where ``tankfx run`` writes the soil's fields, under --out
-FIELDS = Path("fields") / "soil.pvd"
+#: where ``tankfx run`` writes the fields for ParaView, under --out
+FIELDS = Path("fields")
 
 
 def write_json(path: Path, data: dict) -> None:
@@ -89,9 +90,10 @@ def cmd_run(args) -> int:
         return _fail(f"{args.scene}: {e}", EXIT_BAD_INPUT)
     target = out / "results.json"
     from .plots import FIGURES
+    from .post import FIELD_FILES
 
     ours = [target, *([out / f for f in FIGURES] if args.figures else []),
-            *([out / FIELDS] if args.fields else [])]
+            *([out / FIELDS / f for f in FIELD_FILES] if args.fields else [])]
     existing = [str(p) for p in ours if p.exists()]
     if existing and not args.force:
         return _fail(f"{', '.join(existing)} exist(s); choose another --out or add --force to "
@@ -126,7 +128,8 @@ def cmd_run(args) -> int:
     if args.fields:
         from .post import write_fields
 
-        log.info("fields for ParaView: %s", write_fields(solution, out / FIELDS))
+        log.info("fields for ParaView: %s",
+                 ", ".join(map(str, write_fields(solution, out / FIELDS))))
     if args.figures:
         from .plots import write_figures
 
@@ -175,7 +178,7 @@ def main(argv: list[str] | None = None) -> int:
     run.add_argument("--no-figures", dest="figures", action="store_false",
                      help="do not draw the figures (PNG)")
     run.add_argument("--no-fields", dest="fields", action="store_false",
-                     help="do not write the soil's fields (DIR/fields/soil.pvd)")
+                     help="do not write the fields for ParaView (DIR/fields/)")
     sweep = sub.add_parser("sweep", help="run a parametric study (resumes where it stopped)")
     sweep.add_argument("sweep", help="sweep file (TOML): base scene and axes")
     sweep.add_argument("--out", required=True, help="directory for cases/, table.csv, log")

@@ -16,7 +16,8 @@ from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
 __all__ = ["allsum", "assemble_scalar", "evaluate_at", "nodal_values_on_facets",
-           "soil_cell_fields", "write_fields", "summary_rows", "summary_table"]
+           "soil_cell_fields", "write_fields", "FIELD_FILES", "STATUS_CODES", "summary_rows",
+           "summary_table"]
 
 
 def allsum(comm: MPI.Comm, value: float) -> float:
@@ -188,23 +189,66 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
     return fields
 
 
-def write_fields(solution, path) -> Path:
-    """The soil's fields in a VTK file for ParaView (``path``, a .pvd; beside it one .pvtu and
-    a .vtu per rank): the displacement ``u`` (u_r, u_z, m) and ``sigma_zz`` (Pa, compression
-    positive, the field of the results' axis profile) at the nodes of the soil's elements
-    (higher-order VTK cells), and :func:`soil_cell_fields` per cell. Coordinates: x = r, y =
-    elevation above the ground surface, m. Collective: every rank calls it."""
+#: The files :func:`write_fields` writes into its directory (the structure's only with a
+#: plate, the wall's only with a wall).
+FIELD_FILES = ("soil.pvd", "plate.vtp", "wall.vtp")
+#: Interface states as numbers in the structure's files (VTK point data are numeric).
+STATUS_CODES = {"none": 0, "stick": 1, "slip": 2, "separated": 3, "rebonded": 4}
+
+
+def write_fields(solution, directory) -> list[Path]:
+    """The solution for ParaView, in ``directory``; coordinates x = r, y = elevation above
+    the ground surface, m; SI units. Collective: every rank calls it; returns the paths (the
+    same on every rank).
+
+    ``soil.pvd`` (beside it one .pvtu and a .vtu per rank): the displacement ``u`` (u_r,
+    u_z) and ``sigma_zz`` (compression positive, the field of the results' axis profile) at
+    the nodes of the soil's elements (higher-order VTK cells), and per cell
+    :func:`soil_cell_fields`. With a plate, ``plate.vtp`` and (with a wall) ``wall.vtp``:
+    the members as lines through the stations of the results' profiles, carrying their
+    values (``u`` the displacement vector, for warping like the soil's; ``contact_status``
+    as :data:`STATUS_CODES`)."""
     from dolfinx import io
 
-    path = Path(path)
+    directory = Path(directory)
     comm = solution.u.function_space.mesh.comm
     if comm.rank == 0:
-        path.parent.mkdir(parents=True, exist_ok=True)
+        directory.mkdir(parents=True, exist_ok=True)
     comm.barrier()
     cells = soil_cell_fields(solution.model)
-    with io.VTKFile(comm, str(path), "w") as f:
+    paths = [directory / "soil.pvd"]
+    with io.VTKFile(comm, str(paths[0]), "w") as f:
         f.write_function([solution.u, solution.sigma_zz, *cells.values()], 0.0)
-    return path
+    profiles, base = solution.results["profiles"], -solution.scene.embedment
+    members = []
+    if "plate" in profiles:
+        pl = profiles["plate"]
+        members.append(("plate.vtp", pl["r"], np.full(len(pl["r"]), base), pl,
+                        (pl["u_r"], -np.asarray(pl["w"]))))
+    if "wall" in profiles:
+        wa = profiles["wall"]
+        members.append(("wall.vtp", np.full(len(wa["z"]), solution.scene.wall.radius),
+                        base + np.asarray(wa["z"]), wa, (wa["u_r"], wa["u_z"])))
+    for name, x, y, values, (ux, uy) in members:
+        paths.append(directory / name)
+        if comm.rank == 0:          # the profiles are gathered already: one writer
+            _write_member(paths[-1], x, y, values, ux, uy)
+    comm.barrier()
+    return paths
+
+
+def _write_member(path: Path, x, y, values: dict, ux, uy) -> None:
+    import pyvista
+
+    points = np.column_stack([x, y, np.zeros(len(x))])
+    line = pyvista.lines_from_points(points)
+    line.point_data["u"] = np.column_stack([ux, uy, np.zeros(len(x))])
+    for key, v in values.items():
+        if key == "contact_status":
+            line.point_data[key] = np.array([STATUS_CODES[c] for c in v], dtype=np.int8)
+        elif key not in ("r", "z"):
+            line.point_data[key] = np.asarray(v, dtype=float)
+    line.save(path)
 
 
 def summary_rows(results: dict) -> list[tuple[str, str, str]]:

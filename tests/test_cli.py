@@ -103,7 +103,7 @@ def test_fields_file_holds_the_soil_state(tmp_path):
     from conftest import small_tank
 
     from tankfx import Scene, analyse
-    from tankfx.post import summary_rows, write_fields
+    from tankfx.post import STATUS_CODES, summary_rows, write_fields
 
     lam, a, b = 0.5, 1e-7, 1e-5
     scene = Scene.from_dict(small_tank(soil={"model": "hyperbolic", "hyperbolic_a": a,
@@ -114,8 +114,9 @@ def test_fields_file_holds_the_soil_state(tmp_path):
         warnings.simplefilter("error", RuntimeWarning)
         solution = analyse(scene)
     r = solution.results
-    path = write_fields(solution, tmp_path / "fields" / "soil.pvd")
-    grid = _owned_grid(path)
+    paths = write_fields(solution, tmp_path / "fields")
+    assert [p.name for p in paths] == ["soil.pvd", "plate.vtp", "wall.vtp"]
+    grid = _owned_grid(paths[0])
     soil = grid.cell_data["soil"] > 0.5
     assert soil.sum() == len(solution.domain.cells("soil"))
     depth = np.maximum(-grid.cell_centers().points[soil, 1], 0.0)
@@ -134,6 +135,24 @@ def test_fields_file_holds_the_soil_state(tmp_path):
     surface = r["profiles"]["surface"]
     w_soil = surface["w"][int(np.argmin(surface["r"]))]
     assert -grid.point_data["u"][centre, 1] == pytest.approx(w_soil, rel=1e-12)
+    # the plate and wall files: lines through the profiles' stations, with their values
+    import pyvista
+
+    plate, wall = r["profiles"]["plate"], r["profiles"]["wall"]
+    base = -scene.embedment
+    expected = {  # station coordinates, displacement (u_r, u_z), moment
+        "plate": (np.column_stack([plate["r"], np.full(len(plate["r"]), base)]),
+                  np.column_stack([plate["u_r"], -np.asarray(plate["w"])]), "M_r"),
+        "wall": (np.column_stack([np.full(len(wall["z"]), scene.wall.radius),
+                                  base + np.asarray(wall["z"])]),
+                 np.column_stack([wall["u_r"], wall["u_z"]]), "M_z")}
+    for path, (part, (xy, u, moment)) in zip(paths[1:], expected.items()):
+        line, prof = pyvista.read(path), r["profiles"][part]
+        np.testing.assert_allclose(line.points[:, :2], xy, atol=1e-12)
+        np.testing.assert_allclose(line.point_data["u"][:, :2], u, rtol=1e-12)
+        np.testing.assert_allclose(line.point_data[moment], prof[moment], rtol=1e-12)
+        assert line.point_data["contact_status"].tolist() == \
+            [STATUS_CODES[c] for c in prof["contact_status"]]
     # the summary of a bonded tank: its moments and hoop force, no interface states
     rows = {name: value for name, value, _ in summary_rows(r)}
     assert rows["centre moment M0"] == f"{r['M0'] / 1e3:.2f} kN m/m"
