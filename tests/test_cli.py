@@ -93,6 +93,15 @@ def test_without_figures_and_fields_writes_neither(tmp_path):
     out = tmp_path / "out"
     assert _run("run", SCENE, "--out", out, "--no-figures", "--no-fields").returncode == 0
     assert sorted(p.name for p in out.iterdir()) == ["results.json", "tankfx.log"]
+    # --coarse: the same scene on the coarse mesh, w0 within a few tenths of a per cent
+    coarse = tmp_path / "coarse"
+    assert _run("run", SCENE, "--out", coarse, "--coarse", "--no-figures",
+                "--no-fields").returncode == 0
+    r, rc = (json.loads((d / "results.json").read_text()) for d in (out, coarse))
+    assert rc["dofs"]["total"] < 0.75 * r["dofs"]["total"]
+    assert rc["w0"] == pytest.approx(r["w0"], rel=5e-3)
+    version = _run("--version")
+    assert version.returncode == 0 and version.stdout.startswith("tankfx 0.")
 
 
 def test_fields_file_holds_the_soil_state(tmp_path):
