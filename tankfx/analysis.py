@@ -290,11 +290,13 @@ def build_model(scene: Scene, domain: Domain):
 
 
 def analyse(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD, nested: bool = False) -> Solution:
-    """Mesh, solve and post-process a scene; returns the solution and its results dict.
-    ``nested`` (with a hyperbolic soil and a Mohr-Coulomb interface): converge the interface
-    inside every soil iteration, or (default) update both once per iteration, which took
-    fewer solves on the embedded demo tank (21 against 26, README)."""
-    return analyse_path(scene, [scene.load], comm, nested)[-1]
+    """Mesh, solve and post-process a scene; returns the solution and its results dict (of
+    the last stage of the scene's load path, with every stage's key numbers under
+    ``stages``, when it has one). ``nested`` (with a hyperbolic soil and a Mohr-Coulomb
+    interface): converge the interface inside every soil iteration, or (default) update both
+    once per iteration, which took fewer solves on the embedded demo tank (21 against 26,
+    README)."""
+    return analyse_path(scene, list(scene.stages) or [scene.load], comm, nested)[-1]
 
 
 def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
@@ -390,7 +392,20 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,
                                   sigma_zz=sigma_zz, results=results, model=model))
+    if len(solutions) > 1:
+        solutions[-1].results["stages"] = [_stage_summary(s.results) for s in solutions]
     return solutions
+
+
+def _stage_summary(r: dict) -> dict:
+    """A stage's key numbers, for the load path's table in the last stage's results."""
+    out = {"stage": r["stage"], "load": r["scene"]["load"],
+           **{k: r[k] for k in ("w0", "w_edge", "wd", "w_mean", "M0", "nondim")},
+           "soil_iterations": r["soil"]["iterations"], "linear_solves": r["linear_solves"]}
+    if "interface" in r:
+        out["interface"] = {k: v for k, v in r["interface"].items()
+                            if k.endswith("_length") or k in ("converged", "iterations")}
+    return out
 
 
 def _results(scene: Scene, domain: Domain, model, sigma_zz) -> dict:

@@ -290,6 +290,12 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
     eq = r["equilibrium"]
     rows.append(("equilibrium error", f"{eq['relative_error']:.1e}",
                  "supports' reaction against the applied load"))
+    for st in r.get("stages", []):       # the load path, the last stage being the above
+        lengths = st.get("interface", {})
+        note = ", ".join(f"{state} {sum(lengths[f'{state}_length'].values()):.2f} m"
+                         for state in ("slip", "separated", "rebonded")
+                         if f"{state}_length" in lengths)
+        rows.append((f"stage {st['stage']}: w0", f"{1e3 * st['w0']:.2f} mm", note))
     return rows
 
 

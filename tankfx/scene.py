@@ -11,7 +11,7 @@ from __future__ import annotations
 import difflib
 import math
 import tomllib
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -144,6 +144,10 @@ class Scene:
     interface: Interface = field(default_factory=Interface)
     solver: SolverOptions = field(default_factory=SolverOptions)
     title: str = "tankfx scene"
+    #: a load path: the total loads analysed in order on one mesh, the interface's states
+    #: carried from each to the next (``[[stages]]`` tables of a scene file, each the
+    #: [load] keys that change); empty: the one load of [load]
+    stages: tuple[Load, ...] = ()
 
     @property
     def foundation_radius(self) -> float:
@@ -203,6 +207,9 @@ class Scene:
         elif self.interface.condition != "mohr_coulomb":
             for key in ("cohesion", "tan_phi", "on_cycle", "states"):
                 out["interface"].pop(key, None)
+        if self.stages:
+            out["stages"] = [{f.name: getattr(ld, f.name) for f in fields(ld)
+                              if getattr(ld, f.name) is not None} for ld in self.stages]
         return out
 
     @staticmethod
@@ -345,13 +352,18 @@ class _Reader:
 def _parse(data: dict[str, Any]) -> Scene:
     if not isinstance(data, dict):
         raise SceneError([f"a scene must be a table of sections, got {type(data).__name__}"])
+    if "stages" in data:
+        rest = {k: v for k, v in data.items() if k != "stages"}
+        scene = _parse(rest)
+        return replace(scene, stages=_parse_stages(rest, data["stages"], scene))
     rd = _Reader(data)
     for key, value in data.items():
         if key in _TOP:
             if not isinstance(value, _TOP[key]):
                 rd.bad(f"{key}: expected a string, got {value!r}")
         elif key not in _SPEC:
-            rd.bad(f"[{key}]: unknown section{_suggest(key, list(_SPEC) + list(_TOP))}")
+            rd.bad(f"[{key}]: unknown section"
+                   f"{_suggest(key, [*_SPEC, *_TOP, 'stages'])}")
     for name in _REQUIRED_SECTIONS:
         if name not in data:
             rd.bad(f"[{name}]: missing section; add a '[{name}]' table (see README)")
@@ -613,6 +625,31 @@ def _parse(data: dict[str, Any]) -> Scene:
     return Scene(soil=soil_dc, load=load_dc, domain=domain_dc, mesh=mesh_dc, plate=plate_dc,
                  wall=wall_dc, interface=interface_dc, solver=solver_dc,
                  title=data.get("title", "tankfx scene"))
+
+
+def _parse_stages(data: dict[str, Any], raw, scene: Scene) -> tuple[Load, ...]:
+    """Each stage is the scene with its [load] keys changed, and checked as such (every
+    load rule applies to every stage)."""
+    if not isinstance(raw, list) or not raw or not all(isinstance(st, dict) for st in raw):
+        raise SceneError(["stages: a list of load tables, one '[[stages]]' header each, "
+                          "followed by the [load] keys that change (e.g. 'pressure = 2e5'); "
+                          "an empty table is the [load] itself"])
+    problems, loads = [], []
+    for k, stage in enumerate(raw, start=1):
+        try:
+            load = _parse({**data, "load": {**data.get("load", {}), **stage}}).load
+        except SceneError as e:
+            problems += [f"stages[{k}] (the [load] with its keys changed): {p}"
+                         for p in e.problems]
+            continue
+        if scene.plate is None and load.load_radius != scene.load.load_radius:
+            problems.append(f"stages[{k}].load_radius = {load.load_radius!r}: a flexible "
+                            f"load's circle is meshed once ({scene.load.load_radius!r} m in "
+                            f"[load]); analyse another radius as another scene")
+        loads.append(load)
+    if problems:
+        raise SceneError(problems)
+    return tuple(loads)
 
 
 def load_scene(path: str | Path) -> Scene:

@@ -146,6 +146,26 @@ def test_separated_centre_rebonds_on_the_second_load_step(states):
     assert r2["equilibrium"]["contact_relative_error"] < 1e-6
 
 
+def test_load_path_of_a_scene_is_the_same_as_analyse_path():
+    """The scene's own load path ([[stages]] in a file; `stages` of the dict) through
+    `analyse` (as `tankfx run` and sweeps call it): the last stage's results equal
+    `analyse_path`'s, and `stages` lists each stage's numbers: separated, then rebonded."""
+    s = scene(tan_phi=0.5, Kp=0.1, load=RIM)
+    loads = [RIM, {"self_weight": True, "pressure": 200e3}]
+    expected = [sol.results for sol in analyse_path(s, loads)]
+    r = analyse(Scene.from_dict({**s.to_dict(), "stages": [{}, loads[1]]})).results
+    for key in ("w0", "wd", "M0"):
+        assert r[key] == pytest.approx(expected[-1][key], rel=1e-12)
+    assert r["stage"] == 2 and [st["stage"] for st in r["stages"]] == [1, 2]
+    for st, e in zip(r["stages"], expected):
+        assert st["w0"] == pytest.approx(e["w0"], rel=1e-12)
+        assert st["load"] == e["scene"]["load"]
+    first, second = (st["interface"] for st in r["stages"])
+    assert first["separated_length"]["plate"] > 0.0 == first["rebonded_length"]["plate"]
+    assert second["rebonded_length"]["plate"] == pytest.approx(
+        first["separated_length"]["plate"], rel=1e-12)
+
+
 def test_penalty_stiffness_ten_times_larger_changes_little(monkeypatch):
     base = analyse(scene(tan_phi=0.5, embedment=0.3)).results
     monkeypatch.setattr(ifc, "PENALTY_FACTOR", 10 * ifc.PENALTY_FACTOR)

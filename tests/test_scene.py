@@ -186,3 +186,49 @@ def test_cli_bad_scene_exits_cleanly_without_traceback(tmp_path):
     assert proc.returncode == 2
     assert "soil.nu" in proc.stderr and "Traceback" not in proc.stderr + proc.stdout
     assert not out.exists(), "nothing may be written for a refused scene"
+
+
+def test_load_stages_from_a_scene_file(tmp_path):
+    """[[stages]] tables: each the [load] with its keys changed, checked like [load]; a
+    flexible load keeps its meshed circle; the stages survive to_dict / from_dict."""
+    path = tmp_path / "path.toml"
+    path.write_text(textwrap.dedent("""
+        [soil]
+        E = 10e6
+        nu = 0.3
+        [plate]
+        radius = 1.0
+        thickness = 0.5
+        E = 30e9
+        nu = 0.2
+        [wall]
+        radius = 1.0
+        thickness = 0.01
+        height = 5.0
+        E = 200e9
+        nu = 0.3
+        [load]
+        pressure = 10e3
+        liquid_unit_weight = 9810.0
+        [[stages]]
+        [[stages]]
+        liquid_height = 4.0
+        [[stages]]
+        pressure = 0.0
+        liquid_height = 2.0
+        """))
+    s = load_scene(path)
+    assert [(st.pressure, st.liquid_height) for st in s.stages] == [(10e3, 0.0), (10e3, 4.0),
+                                                                    (0.0, 2.0)]
+    assert all(st.liquid_unit_weight == 9810.0 for st in s.stages)
+    assert Scene.from_dict(s.to_dict()) == s
+    tank = {**with_(GOOD, plate=PLATE, wall=WALL), "load": {"pressure": 10e3}}
+    for stages, key, fix in (
+            ({"pressure": 1e4}, "stages:", "[[stages]]"),
+            ([{"pressur": 1e4}], "stages[1]", "did you mean 'pressure'"),
+            ([{}, {"liquid_height": 9.0}], "stages[2]", "liquid_height"),
+            ([{}, {"pressure": float("nan")}], "stages[2]", "finite")):
+        text = problems({**tank, "stages": stages})
+        assert key in text and fix in text, text
+    text = problems({**GOOD, "stages": [{}, {"load_radius": 2.0}]})
+    assert "stages[2].load_radius" in text and "meshed once" in text
