@@ -120,8 +120,7 @@ def cmd_run(args) -> int:
     if comm.rank == 0:
         write_json(target, r)
     log = logging.getLogger("tankfx")
-    log.info("w0 = %.6g m, w_edge = %.6g m, wd = %.6g m (nondim w0 = %.5g)", r["w0"],
-             r["w_edge"], r["wd"], r["nondim"]["w0"])
+    log.info("w0 = %.6g m, w_edge = %.6g m, wd = %.6g m", r["w0"], r["w_edge"], r["wd"])
     log.info("equilibrium: reaction %.6g N for %.6g N applied (relative error %.1e)",
              r["equilibrium"]["reaction"], r["equilibrium"]["applied_load"],
              r["equilibrium"]["relative_error"])

@@ -257,12 +257,14 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
     code asks of the settlements, the interface's state and the iterations. Only the rows
     the scene has (no moments without a plate, no interface lengths for a bonded one)."""
     r, nd = results, results["nondim"]
-    rows = [("centre settlement w0", f"{1e3 * r['w0']:.2f} mm", f"w0_bar = {nd['w0']:.4f}"),
-            ("differential settlement wd", f"{1e3 * r['wd']:.2f} mm",
-             f"wd_bar = {nd['wd']:.4f}")]
+
+    def bar(key, digits):            # Eq. 23 needs p: none under self-weight alone
+        return "no p for Eq. 23" if nd[key] is None else f"{key}_bar = {nd[key]:.{digits}f}"
+
+    rows = [("centre settlement w0", f"{1e3 * r['w0']:.2f} mm", bar("w0", 4)),
+            ("differential settlement wd", f"{1e3 * r['wd']:.2f} mm", bar("wd", 4))]
     if r.get("M0") is not None:
-        rows.append(("centre moment M0", f"{r['M0'] / 1e3:.2f} kN m/m",
-                     f"M0_bar = {nd['M0']:.5f}"))
+        rows.append(("centre moment M0", f"{r['M0'] / 1e3:.2f} kN m/m", bar("M0", 5)))
     if "junction" in r:
         j = r["junction"]
         rows += [("plate moment at the joint", f"{j['M_plate'] / 1e3:.2f} kN m/m", ""),

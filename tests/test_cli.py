@@ -89,6 +89,23 @@ def test_an_out_that_cannot_be_written_is_refused_before_any_work(tmp_path):
     assert a_file.read_text() == "a user's file"
 
 
+def test_a_load_path_scene_file(tmp_path):
+    """demos/scenes/rebonding.toml: [[stages]] through the command line. Its first stage is
+    the weights alone, which have no Eq. 23 pressure: null non-dimensional measures, valid
+    JSON (they were NaN, and the run ended in a traceback writing results.json)."""
+    out = tmp_path / "out"
+    proc = _run("run", ROOT / "demos" / "scenes" / "rebonding.toml", "--out", out,
+                "--coarse", "--no-figures", "--no-fields")
+    assert proc.returncode == 0, proc.stderr
+    r = json.loads((out / "results.json").read_text())
+    first, second = r["stages"]
+    assert first["nondim"]["w0"] is None and second["nondim"]["w0"] > 0.0
+    assert first["interface"]["separated_length"]["plate"] > 0.0
+    assert second["interface"]["rebonded_length"]["plate"] > 0.0
+    assert r["w0"] == second["w0"] and r["stage"] == 2
+    assert "stage 2: w0" in (out / "tankfx.log").read_text()
+
+
 def test_without_figures_and_fields_writes_neither(tmp_path):
     out = tmp_path / "out"
     assert _run("run", SCENE, "--out", out, "--no-figures", "--no-fields").returncode == 0
