@@ -200,16 +200,18 @@ class Scene:
                      "solver"):
             part = getattr(self, name)
             if part is not None:
-                out[name] = {f.name: getattr(part, f.name) for f in fields(part)
-                             if getattr(part, f.name) is not None}
+                out[name] = _plain(part)
         if self.plate is None:
             del out["interface"]
         elif self.interface.condition != "mohr_coulomb":
             for key in ("cohesion", "tan_phi", "on_cycle", "states"):
                 out["interface"].pop(key, None)
         if self.stages:
-            out["stages"] = [{f.name: getattr(ld, f.name) for f in fields(ld)
-                              if getattr(ld, f.name) is not None} for ld in self.stages]
+            # each stage as the [load] keys it changes, as written in a scene file: a
+            # change of [load] (a sweep's axis, with_changes) then reaches every stage
+            # that does not set that key itself
+            out["stages"] = [{k: v for k, v in _plain(ld).items() if out["load"].get(k) != v}
+                             for ld in self.stages]
         return out
 
     @staticmethod
@@ -230,6 +232,12 @@ def Kp_from_thickness(t: float, a: float, E: float, E_s: float, nu_s: float) -> 
 def plate_thickness_from_Kp(K: float, a: float, E: float, E_s: float, nu_s: float) -> float:
     """Inverse of Eqs. 21-22: the thickness that gives relative rigidity K."""
     return a * (K * E_s / ((1.0 - nu_s**2) * E)) ** (1.0 / 3.0)
+
+
+def _plain(part) -> dict[str, Any]:
+    """A section's dataclass as the dict of its set values."""
+    return {f.name: getattr(part, f.name) for f in fields(part)
+            if getattr(part, f.name) is not None}
 
 
 # --------------------------------------------------------------------------- parsing

@@ -190,7 +190,8 @@ def test_cli_bad_scene_exits_cleanly_without_traceback(tmp_path):
 
 def test_load_stages_from_a_scene_file(tmp_path):
     """[[stages]] tables: each the [load] with its keys changed, checked like [load]; a
-    flexible load keeps its meshed circle; the stages survive to_dict / from_dict."""
+    flexible load keeps its meshed circle; the stages survive to_dict / from_dict, as
+    changes of [load] (so that a sweep over a load key reaches them)."""
     path = tmp_path / "path.toml"
     path.write_text(textwrap.dedent("""
         [soil]
@@ -222,6 +223,10 @@ def test_load_stages_from_a_scene_file(tmp_path):
                                                                     (0.0, 2.0)]
     assert all(st.liquid_unit_weight == 9810.0 for st in s.stages)
     assert Scene.from_dict(s.to_dict()) == s
+    # a change of [load] reaches the stages that do not set that key themselves
+    heavier = s.with_changes(load={"pressure": 20e3, "liquid_unit_weight": 1e4})
+    assert [(st.pressure, st.liquid_unit_weight) for st in heavier.stages] == \
+        [(20e3, 1e4), (20e3, 1e4), (0.0, 1e4)]
     tank = {**with_(GOOD, plate=PLATE, wall=WALL), "load": {"pressure": 10e3}}
     for stages, key, fix in (
             ({"pressure": 1e4}, "stages:", "[[stages]]"),
