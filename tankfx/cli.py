@@ -2,9 +2,10 @@
 
 Writes ``DIR/results.json`` and ``DIR/tankfx.log``, the figures (``DIR/section.png``;
 ``stress_level.png`` for a hyperbolic soil; ``moments.png``, ``profiles.png``,
-``contact.png`` with a plate, ``settlement.png`` without) and the soil's fields for
-ParaView (``DIR/fields/``: soil.pvd, plate.vtp, wall.vtp); ``--no-figures`` and
-``--no-fields`` leave them out.
+``contact.png`` with a plate, ``settlement.png`` without) and the fields for ParaView
+(``DIR/fields/``: soil.pvd, plate.vtp, wall.vtp); ``--no-figures`` and ``--no-fields``
+leave them out; ``--force`` replaces them (and removes those of ours the new run would not
+write, so that none of an earlier run is left beside the new results).
 A bad scene, an existing output that would be overwritten, or a failed solve ends with a
 one-paragraph message and a non-zero exit code, never a Python traceback.
 """
@@ -102,6 +103,12 @@ def cmd_run(args) -> int:
                      "overwrite", EXIT_BAD_INPUT)
     if (problem := _make_out(out, comm)) is not None:
         return _fail(problem, EXIT_BAD_INPUT)
+    if args.force and comm.rank == 0:
+        # only files of ours: a stress-level figure or a field piece of an earlier run
+        # must not stay beside results it does not belong to
+        for p in [*ours, *(out / FIELDS).glob("soil*.*vtu")]:
+            p.unlink(missing_ok=True)
+    comm.barrier()
     setup_logging(out, comm.rank)
 
     from .analysis import analyse

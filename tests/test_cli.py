@@ -72,9 +72,14 @@ def test_run_writes_results_and_log_and_refuses_to_overwrite(tmp_path):
     (out / "results.json").unlink()
     again = _run("run", SCENE, "--out", out)
     assert again.returncode == 2 and "section.png" in again.stderr
-    assert _run("run", SCENE, "--out", out, "--force", "--no-figures",
-                "--no-fields").returncode == 0
+    # --force replaces ours, and removes those the new run does not write (a stress-level
+    # figure of an earlier hyperbolic run here); a file of the user's stays
+    (out / "stress_level.png").write_bytes((out / "section.png").read_bytes())
+    (out / "notes.txt").write_text("mine")
+    assert _run("run", SCENE, "--out", out, "--force").returncode == 0
     assert (out / "results.json").read_text() != before    # rewritten (new timings)
+    assert not (out / "stress_level.png").exists() and (out / "section.png").exists()
+    assert (out / "notes.txt").read_text() == "mine"
 
 
 def test_an_out_that_cannot_be_written_is_refused_before_any_work(tmp_path):
