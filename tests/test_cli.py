@@ -234,3 +234,23 @@ def test_every_shipped_scene_is_valid():
     for path in scenes:
         scene = load_scene(path)
         assert scene.title
+
+
+def test_a_plate_without_a_wall_gets_its_figures_and_fields(tmp_path):
+    """The figure and field sets follow the scene: a plate without a wall has no wall file,
+    and its moment diagram and profiles draw the plate alone."""
+    from conftest import small_tank
+
+    from tankfx import Scene, analyse
+    from tankfx.plots import write_figures
+    from tankfx.post import write_fields
+
+    data = small_tank(interface={"condition": "smooth"})
+    del data["wall"]
+    solution = analyse(Scene.from_dict(data))
+    assert [p.name for p in write_fields(solution, tmp_path / "fields")] == ["soil.pvd",
+                                                                              "plate.vtp"]
+    written = write_figures(solution, tmp_path)
+    assert [p.name for p in written] == ["section.png", "moments.png", "profiles.png",
+                                         "contact.png"]
+    assert all(_png_size(p)[0] >= 800 for p in written)
