@@ -1,6 +1,7 @@
 """Command line: ``tankfx run SCENE.toml --out DIR`` (also ``python -m tankfx run ...``).
 
-Writes ``DIR/results.json`` and ``DIR/tankfx.log``, the figures (``DIR/section.png``;
+Writes ``DIR/results.json``, ``DIR/tankfx.log``, ``DIR/report.md`` (the summary and the
+figures on one page), the figures (``DIR/section.png``;
 ``stress_level.png`` for a hyperbolic soil; ``moments.png``, ``profiles.png``,
 ``contact.png`` with a plate, ``settlement.png`` without) and the fields for ParaView
 (``DIR/fields/``: soil.pvd, plate.vtp, wall.vtp); ``--no-figures`` and ``--no-fields``
@@ -22,8 +23,9 @@ __all__ = ["main", "write_json", "setup_logging"]
 
 EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
-#: where ``tankfx run`` writes the fields for ParaView, under --out
+#: where ``tankfx run`` writes the fields for ParaView, and its report, under --out
 FIELDS = Path("fields")
+REPORT = "report.md"
 
 
 def write_json(path: Path, data: dict) -> None:
@@ -95,7 +97,7 @@ def cmd_run(args) -> int:
     from .plots import FIGURES
     from .post import FIELD_FILES
 
-    ours = [target, *([out / f for f in FIGURES] if args.figures else []),
+    ours = [target, out / REPORT, *([out / f for f in FIGURES] if args.figures else []),
             *([out / FIELDS / f for f in FIELD_FILES] if args.fields else [])]
     existing = [str(p) for p in ours if p.exists()]
     if existing and not args.force:
@@ -138,10 +140,16 @@ def cmd_run(args) -> int:
 
         log.info("fields for ParaView: %s",
                  ", ".join(map(str, write_fields(solution, out / FIELDS))))
+    figures = []
     if args.figures:
         from .plots import write_figures
 
-        log.info("figures: %s", ", ".join(map(str, write_figures(solution, out))))
+        figures = write_figures(solution, out)
+        log.info("figures: %s", ", ".join(map(str, figures)))
+    if comm.rank == 0:
+        from .post import write_report
+
+        log.info("report: %s", write_report(r, figures, out / REPORT))
     return 0
 
 

@@ -17,7 +17,7 @@ from mpi4py import MPI
 
 __all__ = ["allsum", "assemble_scalar", "evaluate_at", "nodal_values_on_facets",
            "soil_cell_fields", "write_fields", "FIELD_FILES", "STATUS_CODES", "summary_rows",
-           "summary_table"]
+           "summary_table", "write_report"]
 
 
 def allsum(comm: MPI.Comm, value: float) -> float:
@@ -307,3 +307,47 @@ def summary_table(results: dict) -> str:
     lines += [f"{name:36s} {value:>26s}   {note}" for name, value, note in
               summary_rows(results)]
     return "\n".join(lines)
+
+
+def write_report(results: dict, figures: list[Path], path) -> Path:
+    """A one-page Markdown report of a run beside its results (rank 0 only): the scene in a
+    few lines, the summary table, the warnings, and the figures (by their file names, so
+    the report and the figures move together)."""
+    path = Path(path)
+    r, sc = results, results["scene"]
+    soil = sc["soil"]
+    lines = [f"# {r['title']}", ""]
+    hyperbolic = (f", 1/b = {1.0 / soil['hyperbolic_b']:.4g} Pa"
+                  if soil.get("model") == "hyperbolic" else "")
+    scene_rows = [("soil", f"{soil.get('model', 'linear')}, E_s = {soil['E']:.4g} Pa, "
+                           f"nu = {soil['nu']:g}, lambda = {soil.get('E_gradient', 0.0):g} /m"
+                           f"{hyperbolic}")]
+    if "plate" in sc:
+        pl = sc["plate"]
+        scene_rows.append(("plate", f"a = {pl['radius']:g} m, t = {pl['thickness']:.4g} m, "
+                                    f"Kp = {r['nondim']['Kp']:.4g}, embedment "
+                                    f"{pl.get('embedment', 0.0):g} m"))
+    if "wall" in sc:
+        wa = sc["wall"]
+        scene_rows.append(("wall", f"a_t = {wa['radius']:g} m, t = {wa['thickness']:.4g} m, "
+                                   f"H = {wa['height']:g} m, Kt = {r['nondim']['Kt']:.4g}"))
+    if "interface" in sc:
+        scene_rows.append(("interface", sc["interface"]["condition"]))
+    path_note = f" (the last of {len(r['stages'])} stages)" if "stages" in r else ""
+    scene_rows.append(("load", ", ".join(f"{k} = {v:g}" if isinstance(v, float) else
+                                         f"{k} = {str(v).lower()}"
+                                         for k, v in sc["load"].items()
+                                         if v not in (0.0, False, None)) + path_note))
+    lines += ["| scene | |", "|---|---|", *(f"| {k} | {v} |" for k, v in scene_rows), ""]
+    lines += ["| quantity | value | non-dimensional / note |", "|---|---|---|",
+              *(f"| {a} | {b} | {c} |" for a, b, c in summary_rows(r)), ""]
+    for w in r.get("warnings", []):
+        lines.append(f"**Warning:** {w}")
+    for f in figures:                # a paragraph each: one figure per line of the page
+        lines += ["", f"![{f.stem}]({f.name})"]
+    lines += ["", f"{r['dofs']['total']} dofs, {r['mpi_ranks']} MPI rank(s), "
+                  f"{r['timings_s']['total']:.1f} s; tankfx {r['versions'].get('tankfx', '?')}, "
+                  f"DOLFINx {r['versions'].get('dolfinx', '?')}. Numbers in results.json; "
+                  f"conventions there under `conventions`.", ""]
+    path.write_text("\n".join(lines))
+    return path

@@ -61,6 +61,10 @@ def test_run_writes_results_and_log_and_refuses_to_overwrite(tmp_path):
         width, height = _png_size(out / name)
         assert width >= 800 and height >= 500
     assert not (out / "moments.png").exists()
+    # the report: the summary as a Markdown table and the figures beside it
+    report = (out / "report.md").read_text()
+    assert f"| centre settlement w0 | {1e3 * r['w0']:.2f} mm |" in report
+    assert "![section](section.png)" in report and "![settlement](settlement.png)" in report
     grid = _owned_grid(out / "fields" / "soil.pvd")
     centre = np.argmin(np.hypot(grid.points[:, 0], grid.points[:, 1]))
     assert -grid.point_data["u"][centre, 1] == pytest.approx(r["w0"], rel=1e-12)
@@ -114,7 +118,8 @@ def test_a_load_path_scene_file(tmp_path):
 def test_without_figures_and_fields_writes_neither(tmp_path):
     out = tmp_path / "out"
     assert _run("run", SCENE, "--out", out, "--no-figures", "--no-fields").returncode == 0
-    assert sorted(p.name for p in out.iterdir()) == ["results.json", "tankfx.log"]
+    assert sorted(p.name for p in out.iterdir()) == ["report.md", "results.json", "tankfx.log"]
+    assert "![" not in (out / "report.md").read_text()
     # --coarse: the same scene on the coarse mesh, w0 within a few tenths of a per cent
     coarse = tmp_path / "coarse"
     assert _run("run", SCENE, "--out", coarse, "--coarse", "--no-figures",
