@@ -43,7 +43,8 @@ from . import soil as soil_forms
 from .post import allsum
 from .solve import SolveError
 
-__all__ = ["kondner_deviator", "principal_strains", "major_strain", "secant_update",
+__all__ = ["kondner_deviator", "principal_strains", "major_strain", "cell_a", "stress_level",
+           "secant_update",
            "HyperbolicIteration", "SoilFailure", "ULTIMATE_FRACTION", "first_order_excess"]
 
 #: A cell whose model deviator reaches this fraction of 1/b counts as at the ultimate.
@@ -81,6 +82,18 @@ def major_strain(eps_min, eps_max, nu):
     return (eps_max - eps_min) / (1.0 + nu)
 
 
+def cell_a(a_surface, gradient, depth):
+    """Kondner's a of a cell whose centroid lies at ``depth`` (m; none above the ground):
+    the initial modulus 1/a grows with depth as the linear soil's, (1 + lambda h) / a."""
+    return a_surface / (1.0 + gradient * np.maximum(depth, 0.0))
+
+
+def stress_level(eps_min, eps_max, nu, a, b):
+    """The deviator Kondner's law gives the strain (Eq. 17) over the ultimate 1/b: 1 at
+    failure."""
+    return kondner_deviator(major_strain(eps_min, eps_max, nu), a, b) * b
+
+
 def secant_update(E, nu, eps_min, eps_max, a, b):
     """Per cell: (q_c, q_m, misfit, E_new, at_ultimate) of the current strains and moduli.
 
@@ -114,8 +127,7 @@ class HyperbolicIteration:
         # everything below is in cell order; V's and T's dofs are mapped through their maps
         self.dof_E = V.dofmap.list[:, 0]
         self.mid = dmesh.compute_midpoints(msh, 2, np.arange(n_cells, dtype=np.int32))[:, :2]
-        depth = np.maximum(-self.mid[:, 1], 0.0)
-        self.a = s.hyperbolic_a / (1.0 + s.E_gradient * depth)
+        self.a = cell_a(s.hyperbolic_a, s.E_gradient, -self.mid[:, 1])
         self.b = s.hyperbolic_b
         self.nu = s.nu
         self.E_initial = 1.0 / self.a

@@ -5,6 +5,7 @@ part of the mesh. Call these functions on all ranks; only rank 0 writes a file.
 """
 from __future__ import annotations
 
+import logging
 import os
 from pathlib import Path
 
@@ -395,8 +396,6 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
     written (on rank 0; an empty list elsewhere). A figure rank 0 cannot render (no EGL or
     display) is left out with a warning, and the others are still drawn: the other ranks
     take part in every section's gathering whatever rank 0's renderer does."""
-    import logging
-
     from .post import soil_cell_fields
 
     directory = Path(directory)

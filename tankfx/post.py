@@ -169,13 +169,12 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
               "mean_stress": -(sig[:, 0] + sig[:, 1] + sig[:, 3]) / 3.0}
     if s.model == "hyperbolic":
         eps = _cellwise(components(soil_forms.strain(block.u, block.r)), T)
-        depth = np.maximum(_cellwise(soil_forms.depth(msh), Q0)[:, 0], 0.0)
-        a = s.hyperbolic_a / (1.0 + s.E_gradient * depth)    # as the iteration's cells
+        a = hyperbolic.cell_a(s.hyperbolic_a, s.E_gradient,
+                              _cellwise(soil_forms.depth(msh), Q0)[:, 0])
         eps_min, eps_max = hyperbolic.principal_strains(eps[:, 0], eps[:, 1], eps[:, 2],
                                                         eps[:, 3])
-        eps_p = hyperbolic.major_strain(eps_min, eps_max, s.nu)
-        values["stress_level"] = hyperbolic.kondner_deviator(eps_p, a, s.hyperbolic_b) \
-            * s.hyperbolic_b
+        values["stress_level"] = hyperbolic.stress_level(eps_min, eps_max, s.nu, a,
+                                                         s.hyperbolic_b)
     is_soil = np.zeros(len(Q0.dofmap.list))
     is_soil[model.domain.cells("soil")] = 1.0
     # the other cells (the foundation's excavation, the tank's inside) carry no soil
