@@ -39,6 +39,7 @@ FACET_TAGS = {
     "wall_embedded": 8,   # wall meridian on the side of the pit (both wall and embedded face)
     "void_axis": 9,       # r = 0 in the void
     "void_boundary": 10,  # the rest of the void's outline (its lid, the open pit top)
+    "layer_top": 11,      # a soil layer's top, z = -layer depth, inside the soil
 }
 
 
@@ -57,6 +58,9 @@ class DomainGeometry:
     wall_size: float | None = None    #: element size at the wall foot
     near_size: float | None = None    #: size cap in the near field (soil stresses reported)
     near_radius: float = 0.0          #: extent of the near field around the foundation
+    #: depths of the soil layers' tops (m below the ground): lines of the mesh, so that no
+    #: cell straddles two layers
+    layer_depths: tuple[float, ...] = ()
 
 
 def build_model(g: DomainGeometry, gmsh, name: str = "tankfx", order: int = 1) -> None:
@@ -89,6 +93,10 @@ def build_model(g: DomainGeometry, gmsh, name: str = "tankfx", order: int = 1) -
         p1 = occ.addPoint(at, -D + H, 0.0)
         wall_line = occ.addLine(p0, p1)
         pieces.append((1, wall_line))
+    for d in g.layer_depths:
+        # across the soil only: inside the pit there is none
+        x0 = a if d <= D else 0.0
+        pieces.append((1, occ.addLine(occ.addPoint(x0, -d, 0.0), occ.addPoint(R, -d, 0.0))))
     # Points where the mesh must have a vertex: the foundation edge and the wall foot.
     singular = [(a, -D)] + ([(a, 0.0)] if D > 0.0 else [])
     if g.wall_radius is not None:
@@ -146,6 +154,9 @@ def _tag_entities(g: DomainGeometry, gmsh) -> None:
             facets["wall_embedded" if touches_soil else "wall"].append(c)
         elif D > 0 and near(x0, a) and near(x1, a) and -D - eps <= ym <= eps:
             facets["embedded_face"].append(c)
+        elif near(y0, y1) and any(near(y0, -d) for d in g.layer_depths) and x0 >= -eps \
+                and (y0 < -D - eps or x0 >= a - eps):
+            facets["layer_top"].append(c)
         else:
             facets["void_boundary"].append(c)
 

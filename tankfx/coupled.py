@@ -151,8 +151,8 @@ class TankModel:
         cells = np.arange(len(values), dtype=np.int32)
         mid = dmesh.compute_midpoints(sub, 1, cells)
         h = sub.h(1, cells)
-        depth = np.maximum(-mid[:, 1], 0.0)
-        E_soil = s.soil.E * (1.0 + s.soil.E_gradient * depth)
+        # the soil's modulus at the facet (on a layer's top: that layer's, the soil below)
+        E_soil = s.soil.at_depth(-mid[:, 1])["E"]
         in_contact = (values == st.PLATE) | (values == st.WALL_EMBEDDED)
         default = interface.PENALTY_FACTOR * E_soil / h
         ifc = s.interface

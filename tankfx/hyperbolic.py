@@ -43,7 +43,8 @@ from . import soil as soil_forms
 from .post import allsum
 from .solve import SolveError
 
-__all__ = ["kondner_deviator", "principal_strains", "major_strain", "cell_a", "stress_level",
+__all__ = ["kondner_deviator", "principal_strains", "major_strain", "kondner_parameters",
+           "stress_level",
            "secant_update",
            "HyperbolicIteration", "SoilFailure", "ULTIMATE_FRACTION", "first_order_excess"]
 
@@ -82,10 +83,12 @@ def major_strain(eps_min, eps_max, nu):
     return (eps_max - eps_min) / (1.0 + nu)
 
 
-def cell_a(a_surface, gradient, depth):
-    """Kondner's a of a cell whose centroid lies at ``depth`` (m; none above the ground):
-    the initial modulus 1/a grows with depth as the linear soil's, (1 + lambda h) / a."""
-    return a_surface / (1.0 + gradient * np.maximum(depth, 0.0))
+def kondner_parameters(soil, depth):
+    """Kondner's (a, b) and Poisson's ratio of cells whose centroids lie at ``depth`` (m;
+    none above the ground), from their strata (:class:`tankfx.scene.Soil`): the initial
+    modulus 1/a grows with depth as the linear soil's, E_top (1 + lambda (h - top))."""
+    st = soil.at_depth(depth)
+    return 1.0 / st["E"], st["hyperbolic_b"], st["nu"]
 
 
 def stress_level(eps_min, eps_max, nu, a, b):
@@ -127,9 +130,7 @@ class HyperbolicIteration:
         # everything below is in cell order; V's and T's dofs are mapped through their maps
         self.dof_E = V.dofmap.list[:, 0]
         self.mid = dmesh.compute_midpoints(msh, 2, np.arange(n_cells, dtype=np.int32))[:, :2]
-        self.a = cell_a(s.hyperbolic_a, s.E_gradient, -self.mid[:, 1])
-        self.b = s.hyperbolic_b
-        self.nu = s.nu
+        self.a, self.b, self.nu = kondner_parameters(s, -self.mid[:, 1])
         self.E_initial = 1.0 / self.a
         self.is_soil = np.zeros(n_cells, dtype=bool)
         self.is_soil[model.domain.cells("soil")] = True
@@ -348,7 +349,10 @@ def first_order_excess(scene, comm: MPI.Comm = MPI.COMM_WORLD) -> dict:
     parts = {}
     for name, mask in regions.items():
         weight.x.array[:] = 0.0
-        weight.x.array[it.dof_E] = np.where(mask & it.is_soil, it.E_initial ** 2 * eps_p, 0.0)
+        # b relative to the surface soil's (1 without layers): dw0_db is then the
+        # derivative under every stratum's b scaled alike
+        weight.x.array[it.dof_E] = np.where(mask & it.is_soil, it.E_initial ** 2 * eps_p *
+                                            it.b / scene.soil.hyperbolic_b, 0.0)
         parts[name] = allsum(comm, fem.assemble_scalar(compiled))
     w0 = -allsum(comm, float(model.w.x.array[centre].sum()))
     dw0_db = sum(parts.values())

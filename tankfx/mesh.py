@@ -109,6 +109,7 @@ def geometry_of(scene: Scene) -> DomainGeometry:
         wall_size=wall_size,
         near_size=scene.mesh.near_size,
         near_radius=NEAR_RADIUS * scene.foundation_radius,
+        layer_depths=tuple(layer.depth for layer in scene.soil.layers),
     )
 
 

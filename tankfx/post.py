@@ -169,12 +169,10 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
               "mean_stress": -(sig[:, 0] + sig[:, 1] + sig[:, 3]) / 3.0}
     if s.model == "hyperbolic":
         eps = _cellwise(components(soil_forms.strain(block.u, block.r)), T)
-        a = hyperbolic.cell_a(s.hyperbolic_a, s.E_gradient,
-                              _cellwise(soil_forms.depth(msh), Q0)[:, 0])
+        a, b, nu = hyperbolic.kondner_parameters(s, _cellwise(soil_forms.depth(msh), Q0)[:, 0])
         eps_min, eps_max = hyperbolic.principal_strains(eps[:, 0], eps[:, 1], eps[:, 2],
                                                         eps[:, 3])
-        values["stress_level"] = hyperbolic.stress_level(eps_min, eps_max, s.nu, a,
-                                                         s.hyperbolic_b)
+        values["stress_level"] = hyperbolic.stress_level(eps_min, eps_max, nu, a, b)
     is_soil = np.zeros(len(Q0.dofmap.list))
     is_soil[model.domain.cells("soil")] = 1.0
     # the other cells (the foundation's excavation, the tank's inside) carry no soil
@@ -321,6 +319,12 @@ def write_report(results: dict, figures: list[Path], path) -> Path:
     scene_rows = [("soil", f"{soil.get('model', 'linear')}, E_s = {soil['E']:.4g} Pa, "
                            f"nu = {soil['nu']:g}, lambda = {soil.get('E_gradient', 0.0):g} /m"
                            f"{hyperbolic}")]
+    for k, layer in enumerate(soil.get("layers", []), start=1):
+        kondner = (f", 1/b = {1.0 / layer['hyperbolic_b']:.4g} Pa"
+                   if soil.get("model") == "hyperbolic" else "")
+        scene_rows.append((f"layer {k}", f"from {layer['depth']:g} m down: E = "
+                                         f"{layer['E']:.4g} Pa, nu = {layer['nu']:g}, lambda = "
+                                         f"{layer.get('E_gradient', 0.0):g} /m{kondner}"))
     if "plate" in sc:
         pl = sc["plate"]
         scene_rows.append(("plate", f"a = {pl['radius']:g} m, t = {pl['thickness']:.4g} m, "

@@ -3,7 +3,9 @@
 All for a linear elastic, homogeneous, isotropic half-space (modulus E, Poisson's ratio nu)
 under a uniform pressure p on a circle of radius a (Boussinesq's flexible load; Poulos &
 Davis, "Elastic solutions for soil and rock mechanics", 1974, Table 3.1 and Eq. 3.1), and
-the rigid limit of a free plate on it (:func:`rigid_plate_centre_moment`).
+the rigid limit of a free plate on it (:func:`rigid_plate_centre_moment`); and for
+layered ground, the flexible load's surface settlement by Hankel transform
+(:func:`layered_surface_settlement`: Burmister's layered system, evaluated to round-off).
 """
 from __future__ import annotations
 
@@ -15,7 +17,8 @@ __all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settl
            "flexible_edge_settlement",
            "flexible_mean_settlement", "flexible_axis_stress", "flexible_axis_radial_stress",
            "point_load_displacement",
-           "rigid_plate_centre_moment"]
+           "rigid_plate_centre_moment", "bessel_j", "layered_surface_compliance",
+           "layered_surface_settlement", "one_dimensional_settlement"]
 
 
 def flexible_centre_settlement(p, a, E, nu):
@@ -108,3 +111,128 @@ def rigid_plate_centre_moment(q, a, nu_plate):
     (0.07736 q a^2 at nu = 0.3; Brown's (1969) free raft at Kp = 10 has 0.0747)."""
     return q * a**2 * ((3.0 + nu_plate) / 16.0 - (1.0 - nu_plate) / 24.0
                        - (1.0 + nu_plate) * (1.0 - math.log(2.0)) / 4.0)
+
+
+# --------------------------------------------------------------------------- layered ground
+# Under a surface load p(r) J0-transformed, the displacements of an axisymmetric layered
+# elastic body are u_r = U(z) J1(k r), u_z = W(z) J0(k r) (z down), with the tractions on
+# horizontal planes sigma_rz = S(z) J1(k r), sigma_zz = T(z) J0(k r). In a homogeneous layer
+# Navier's equations give four solutions per wavenumber k: two decaying from the layer's top
+# (a harmonic potential's, and one with z e^{-kz}), and their mirror images decaying from
+# its bottom. Written so, every coefficient multiplies a function bounded by 1 in the layer,
+# and the layers' continuity conditions form a small well-conditioned system per k (no
+# propagator matrices whose e^{kh} overflow).
+
+
+def bessel_j(n: int, x) -> np.ndarray:
+    """J_n(x) by Bessel's integral (1/pi) int_0^pi cos(n t - x sin t) dt, whose periodic
+    integrand the trapezoidal rule integrates to round-off once it has more than x/2 + 20
+    points."""
+    x = np.atleast_1d(np.asarray(x, dtype=float))
+    out = np.empty_like(x)
+    order = np.argsort(x)
+    for chunk in np.array_split(order, max(1, len(x) // 2048)):
+        m = int(np.ceil(x[chunk].max(initial=0.0))) + 48
+        t = np.linspace(0.0, np.pi, m + 1)
+        w = np.full(m + 1, np.pi / m)
+        w[[0, -1]] *= 0.5
+        out[chunk] = np.cos(n * t[None, :] - x[chunk, None] * np.sin(t)[None, :]) @ w / np.pi
+    return out
+
+
+def _modes(k, x, h, G, nu):
+    """(U, W, S / (2 G_1 k) ...) of the four solutions at depth x below a layer's top (a
+    layer of thickness h; h = inf: a half-space, whose two growing modes are absent), per
+    wavenumber k: an array (n_k, 4 quantities, 4 modes). S and T are per unit of 2 G k."""
+    kappa = 3.0 - 4.0 * nu
+    e = np.exp(-k * x)
+    kx = k * x
+    cols = [(e, e, -G * e, -G * e),
+            (kx * e, (kx + kappa) * e, -G * (1.0 - 2.0 * nu + kx) * e,
+             -G * (2.0 * (1.0 - nu) + kx) * e)]
+    if np.isfinite(h):
+        eta = x - h
+        g = np.exp(k * eta)
+        ke = k * eta
+        cols += [(g, -g, G * g, -G * g),
+                 (-ke * g, (ke - kappa) * g, G * (1.0 - 2.0 * nu - ke) * g,
+                  -G * (2.0 * (1.0 - nu) - ke) * g)]
+    return np.stack([np.stack(np.broadcast_arrays(*c), axis=-1) for c in cols], axis=-1)
+
+
+def layered_surface_compliance(k, layers, base=None) -> np.ndarray:
+    """W(0) per unit of surface pressure amplitude (m/Pa... per k), for the J0 mode of
+    wavenumber k (1/m, array) on ``layers`` = [(thickness, E, nu), ...] from the surface
+    down, over ``base`` = (E, nu), an elastic half-space, or None, a rough rigid base.
+    A homogeneous half-space gives 2 (1 - nu^2) / (E k)."""
+    k = np.atleast_1d(np.asarray(k, dtype=float))
+    parts = [(float(h), E / (2.0 * (1.0 + nu)), nu) for h, E, nu in layers]
+    if base is not None:
+        parts.append((math.inf, base[0] / (2.0 * (1.0 + base[1])), base[1]))
+    if not parts:
+        raise ValueError("layered_surface_compliance: no ground (give layers or a base)")
+    G_ref = parts[0][1]
+    sizes = [2 if math.isinf(h) else 4 for h, _, _ in parts]
+    n = sum(sizes)
+    A = np.zeros((len(k), n, n))
+    rhs = np.zeros((len(k), n))
+    col = np.cumsum([0, *sizes])
+    # the tractions are carried per unit of 2 G k; scaled by G_ref, every row is O(1)
+    top = _modes(k, 0.0, parts[0][0], parts[0][1] / G_ref, parts[0][2])
+    A[:, 0, col[0]:col[1]] = top[:, 2]
+    A[:, 1, col[0]:col[1]] = top[:, 3]
+    rhs[:, 1] = -1.0 / (2.0 * G_ref * k)      # T(0) = -1: a unit pressure, downward
+    row = 2
+    for i in range(len(parts) - 1):
+        h, G, nu = parts[i]
+        below = parts[i + 1]
+        A[:, row:row + 4, col[i]:col[i + 1]] = _modes(k, h, h, G / G_ref, nu)
+        A[:, row:row + 4, col[i + 1]:col[i + 2]] = -_modes(k, 0.0, below[0], below[1] / G_ref,
+                                                           below[2])
+        row += 4
+    if base is None:
+        h, G, nu = parts[-1]
+        A[:, row:row + 2, col[-2]:col[-1]] = _modes(k, h, h, G / G_ref, nu)[:, :2]
+    c = np.linalg.solve(A, rhs[..., None])[..., 0]
+    return np.einsum("km,km->k", top[:, 1], c[:, col[0]:col[1]])
+
+
+def layered_surface_settlement(p, a, r, layers, base=None, panels_per_period=2,
+                               points=16) -> np.ndarray:
+    """Surface settlement (m) at radii ``r`` of a uniform pressure p on a circle of radius a
+    on layered ground (see :func:`layered_surface_compliance` for ``layers`` and ``base``):
+    w(r) = p a int_0^inf J1(k a) J0(k r) W(k) dk. The part of W of a half-space of the top
+    layer's material is Boussinesq's (:func:`flexible_surface_settlement`); the rest decays
+    like exp(-2 k h_1) and is integrated by Gauss-Legendre panels, graded near k = 0 (the
+    deep layers' scale) and a few per period of the Bessel functions' oscillation."""
+    r = np.atleast_1d(np.asarray(r, dtype=float))
+    _, E1, nu1 = layers[0] if layers else (None, *base)
+    G1 = E1 / (2.0 * (1.0 + nu1))
+    w = flexible_surface_settlement(p, a, E1, nu1, r)
+    if not layers:
+        return w
+    h1 = layers[0][0]
+    depth = sum(h for h, _, _ in layers)
+    k_max = 40.0 / h1
+    breaks = [np.geomspace(1e-4 / max(depth, a), k_max, 400)]
+    for rr in r:
+        period = 2.0 * np.pi / (a + rr)
+        breaks.append(np.arange(0.0, k_max, period / panels_per_period))
+    breaks = np.unique(np.concatenate([[0.0], *breaks]))
+    xg, wg = np.polynomial.legendre.leggauss(points)
+    lo, hi = breaks[:-1, None], breaks[1:, None]
+    k = (0.5 * (hi - lo) * xg + 0.5 * (hi + lo)).ravel()
+    wk = (0.5 * (hi - lo) * wg).ravel()
+    rest = layered_surface_compliance(k, layers, base) - (1.0 - nu1) / (G1 * k)
+    j1 = bessel_j(1, k * a)
+    for i, rr in enumerate(r):
+        j0 = bessel_j(0, k * rr) if rr > 0 else 1.0
+        w[i] += p * a * np.sum(wk * j1 * j0 * rest)
+    return w
+
+
+def one_dimensional_settlement(p, layers) -> float:
+    """Settlement of a uniform pressure p over the whole surface of ``layers`` =
+    [(thickness, E, nu), ...] on a rigid base: every layer compresses in confined
+    (oedometric) strain, sum of p h / M with M = E (1 - nu) / ((1 + nu)(1 - 2 nu))."""
+    return sum(p * h * (1.0 + nu) * (1.0 - 2.0 * nu) / (E * (1.0 - nu)) for h, E, nu in layers)

@@ -15,7 +15,9 @@ from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
-__all__ = ["SceneError", "Soil", "Plate", "Wall", "Interface", "Load", "DomainSize",
+import numpy as np
+
+__all__ = ["SceneError", "Soil", "Layer", "Plate", "Wall", "Interface", "Load", "DomainSize",
            "MeshOptions", "Scene", "load_scene", "plate_thickness_from_Kp", "Kp_from_thickness"]
 
 #: Default domain size, in multiples of the foundation radius. The truncation error of the
@@ -56,6 +58,19 @@ class SceneError(ValueError):
 
 # --------------------------------------------------------------------------- dataclasses
 @dataclass(frozen=True)
+class Layer:
+    """A stratum of the ground from ``depth`` down to the next layer's top (or to the rigid
+    base): E(h) = E (1 + E_gradient (h - depth)) within it."""
+
+    depth: float             #: m below the ground surface, where this layer's top lies
+    E: float                 #: Young's modulus at its top, Pa (1/a if hyperbolic)
+    nu: float
+    E_gradient: float = 0.0  #: 1/m, from its top down
+    hyperbolic_a: float | None = None
+    hyperbolic_b: float | None = None
+
+
+@dataclass(frozen=True)
 class Soil:
     E: float                 #: Young's modulus at the ground surface, Pa (1/a if hyperbolic)
     nu: float                #: Poisson's ratio
@@ -65,6 +80,41 @@ class Soil:
     hyperbolic_b: float | None = None  #: 1/b = ultimate deviator stress (hyperbolic model)
     tolerance: float | None = None     #: Eq. 18's relative deviator misfit (hyperbolic)
     max_iterations: int | None = None  #: Picard iterations at most (hyperbolic)
+    #: the strata below the surface soil (which the keys above describe, from the surface
+    #: down to the first layer's top), top down
+    layers: tuple[Layer, ...] = ()
+
+    @property
+    def strata(self) -> tuple[Layer, ...]:
+        """Every stratum from the surface down, the surface soil as the first (depth 0)."""
+        top = Layer(depth=0.0, E=self.E, nu=self.nu, E_gradient=self.E_gradient,
+                    hyperbolic_a=self.hyperbolic_a, hyperbolic_b=self.hyperbolic_b)
+        return (top, *self.layers)
+
+    @property
+    def max_nu(self) -> float:
+        """The largest Poisson's ratio of any stratum (it decides the mixed form)."""
+        return max(st.nu for st in self.strata)
+
+    def stratum_of(self, depth) -> np.ndarray:
+        """Index into :attr:`strata` of the stratum at each depth (m; a depth on a layer's
+        top belongs to that layer; above the ground, the surface soil)."""
+        tops = np.array([st.depth for st in self.strata])
+        return np.maximum(np.searchsorted(tops, np.asarray(depth, dtype=float),
+                                          side="right") - 1, 0)
+
+    def at_depth(self, depth) -> dict[str, np.ndarray]:
+        """Per depth (m, arrays): the stratum's top ``top``, its ``E_top``, ``E_gradient``,
+        ``nu``, Kondner's ``hyperbolic_a`` and ``hyperbolic_b`` (hyperbolic model), and the
+        initial modulus ``E`` = E_top (1 + E_gradient (h - top)) (h clipped at the ground)."""
+        idx = self.stratum_of(depth)
+        out = {key: np.array([getattr(st, key) or 0.0 for st in self.strata])[idx]
+               for key in ("E_gradient", "nu", "hyperbolic_a", "hyperbolic_b")}
+        out["top"] = np.array([st.depth for st in self.strata])[idx]
+        out["E_top"] = np.array([st.E for st in self.strata])[idx]
+        h = np.maximum(np.asarray(depth, dtype=float), 0.0)
+        out["E"] = out["E_top"] * (1.0 + out["E_gradient"] * (h - out["top"]))
+        return out
 
 
 @dataclass(frozen=True)
@@ -188,6 +238,8 @@ class Scene:
         d = self.to_dict()
         for sec, changes in sections.items():
             if isinstance(changes, dict):
+                if sec == "soil" and "hyperbolic_a" in changes and "E" not in changes:
+                    d["soil"].pop("E", None)      # 1/a: the new a's
                 d.setdefault(sec, {}).update(changes)
             else:
                 d[sec] = changes
@@ -201,6 +253,10 @@ class Scene:
             part = getattr(self, name)
             if part is not None:
                 out[name] = _plain(part)
+        if self.soil.layers:
+            out["soil"]["layers"] = [_plain(layer) for layer in self.soil.layers]
+        else:
+            out["soil"].pop("layers", None)
         if self.plate is None:
             del out["interface"]
         elif self.interface.condition != "mohr_coulomb":
@@ -265,6 +321,11 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
              "near_size": (float, False)},
     "solver": {"method": (str, False), "rtol": (float, False), "max_iterations": (int, False)},
 }
+#: the keys of one [[soil.layers]] table
+_LAYER_SPEC: dict[str, tuple[type, bool]] = {
+    "depth": (float, True), "E": (float, False), "nu": (float, True),
+    "E_gradient": (float, False), "hyperbolic_a": (float, False),
+    "hyperbolic_b": (float, False)}
 _SOLVER_METHODS = ("direct", "iterative")
 _TOP = {"title": str}
 _REQUIRED_SECTIONS = ("soil", "load")
@@ -364,6 +425,10 @@ def _parse(data: dict[str, Any]) -> Scene:
         rest = {k: v for k, v in data.items() if k != "stages"}
         scene = _parse(rest)
         return replace(scene, stages=_parse_stages(rest, data["stages"], scene))
+    soil_raw, raw_layers = data.get("soil"), None
+    if isinstance(soil_raw, dict) and "layers" in soil_raw:
+        raw_layers = soil_raw["layers"]
+        data = {**data, "soil": {k: v for k, v in soil_raw.items() if k != "layers"}}
     rd = _Reader(data)
     for key, value in data.items():
         if key in _TOP:
@@ -408,6 +473,8 @@ def _parse(data: dict[str, Any]) -> Scene:
                    f"lie in (0, 1) (the paper's 0.05 is the default)")
         if soil.get("max_iterations", 1) < 1:
             rd.bad("soil.max_iterations: must be >= 1")
+    layers = _layers(rd, raw_layers, (soil or {}).get("model", "linear")) \
+        if raw_layers is not None else []
 
     plate = secs["plate"]
     if plate is not None:
@@ -518,8 +585,9 @@ def _parse(data: dict[str, Any]) -> Scene:
     if deg not in (1, 2, 3):
         rd.bad(f"mesh.degree = {deg!r}: must be 1, 2 or 3 (the default: 2 under a plate, 3 "
                f"for a flexible load)")
-    nu_s = (soil or {}).get("nu")
-    nu_s = nu_s if isinstance(nu_s, (int, float)) else None
+    nus = [x.get("nu") for x in [soil or {}, *layers]]
+    nus = [v for v in nus if isinstance(v, (int, float))]
+    nu_s = max(nus) if nus else None
     solver = secs["solver"] or {}
     method = solver.get("method", "direct")
     if isinstance(method, str) and method not in _SOLVER_METHODS:
@@ -532,11 +600,11 @@ def _parse(data: dict[str, Any]) -> Scene:
     if isinstance(solver.get("max_iterations"), int) and solver["max_iterations"] < 1:
         rd.bad(f"solver.max_iterations = {solver['max_iterations']!r}: must be >= 1")
     if method == "iterative" and nu_s is not None and nu_s > MIXED_FROM_NU:
-        rd.bad(f"solver.method = \"iterative\" with soil.nu = {nu_s!r}: the mixed form of a "
+        rd.bad(f"solver.method = \"iterative\" with soil nu = {nu_s!r}: the mixed form of a "
                f"nearly incompressible soil (nu > {MIXED_FROM_NU}) has a zero pressure block "
                f"that GAMG cannot take; use method = \"direct\"")
     if deg == 1 and nu_s is not None and nu_s > MIXED_FROM_NU:
-        rd.bad(f"mesh.degree = 1 with soil.nu = {nu_s!r}: a nearly incompressible soil is "
+        rd.bad(f"mesh.degree = 1 with soil nu = {nu_s!r}: a nearly incompressible soil is "
                f"solved in the mixed (Taylor-Hood) form, which needs degree 2 or 3; use "
                f"degree 2 or 3")
     rd.positive(mesh, "mesh", "edge_size")
@@ -558,10 +626,18 @@ def _parse(data: dict[str, Any]) -> Scene:
             rd.bad(f"domain.radius = {domain['radius']!r} m: must exceed twice the foundation "
                    f"radius ({2 * a!r} m) for the soil to surround the structure; omit it for "
                    f"the half-space default ({default:g} m)")
-        if domain.get("depth", default) <= D + a:
-            rd.bad(f"domain.depth = {domain.get('depth', default)!r} m: must exceed the "
-                   f"embedment plus the foundation radius ({D + a!r} m); deepen the domain or "
-                   f"omit domain.depth for the half-space default ({default:g} m)")
+        # a rigid base may lie shallower than the foundation is wide (a wide tank on a
+        # thin soft layer over rock), but below the foundation
+        if domain.get("depth", default) <= D:
+            rd.bad(f"domain.depth = {domain.get('depth', default)!r} m: the rigid base must lie "
+                   f"below the foundation's underside (embedment {D!r} m); deepen the domain "
+                   f"or omit domain.depth for the half-space default ({default:g} m)")
+        base = domain.get("depth", default)
+        for k, layer in enumerate(layers, start=1):
+            if layer.get("depth", 0.0) >= base:
+                rd.bad(f"soil.layers[{k}].depth = {layer['depth']!r} m: at or below the rigid "
+                       f"base (domain.depth = {base!r} m); deepen the domain or remove the "
+                       f"layer")
         if mesh.get("edge_size", 0.0) > 0.5 * a:
             rd.bad(f"mesh.edge_size = {mesh['edge_size']!r} m: larger than half the foundation "
                    f"radius ({0.5 * a!r} m); the foundation would not be resolved")
@@ -576,7 +652,12 @@ def _parse(data: dict[str, Any]) -> Scene:
                    model=soil.get("model", "linear"), hyperbolic_a=soil.get("hyperbolic_a"),
                    hyperbolic_b=soil.get("hyperbolic_b"),
                    tolerance=soil.get("tolerance", 0.05) if hyperbolic else None,
-                   max_iterations=soil.get("max_iterations", 40) if hyperbolic else None)
+                   max_iterations=soil.get("max_iterations", 40) if hyperbolic else None,
+                   layers=tuple(Layer(depth=x["depth"],
+                                      E=1.0 / x["hyperbolic_a"] if hyperbolic else x["E"],
+                                      nu=x["nu"], E_gradient=x.get("E_gradient", 0.0),
+                                      hyperbolic_a=x.get("hyperbolic_a"),
+                                      hyperbolic_b=x.get("hyperbolic_b")) for x in layers))
     plate_dc = None
     if plate is not None:
         t = plate.get("thickness") or plate_thickness_from_Kp(
@@ -633,6 +714,59 @@ def _parse(data: dict[str, Any]) -> Scene:
     return Scene(soil=soil_dc, load=load_dc, domain=domain_dc, mesh=mesh_dc, plate=plate_dc,
                  wall=wall_dc, interface=interface_dc, solver=solver_dc,
                  title=data.get("title", "tankfx scene"))
+
+
+def _layers(rd: _Reader, raw, model: str) -> list[dict[str, Any]]:
+    """The [[soil.layers]] tables, checked like [soil]; top down, each below the last."""
+    if not isinstance(raw, list) or not all(isinstance(x, dict) for x in raw):
+        rd.bad("soil.layers: a list of tables, one '[[soil.layers]]' header each, with the "
+               "layer's 'depth' (m below the ground, where its top lies), 'E' and 'nu'")
+        return []
+    out = []
+    for k, raw_layer in enumerate(raw, start=1):
+        name = f"soil.layers[{k}]"
+        layer = {}
+        for key, value in raw_layer.items():
+            spec = _LAYER_SPEC.get(key)
+            if spec is None:
+                rd.bad(f"{name}.{key}: unknown key{_suggest(key, _LAYER_SPEC)}")
+                continue
+            checked = rd._typed(f"{name}.{key}", value, spec[0])
+            if checked is not None:
+                layer[key] = checked
+        for key, why in (("depth", "m below the ground surface, where the layer's top lies"),
+                         ("nu", "its Poisson's ratio")):
+            if key not in raw_layer:
+                rd.bad(f"{name}.{key}: missing; add '{key} = ...' ({why})")
+        rd.positive(layer, name, "depth")
+        rd.positive(layer, name, "E")
+        rd.positive(layer, name, "E_gradient", allow_zero=True)
+        rd.poisson(layer, name, incompressible=True)
+        if model == "hyperbolic":
+            for key in ("hyperbolic_a", "hyperbolic_b"):
+                if key not in raw_layer:
+                    rd.bad(f"{name}.{key}: missing for model = \"hyperbolic\"; every layer "
+                           f"has its own Kondner parameters (1/Pa)")
+                rd.positive(layer, name, key)
+            a_h = layer.get("hyperbolic_a")
+            if "E" in layer and a_h and a_h > 0 and abs(layer["E"] * a_h - 1.0) > 1e-6:
+                rd.bad(f"{name}.E = {layer['E']!r} contradicts {name}.hyperbolic_a (1/a is "
+                       f"the layer's modulus at its top); remove {name}.E")
+        else:
+            if "E" not in raw_layer:
+                rd.bad(f"{name}.E: missing; add 'E = ...' (Pa, the modulus at the layer's top)")
+            for key in ("hyperbolic_a", "hyperbolic_b"):
+                if key in raw_layer:
+                    rd.bad(f"{name}.{key}: only used with soil.model = \"hyperbolic\"; "
+                           f"remove it")
+        out.append(layer)
+    depths = [x.get("depth") for x in out]
+    for k in range(1, len(out)):
+        if depths[k] is not None and depths[k - 1] is not None and depths[k] <= depths[k - 1]:
+            rd.bad(f"soil.layers[{k + 1}].depth = {depths[k]!r} m is not below "
+                   f"soil.layers[{k}].depth = {depths[k - 1]!r} m: list the layers from the "
+                   f"top down, each deeper than the last")
+    return out
 
 
 def _parse_stages(data: dict[str, Any], raw, scene: Scene) -> tuple[Load, ...]:

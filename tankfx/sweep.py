@@ -22,6 +22,7 @@ import csv
 import itertools
 import json
 import logging
+import re
 import time
 import tomllib
 from dataclasses import dataclass
@@ -52,6 +53,20 @@ def _with(scene: Scene, values: dict) -> Scene:
     data = scene.to_dict()
     for key, value in values.items():
         section, _, name = key.partition(".")
+        layer = re.fullmatch(r"layers\[(\d+)\]\.(\w+)", name) if section == "soil" else None
+        if layer:
+            # a key of one of the base scene's [[soil.layers]], counted from 1
+            layers = data["soil"].get("layers", [])
+            k = int(layer[1])
+            if not 1 <= k <= len(layers):
+                raise SceneError([f"{key}: the base scene has {len(layers)} soil layer(s); "
+                                  f"count them from 1"])
+            layers[k - 1][layer[2]] = value
+            if layer[2] == "hyperbolic_a":
+                layers[k - 1].pop("E", None)          # 1/a: the new a's
+            continue
+        if section == "soil" and name == "hyperbolic_a":
+            data["soil"].pop("E", None)
         if section in ("plate", "wall") and name in ("Kp", "Kt") and section in data:
             data[section].pop("thickness", None)      # Kp / Kt replace the thickness
         if section in ("plate", "wall") and name == "thickness" and section in data:
