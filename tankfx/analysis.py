@@ -430,6 +430,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     timings["mesh"] = time.perf_counter() - t
     ncells = domain.mesh.topology.index_map(2).size_global
     log.info("mesh: %d cells in %.2f s", ncells, timings["mesh"])
+    for st in scene.soil.strata[1:]:
+        log.info("  layer from %g m down: E = %.4g Pa, nu = %g%s", st.depth, st.E, st.nu,
+                 " (mixed form)" if st.nu > MIXED_FROM_NU else "")
 
     t = time.perf_counter()
     model = build_model(replace(scene, load=stages[0]), domain)

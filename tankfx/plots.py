@@ -83,10 +83,11 @@ def gather_grid(fields: dict[str, fem.Function], cells: np.ndarray | None = None
 def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, extent: float,
                  depth_offset: float = 0.0, label: str = "sigma_zz [kPa]",
                  scalar_scale: float = 1e-3, title: str = "", soil_cells=None,
-                 structure: dict | None = None) -> Path | None:
+                 structure: dict | None = None, layer_depths=()) -> Path | None:
     """The (r, z) section within ``extent`` of the foundation centre, deformed (the scale is
     printed on the figure) and coloured by ``scalar``; ``structure`` (a gathered
-    results dict) adds the plate and wall as thick lines. Returns the PNG path on rank 0."""
+    results dict) adds the plate and wall as thick lines, ``layer_depths`` the soil layers'
+    tops as white lines, deformed with the soil. Returns the PNG path on rank 0."""
     grid = gather_grid({"u": u, "s": scalar}, soil_cells)
     if grid is None:
         return None
@@ -108,6 +109,17 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
             members.append((np.column_stack([np.full(len(wa["z"]), at),
                                              z0 + np.asarray(wa["z"])]),
                             np.column_stack([wa["u_r"], wa["u_z"]])))
+    tops = []
+    for d in layer_depths:
+        # sampled from the undeformed section: the soil's displacement along the top
+        pts = np.column_stack([np.linspace(0.0, extent, 400), np.full(400, -d),
+                               np.zeros(400)])
+        line = pv.PolyData(pts).sample(near)
+        valid = line.point_data["vtkValidPointMask"].astype(bool)
+        if valid.sum() > 1:
+            moved = pts[valid].copy()
+            moved[:, :2] += scale * line.point_data["u"][valid]
+            tops.append(moved)
     near.points = near.points + scale * disp
     near.point_data[label] = near.point_data["s"] * scalar_scale
     p = pv.Plotter(off_screen=True, window_size=(1100, 900))
@@ -120,6 +132,8 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
         # the plate and wall, displaced with the same scale
         pts = np.column_stack([line[0] + scale * line[1], np.zeros(len(line[0]))])
         p.add_mesh(pv.lines_from_points(pts), color="black", line_width=6)
+    for pts in tops:
+        p.add_mesh(pv.lines_from_points(pts), color="white", line_width=3)
     p.add_text(f"{title}\ndisplacements x {scale:.3g}", font_size=11)
     return _save(p, path, section_view=True)
 
@@ -344,6 +358,38 @@ def plot_sweep(rows: list[dict], axes: dict, path: str | Path, title: str = "") 
     return _save(p, path)
 
 
+def plot_curves(x, panels: dict[str, dict[str, np.ndarray]], path: str | Path,
+                x_label: str, title: str = "") -> Path | None:
+    """Side-by-side line charts against one x: ``panels`` maps each panel's y label to its
+    curves (label -> y values, NaN where a curve has none; a curve of one value is drawn
+    as a dashed level across the chart, e.g. a limit). Rank 0 writes the PNG."""
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank != 0:
+        return None
+    pv = _pyvista()
+    x = np.asarray(x, dtype=float)
+    colors = ["tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple", "tab:brown"]
+    p = pv.Plotter(off_screen=True, window_size=(600 * len(panels), 550),
+                   shape=(1, len(panels)))
+    for col, (y_label, curves) in enumerate(panels.items()):
+        chart = pv.Chart2D(x_label=x_label, y_label=y_label)
+        chart.title = f"{title}: {y_label}" if col == 0 and title else y_label
+        for k, (label, y) in enumerate(curves.items()):
+            y = np.atleast_1d(np.asarray(y, dtype=float))
+            color = colors[k % len(colors)]
+            if len(y) == 1:
+                chart.line([x.min(), x.max()], [y[0], y[0]], color=color, width=2,
+                           style="--", label=label)
+                continue
+            ok = np.isfinite(y)
+            chart.line(x[ok], y[ok], color=color, width=3, label=label)
+            chart.scatter(x[ok], y[ok], color=color, size=8)
+        p.subplot(0, col)
+        p.add_chart(chart)
+    return _save(p, path)
+
+
 def plot_contact(results: dict, path: str | Path, title: str = "") -> Path | None:
     """Contact normal and shear stress along the plate underside (and the embedded wall
     face), with the Mohr-Coulomb limit c + sigma_n tan phi drawn beside the shear and the
@@ -403,7 +449,8 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
     title = scene.title or ""
     section = {"extent": (1.6 if scene.plate is not None else 3.0) * scene.foundation_radius,
                "depth_offset": scene.embedment, "title": title,
-               "soil_cells": solution.domain.cells("soil"), "structure": r}
+               "soil_cells": solution.domain.cells("soil"), "structure": r,
+               "layer_depths": [layer.depth for layer in scene.soil.layers]}
     figures = [(plot_section, (solution.u, solution.sigma_zz, directory / "section.png"),
                 section)]
     if scene.soil.model == "hyperbolic":

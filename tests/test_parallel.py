@@ -103,6 +103,26 @@ def test_tank_parallel_equals_serial(embedment, condition, nu, tan_phi, states):
 
 
 @needs_two_ranks
+@pytest.mark.parametrize("soil", [
+    # a linear tank on an undrained clay layer (its own pressure) at the plate's level over
+    # a stiffer stratum, under a Mohr-Coulomb interface
+    {"E": 10e6, "nu": 0.3, "layers": [{"depth": 0.3, "E": 4e6, "nu": 0.5},
+                                      {"depth": 1.5, "E": 20e6, "nu": 0.3}]},
+    # a hyperbolic soil with a weaker layer
+    dict(HYPERBOLIC_SOIL, layers=[{"depth": 0.8, "hyperbolic_a": 5e-7, "hyperbolic_b": 4e-5,
+                                   "nu": 0.35}])], ids=["linear_mixed", "hyperbolic"])
+def test_layered_ground_parallel_equals_serial(soil):
+    """Layered ground: the cells' strata, the per-layer pressures and pins, the secant
+    iteration's per-layer parameters are the same on 1 and 2 ranks."""
+    scene = Scene.from_dict(small_tank(soil=soil, interface={
+        "condition": "mohr_coulomb", "tan_phi": 0.5}, load=WATER_LOAD))
+    parallel, serial = _solve_both(scene)
+    assert parallel["soil"]["iterations"] == serial["soil"]["iterations"]
+    assert parallel["interface"]["iterations"] == serial["interface"]["iterations"]
+    _assert_same_numbers(parallel, serial)
+
+
+@needs_two_ranks
 def test_section_figure_is_built_from_all_ranks():
     """The section figure's grid is gathered from every rank: on 2 ranks it holds the same
     cells with the same field values as the serial one (compared cell by cell on rank 0)."""
