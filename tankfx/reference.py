@@ -125,18 +125,30 @@ def rigid_plate_centre_moment(q, a, nu_plate):
 
 
 def bessel_j(n: int, x) -> np.ndarray:
-    """J_n(x) by Bessel's integral (1/pi) int_0^pi cos(n t - x sin t) dt, whose periodic
-    integrand the trapezoidal rule integrates to round-off once it has more than x/2 + 20
-    points."""
+    """J_n(x), n = 0 or 1, to round-off: below x = 30 by Bessel's integral (1/pi) int_0^pi
+    cos(n t - x sin t) dt, whose periodic integrand the trapezoidal rule integrates to
+    round-off with more than x/2 + 20 points; above, by Hankel's asymptotic expansion (its
+    14 terms there below 1e-14)."""
     x = np.atleast_1d(np.asarray(x, dtype=float))
     out = np.empty_like(x)
-    order = np.argsort(x)
-    for chunk in np.array_split(order, max(1, len(x) // 2048)):
-        m = int(np.ceil(x[chunk].max(initial=0.0))) + 48
-        t = np.linspace(0.0, np.pi, m + 1)
-        w = np.full(m + 1, np.pi / m)
-        w[[0, -1]] *= 0.5
+    small = x < 30.0
+    m = 96
+    t = np.linspace(0.0, np.pi, m + 1)
+    w = np.full(m + 1, np.pi / m)
+    w[[0, -1]] *= 0.5
+    for chunk in np.array_split(np.flatnonzero(small), max(1, small.sum() // 4096)):
         out[chunk] = np.cos(n * t[None, :] - x[chunk, None] * np.sin(t)[None, :]) @ w / np.pi
+    xl = x[~small]
+    mu = 4.0 * n * n
+    P, Q, term = np.ones_like(xl), np.zeros_like(xl), np.ones_like(xl)
+    for k in range(1, 28):
+        term = term * (mu - (2 * k - 1) ** 2) / (k * 8.0 * xl)
+        if k % 2:
+            Q += (-1) ** (k // 2) * term
+        else:
+            P += (-1) ** (k // 2) * term
+    chi = xl - (0.5 * n + 0.25) * np.pi
+    out[~small] = np.sqrt(2.0 / (np.pi * xl)) * (P * np.cos(chi) - Q * np.sin(chi))
     return out
 
 
