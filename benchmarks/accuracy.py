@@ -2,12 +2,14 @@
 mesh levels and element degrees: a table, a log-log chart (error against whole-process wall
 time and against dofs), and whether the defaults sit on the efficient front.
 
-    python benchmarks/accuracy.py [--quick] [--out results/benchmarks]
+    python benchmarks/accuracy.py [--quick] [--only CASE ...] [--out results/benchmarks]
 
 Cases (references as in tests/): the flexible load (Boussinesq: w0, w_edge, sigma_zz on the
 axis), the rigid smooth punch (w0: Boussinesq; M0: the rigid plate's closed form,
 tankfx.reference.rigid_plate_centre_moment) and rigid bonded punch (w0: Mossakovskii-Spence;
-M0: its own finest solution), the free raft at Kp = 0.1 and 10 (Brown 1969: w0, wd, M0), and
+M0: its own finest solution), the free raft at Kp = 0.1 and 10 (Brown 1969: w0, wd, M0), the
+flexible load on layered ground (three layers on a rigid base, the middle one undrained: w0 and
+w_edge against Burmister's solution, tankfx.reference.layered_surface_settlement), and
 the nonlinear embedded tank of `make demo` (hyperbolic soil, Mohr-Coulomb interface) against
 its own finest solution (P3, level 1: ``SELF_REFERENCE``). The plate and wall elements
 alone are in benchmarks/structure.py (their cost is negligible beside the soil's).
@@ -34,6 +36,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 P, A, E, NU = 100e3, 1.0, 10e6, 0.3
 BROWN = {0.1: (1.954, 0.5572, 0.01462), 10.0: (1.588, 0.02378, 0.0747)}
+#: Layered ground on a rigid base 4 a down: (thickness, E, nu) top down, as in tests/
+LAYERS = [(0.5, E, NU), (1.5, 2e6, 0.5), (2.0, 30e6, 0.25)]
 #: The (degree, level) of the finest solution that serves as the reference where there is no
 #: closed form, and the quantities it is the reference of.
 SELF_REFERENCE = (3, 1)
@@ -51,7 +55,7 @@ def is_default(case: str, degree: int, level: int) -> bool:
     flexible load, P2 at level 0 under a plate."""
     from tankfx.scene import FLEXIBLE_COARSENING, FLEXIBLE_DEGREE
 
-    if case == "flexible load":
+    if case in ("flexible load", "layered ground"):
         return (degree, level) == (FLEXIBLE_DEGREE, -round(math.log2(FLEXIBLE_COARSENING)))
     return (degree, level) == (2, 0)
 
@@ -69,6 +73,14 @@ def scenes(degree: int, level: int) -> dict[str, dict]:
            "rigid punch, bonded": {"soil": soil, "plate": plate | {"Kp": 1e3},
                                    "interface": {"condition": "bonded"},
                                    "load": {"pressure": P}, "mesh": mesh}}
+    tops = np.cumsum([0.0] + [h for h, _, _ in LAYERS])
+    if degree > 1:      # its undrained layer's mixed form needs P2 or P3
+        out["layered ground"] = {
+            "soil": {"E": LAYERS[0][1], "nu": LAYERS[0][2],
+                     "layers": [{"depth": float(d), "E": Es, "nu": nus}
+                                for d, (_, Es, nus) in zip(tops[1:-1], LAYERS[1:])]},
+            "load": {"pressure": P, "load_radius": A}, "domain": {"depth": float(tops[-1])},
+            "mesh": mesh}
     for Kp in BROWN:
         out[f"free raft, Kp = {Kp:g}"] = {"soil": soil, "plate": plate | {"Kp": Kp},
                                           "interface": {"condition": "smooth"},
@@ -93,6 +105,9 @@ def errors(case: str, r: dict, reference: dict | None) -> dict:
                 "w_edge": r["w_edge"] / ref.flexible_edge_settlement(P, A, E, NU) - 1,
                 "sigma_zz": float(np.max(np.abs(s[win] / ref.flexible_axis_stress(
                     P, A, z[win]) - 1)))}
+    if case == "layered ground":
+        w0, w_edge = ref.layered_surface_settlement(P, A, [0.0, A], LAYERS, None)
+        return {"w0": r["w0"] / w0 - 1, "w_edge": r["w_edge"] / w_edge - 1}
     force = P * math.pi * A**2
     if case == "rigid punch, smooth":
         return {"w0": r["w0"] / (force * (1 - NU**2) / (2 * A * E)) - 1,
@@ -118,9 +133,19 @@ def _toml(data: dict) -> str:
             continue
         lines.append(f"[{sec}]")
         for k, v in values.items():
-            lines.append(f"{k} = {json.dumps(v) if isinstance(v, str) else repr(v)}"
-                         .replace("True", "true").replace("False", "false"))
+            lines.append(f"{k} = {_toml_value(v)}")
     return "\n".join(lines) + "\n"
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, list):          # [[soil.layers]]: an array of inline tables
+        return "[" + ", ".join("{" + ", ".join(f"{k} = {_toml_value(x)}" for k, x in t.items())
+                               + "}" for t in v) + "]"
+    return repr(v)
 
 
 def run_case(scene: dict, workdir: Path, name: str) -> dict:
@@ -128,8 +153,10 @@ def run_case(scene: dict, workdir: Path, name: str) -> dict:
     path.write_text(_toml(scene))
     out = workdir / name
     t = time.perf_counter()
+    # the analysis alone: the figures and fields a run writes by default are not its cost
     proc = subprocess.run([sys.executable, "-m", "tankfx", "run", str(path), "--out", str(out),
-                           "--force"], capture_output=True, text=True)
+                           "--force", "--no-figures", "--no-fields"], capture_output=True,
+                          text=True)
     wall = time.perf_counter() - t
     if proc.returncode != 0:
         raise RuntimeError(f"{name}: {proc.stderr[-2000:]}")
@@ -191,6 +218,8 @@ def chart(rows: list[dict], path: Path) -> None:
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="levels -1, 0 and P2, P3 only")
+    ap.add_argument("--only", nargs="+", metavar="CASE",
+                    help="only the cases whose names contain one of these (e.g. layered)")
     ap.add_argument("--out", default="results/benchmarks")
     ap.add_argument("--replot", action="store_true",
                     help="only redraw the chart from OUT/accuracy.json")
@@ -211,7 +240,9 @@ def main():
         tmp = Path(tmp)
         # the references of the cases without a closed form: their finest solutions
         references = {}
-        for case in SELF_REFERENCED:
+        wanted = [c for c in scenes(2, 0)
+                  if not args.only or any(w in c for w in args.only)]
+        for case in [c for c in SELF_REFERENCED if c in wanted]:
             print(f"reference for the {case}: P{SELF_REFERENCE[0]}, level "
                   f"{SELF_REFERENCE[1]} ...", flush=True)
             references[case] = run_case(scenes(*SELF_REFERENCE)[case], tmp,
@@ -222,6 +253,8 @@ def main():
         for degree in degrees:
             for level in levels:
                 for case, scene in scenes(degree, level).items():
+                    if case not in wanted:
+                        continue
                     name = f"p{degree}_l{level}_{len(rows)}"
                     r = run_case(scene, tmp, name)
                     err = errors(case, r, references.get(case))
