@@ -99,6 +99,20 @@ def test_alike_layers_are_the_homogeneous_ground():
         assert alike.results[key] == pytest.approx(plain[key], rel=5e-5)
 
 
+def test_layers_continuing_a_gradient_are_the_gradient_soil():
+    """Layers whose E_top and E_gradient continue E_s (1 + lambda h) (E_top = E_s (1 +
+    lambda d), E_gradient = lambda / (1 + lambda d)) are the soil stiffening with depth:
+    w0 within 1e-6 (measured 1.6e-7), w_edge within 2e-4 (5.5e-5: the edge's elements move
+    with the layers' lines; 1.4e-6 on a mesh twice as fine)."""
+    lam, E_s = 0.5, 10e6
+    plain = analyse(flexible_scene(soil={"E_gradient": lam})).results
+    layers = [{"depth": d, "E": E_s * (1 + lam * d), "nu": 0.3,
+               "E_gradient": lam / (1 + lam * d)} for d in (0.6, 2.5)]
+    layered = analyse(flexible_scene(soil={"E_gradient": lam, "layers": layers})).results
+    assert layered["w0"] == pytest.approx(plain["w0"], rel=1e-6)
+    assert layered["w_edge"] == pytest.approx(plain["w_edge"], rel=2e-4)
+
+
 def test_mesh_follows_the_layers():
     """No soil cell straddles a layer's top, whether the top lies above the embedded plate's
     underside, on it, or below it; the tops are tagged facets."""
