@@ -41,6 +41,7 @@ from mpi4py import MPI
 
 from . import soil as soil_forms
 from .post import allsum
+from .scene import MIXED_FROM_NU
 from .solve import SolveError
 
 __all__ = ["kondner_deviator", "principal_strains", "major_strain", "kondner_parameters",
@@ -308,6 +309,10 @@ def first_order_excess(scene, comm: MPI.Comm = MPI.COMM_WORLD) -> dict:
         raise ValueError("first_order_excess needs [soil] model = \"hyperbolic\"")
     if scene.plate is None or scene.interface.condition == "mohr_coulomb":
         raise ValueError("first_order_excess needs a plate and a bonded or smooth interface")
+    if scene.soil.max_nu > MIXED_FROM_NU:
+        raise ValueError(f"first_order_excess needs every soil stratum's nu <= {MIXED_FROM_NU} "
+                         f"(its density is the displacement form's; the mixed form's is not "
+                         f"built)")
     domain = build_domain(scene, comm)
     model = build_model(scene, domain)
     solver = make_solver(scene, model.a, model.L, model.bcs, model.unknowns,
