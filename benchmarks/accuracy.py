@@ -125,32 +125,11 @@ def errors(case: str, r: dict, reference: dict | None) -> dict:
     return {k: r[k] / reference[k] - 1 for k in ("w0", "wd", "M0")}
 
 
-def _toml(data: dict) -> str:
-    lines = []
-    for sec, values in data.items():
-        if not isinstance(values, dict):
-            lines.insert(0, f"{sec} = {json.dumps(values)}")
-            continue
-        lines.append(f"[{sec}]")
-        for k, v in values.items():
-            lines.append(f"{k} = {_toml_value(v)}")
-    return "\n".join(lines) + "\n"
-
-
-def _toml_value(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, str):
-        return json.dumps(v)
-    if isinstance(v, list):          # [[soil.layers]]: an array of inline tables
-        return "[" + ", ".join("{" + ", ".join(f"{k} = {_toml_value(x)}" for k, x in t.items())
-                               + "}" for t in v) + "]"
-    return repr(v)
-
-
 def run_case(scene: dict, workdir: Path, name: str) -> dict:
+    from tankfx import Scene
+
     path = workdir / f"{name}.toml"
-    path.write_text(_toml(scene))
+    path.write_text(Scene.from_dict(scene).to_toml())
     out = workdir / name
     t = time.perf_counter()
     # the analysis alone: the figures and fields a run writes by default are not its cost

@@ -9,6 +9,11 @@ leave them out; ``--force`` replaces them (and removes those of ours the new run
 write, so that none of an earlier run is left beside the new results).
 A bad scene, an existing output that would be overwritten, or a failed solve ends with a
 one-paragraph message and a non-zero exit code, never a Python traceback.
+
+``tankfx check FILE`` validates a scene (or a sweep and every case it makes) without
+solving: it prints what the scene resolves to and which parts an analysis would build and
+iterate; ``--resolved`` prints the scene file with every default written out, ``--mesh``
+meshes it and counts the unknowns.
 """
 from __future__ import annotations
 
@@ -153,6 +158,101 @@ def cmd_run(args) -> int:
     return 0
 
 
+def describe(scene) -> list[str]:
+    """What a scene resolves to and what an analysis of it builds and iterates, in lines."""
+    from .scene import MIXED_FROM_NU
+
+    s, a = scene.soil, scene.foundation_radius
+    out = [f"scene: {scene.title}"]
+    kondner = (f", Kondner 1/a = {1 / s.hyperbolic_a:.4g} Pa, 1/b = {1 / s.hyperbolic_b:.4g} "
+               f"Pa" if s.model == "hyperbolic" else "")
+    for k, st in enumerate(s.strata):
+        where = "from the surface" if k == 0 else f"from {st.depth:g} m"
+        form = "mixed u-p form" if st.nu > MIXED_FROM_NU else "displacement form"
+        kk = (f", 1/b = {1 / st.hyperbolic_b:.4g} Pa" if k and s.model == "hyperbolic" else "")
+        out.append(f"  soil {where}: E = {st.E:.4g} Pa, nu = {st.nu:g}, E_gradient = "
+                   f"{st.E_gradient:g} /m{kondner if k == 0 else kk} ({form})")
+    if scene.plate is not None:
+        pl = scene.plate
+        out.append(f"  plate: a = {pl.radius:g} m, t = {pl.thickness:.4g} m, Kp = "
+                   f"{scene.Kp:.4g}, embedment {pl.embedment:g} m")
+    else:
+        out.append(f"  flexible load on r <= {a:g} m (no structure)")
+    if scene.wall is not None:
+        w = scene.wall
+        out.append(f"  wall: a_t = {w.radius:g} m, t = {w.thickness:.4g} m, H = {w.height:g} "
+                   f"m, Kt = {scene.Kt:.4g}")
+    if scene.plate is not None:
+        ifc = scene.interface
+        law = ifc.condition + (f" (tan phi = {ifc.tan_phi:.4g}, c = {ifc.cohesion:g} Pa, "
+                               f"states per {ifc.states})" if ifc.condition == "mohr_coulomb"
+                               else "")
+        out.append(f"  interface: {law}")
+    ld = scene.load
+    loads = [f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {str(v).lower()}"
+             for k, v in vars(ld).items() if v not in (0.0, False, None) and k != "load_radius"]
+    out.append(f"  load: {', '.join(loads)}"
+               + (f"; {len(scene.stages)} load stages" if scene.stages else ""))
+    m, d = scene.mesh, scene.domain
+    out.append(f"  mesh: soil P{m.degree}, edge {m.edge_size:.4g} m ({m.edge_size / a:.3g} a), "
+               f"near field {m.near_size:.4g} m, growth {m.growth:g}; domain {d.radius:g} x "
+               f"{d.depth:g} m; solver {scene.solver.method}")
+    iterations = []
+    if s.model == "hyperbolic":
+        iterations.append(f"Picard on the secant modulus (tolerance {s.tolerance:g}, at most "
+                          f"{s.max_iterations})")
+    if scene.plate is not None and scene.interface.condition == "mohr_coulomb":
+        iterations.append("the Mohr-Coulomb active set")
+    parts = ["soil"] + [p for p in ("plate", "wall") if getattr(scene, p) is not None]
+    if scene.plate is not None:
+        parts.append(f"{scene.interface.condition} interface")
+    out.append(f"  builds: {', '.join(parts)}; iterates: "
+               f"{', '.join(iterations) if iterations else 'nothing (one linear solve a stage)'}")
+    return out
+
+
+def cmd_check(args) -> int:
+    import tomllib
+
+    from mpi4py import MPI
+
+    from .scene import SceneError, load_scene
+
+    comm = MPI.COMM_WORLD
+    say = print if comm.rank == 0 else (lambda *a, **k: None)
+    try:
+        data = tomllib.loads(Path(args.file).read_text()) if Path(args.file).is_file() else {}
+    except tomllib.TOMLDecodeError:
+        data = {}                            # load_scene says what is wrong with it
+    try:
+        if "axes" in data:
+            from .sweep import load_sweep
+
+            sweep = load_sweep(args.file)
+            say(f"{args.file}: a sweep of {len(sweep.scenes)} cases over "
+                f"{', '.join(sweep.axes)}; every case is valid")
+            scene = sweep.base
+        else:
+            scene = load_scene(args.file)
+            say(f"{args.file}: valid")
+    except SceneError as e:
+        return _fail(f"{args.file}: {e}", EXIT_BAD_INPUT)
+    for line in describe(scene):
+        say(line)
+    if args.mesh:
+        from .analysis import build_model
+        from .mesh import build_domain
+
+        domain = build_domain(scene, comm)
+        dofs = build_model(scene, domain).dofs()
+        cells = domain.mesh.topology.index_map(2).size_global
+        say(f"  mesh: {cells} cells; unknowns: "
+            + ", ".join(f"{k} {v}" for k, v in dofs.items()) + f", total {sum(dofs.values())}")
+    if args.resolved:
+        say("\n# the scene resolved, every default written out:\n" + scene.to_toml())
+    return 0
+
+
 def cmd_sweep(args) -> int:
     from mpi4py import MPI
 
@@ -206,8 +306,14 @@ def main(argv: list[str] | None = None) -> int:
     sweep.add_argument("--out", required=True, help="directory for cases/, table.csv, log")
     sweep.add_argument("--force", action="store_true",
                        help="discard the case files already in --out and start afresh")
+    check = sub.add_parser("check", help="validate a scene or sweep file without solving")
+    check.add_argument("file", help="scene or sweep file (TOML)")
+    check.add_argument("--resolved", action="store_true",
+                       help="print the scene with every default written out")
+    check.add_argument("--mesh", action="store_true",
+                       help="also mesh the scene and count its unknowns")
     args = parser.parse_args(argv)
-    return {"run": cmd_run, "sweep": cmd_sweep}[args.command](args)
+    return {"run": cmd_run, "sweep": cmd_sweep, "check": cmd_check}[args.command](args)
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ Units are SI throughout: metres, pascals, newtons per cubic metre.
 from __future__ import annotations
 
 import difflib
+import json
 import math
 import tomllib
 from dataclasses import dataclass, field, fields, replace
@@ -270,6 +271,22 @@ class Scene:
                              for ld in self.stages]
         return out
 
+    def to_toml(self) -> str:
+        """The scene as a scene file with every value resolved (the defaults written out,
+        a thickness for a Kp); :func:`load_scene` reads it back to an equal scene."""
+        d = self.to_dict()
+        lines = [f"title = {_toml_value(d.pop('title'))}", ""]
+        stages = d.pop("stages", [])
+        for name, values in d.items():
+            layers = values.pop("layers", []) if name == "soil" else []
+            lines += [f"[{name}]", *(f"{k} = {_toml_value(v)}" for k, v in values.items()), ""]
+            for layer in layers:
+                lines += ["[[soil.layers]]",
+                          *(f"{k} = {_toml_value(v)}" for k, v in layer.items()), ""]
+        for stage in stages:
+            lines += ["[[stages]]", *(f"{k} = {_toml_value(v)}" for k, v in stage.items()), ""]
+        return "\n".join(lines)
+
     @staticmethod
     def from_dict(data: dict[str, Any]) -> "Scene":
         return _parse(data)
@@ -288,6 +305,15 @@ def Kp_from_thickness(t: float, a: float, E: float, E_s: float, nu_s: float) -> 
 def plate_thickness_from_Kp(K: float, a: float, E: float, E_s: float, nu_s: float) -> float:
     """Inverse of Eqs. 21-22: the thickness that gives relative rigidity K."""
     return a * (K * E_s / ((1.0 - nu_s**2) * E)) ** (1.0 / 3.0)
+
+
+def _toml_value(v) -> str:
+    """A scalar as TOML writes it (the scene's values are finite: checked on reading)."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v)        # a TOML basic string
+    return repr(v)
 
 
 def _plain(part) -> dict[str, Any]:
