@@ -449,6 +449,13 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                          split=model.a_split if linear_soil and mohr_coulomb else None)
     timings["forms"] = time.perf_counter() - t
     warnings = list(getattr(model, "warnings", []))
+    unloading = scene.unloading_stages() if scene.soil.model == "hyperbolic" else []
+    if unloading:
+        warnings.append(
+            f"stages {', '.join(map(str, unloading))}: less vertical load than an earlier "
+            f"stage; Kondner's secant law (the paper's) is nonlinear elastic, so the soil "
+            f"unloads along its loading curve and keeps no permanent settlement: read "
+            f"these stages as the same load applied afresh, not as unloading")
     for w in warnings:
         log.warning("warning: %s", w)
     dofs = model.dofs()

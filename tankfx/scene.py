@@ -19,7 +19,8 @@ from typing import Any
 import numpy as np
 
 __all__ = ["SceneError", "Soil", "Layer", "Plate", "Wall", "Interface", "Load", "DomainSize",
-           "MeshOptions", "Scene", "load_scene", "plate_thickness_from_Kp", "Kp_from_thickness"]
+           "MeshOptions", "Scene", "load_scene", "plate_thickness_from_Kp", "Kp_from_thickness",
+           "vertical_load"]
 
 #: Default domain size, in multiples of the foundation radius. The truncation error of the
 #: centre settlement falls like 1/R (measured, homogeneous half-space with a fixed far
@@ -225,6 +226,12 @@ class Scene:
         return Kp_from_thickness(self.wall.thickness, self.wall.radius, self.wall.E,
                                  self.soil.E, self.soil.nu)
 
+    def unloading_stages(self) -> list[int]:
+        """The load stages (counted from 1) whose vertical load is less than the largest of
+        the stages before them: unloading."""
+        loads = [vertical_load(ld, self.plate, self.wall) for ld in self.stages]
+        return [k + 1 for k in range(1, len(loads)) if loads[k] < max(loads[:k]) * (1 - 1e-12)]
+
     def with_coarse_mesh(self) -> "Scene":
         """The same scene on a coarse mesh (edge 0.01 a, near field 0.25 a, growth 0.3):
         a quick look, as the demos' ``--coarse`` and the tests use it; a few tenths of a
@@ -297,6 +304,20 @@ class Scene:
 
 
 # --------------------------------------------------------------------------- relations
+def vertical_load(load: Load, plate: Plate | None, wall: Wall | None) -> float:
+    """The load's resultant, N, downward positive: the pressure on the plate (or the loaded
+    circle), the liquid on the floor, and the structure's weight when asked for."""
+    a = plate.radius if plate is not None else load.load_radius
+    net = load.pressure * math.pi * a**2
+    if wall is not None:
+        net += load.liquid_unit_weight * load.liquid_height * math.pi * wall.radius**2
+    if load.self_weight and plate is not None:
+        net += plate.unit_weight * plate.thickness * math.pi * a**2
+        if wall is not None:
+            net += wall.unit_weight * wall.thickness * 2 * math.pi * wall.radius * wall.height
+    return net
+
+
 def Kp_from_thickness(t: float, a: float, E: float, E_s: float, nu_s: float) -> float:
     """Eqs. 21-22: K = (1 - nu_s^2) (E / E_s) (t / a)^3."""
     return (1.0 - nu_s**2) * (E / E_s) * (t / a) ** 3
@@ -718,14 +739,7 @@ def _parse(data: dict[str, Any]) -> Scene:
     if D > 0 and "edge_size" not in mesh:
         edge = min(edge, 0.5 * D)  # the side of the pit needs at least two elements
     if interface_dc.condition == "mohr_coulomb":
-        net = load_dc.pressure * math.pi * a**2
-        if wall_dc is not None:
-            net += load_dc.liquid_unit_weight * load_dc.liquid_height * math.pi * wall_dc.radius**2
-        if load_dc.self_weight:
-            net += plate_dc.unit_weight * plate_dc.thickness * math.pi * a**2
-            if wall_dc is not None:
-                net += wall_dc.unit_weight * wall_dc.thickness * 2 * math.pi * wall_dc.radius * \
-                    wall_dc.height
+        net = vertical_load(load_dc, plate_dc, wall_dc)
         if net <= 0.0:
             raise SceneError([f"[load]: the net vertical load is {net:.4g} N, upward (uplift): "
                               f"a Mohr-Coulomb interface takes no tension, so nothing would "
