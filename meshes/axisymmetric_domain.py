@@ -197,6 +197,18 @@ def _size_field(g: DomainGeometry, gmsh, singular) -> None:
         n = fields.add("MathEval")
         fields.setString(n, "F", f"{g.near_size!r} + {g.growth!r}*max(0, F{d0}-{g.near_radius!r})")
         ids.append(n)
+    if g.layer_depths and g.near_size is not None:
+        # a stratum thinner than the near field's elements gets elements no larger than its
+        # thickness there, not slivers: the band of each, out to the near field's edge
+        tops = [0.0, *g.layer_depths, g.domain_depth]
+        for top, bottom in zip(tops[:-1], tops[1:]):
+            if bottom - top < g.near_size:
+                band = fields.add("Box")
+                for key, value in (("VIn", bottom - top), ("VOut", 1e22), ("XMin", 0.0),
+                                   ("XMax", max(g.near_radius, 2.0 * g.load_radius)),
+                                   ("YMin", -bottom), ("YMax", -top)):
+                    fields.setNumber(band, key, value)
+                ids.append(band)
     m = fields.add("Min")
     fields.setNumbers(m, "FieldsList", ids)
     fields.setAsBackgroundMesh(m)
