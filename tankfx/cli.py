@@ -1,7 +1,8 @@
 """Command line: ``tankfx run SCENE.toml --out DIR`` (also ``python -m tankfx run ...``).
 
 Writes ``DIR/results.json``, ``DIR/tankfx.log``, ``DIR/report.md`` (the summary and the
-figures on one page), the figures (``DIR/section.png``;
+figures on one page), the profiles as CSV files (``DIR/profiles/``: surface, axis, plate,
+wall), the figures (``DIR/section.png``;
 ``stress_level.png`` for a hyperbolic soil; ``moments.png``, ``profiles.png``,
 ``contact.png`` with a plate, ``settlement.png`` without) and the fields for ParaView
 (``DIR/fields/``: soil.pvd, plate.vtp, wall.vtp); ``--no-figures`` and ``--no-fields``
@@ -30,6 +31,8 @@ EXIT_BAD_INPUT = 2
 EXIT_NOT_CONVERGED = 3
 #: where ``tankfx run`` writes the fields for ParaView, and its report, under --out
 FIELDS = Path("fields")
+#: and the profiles as CSV files
+PROFILES = Path("profiles")
 REPORT = "report.md"
 
 
@@ -100,9 +103,10 @@ def cmd_run(args) -> int:
         scene = scene.with_coarse_mesh()
     target = out / "results.json"
     from .plots import FIGURES
-    from .post import FIELD_FILES
+    from .post import FIELD_FILES, PROFILE_FILES
 
-    ours = [target, out / REPORT, *([out / f for f in FIGURES] if args.figures else []),
+    ours = [target, out / REPORT, *(out / PROFILES / f for f in PROFILE_FILES),
+            *([out / f for f in FIGURES] if args.figures else []),
             *([out / FIELDS / f for f in FIELD_FILES] if args.fields else [])]
     existing = [str(p) for p in ours if p.exists()]
     if existing and not args.force:
@@ -131,9 +135,12 @@ def cmd_run(args) -> int:
         logging.getLogger("tankfx").error("not converged: %s", e)
         return _fail(f"the analysis did not converge: {e}", EXIT_NOT_CONVERGED)
     r = solution.results
-    if comm.rank == 0:
-        write_json(target, r)
     log = logging.getLogger("tankfx")
+    if comm.rank == 0:
+        from .post import write_profiles
+
+        write_json(target, r)
+        log.info("profiles (CSV): %s", ", ".join(map(str, write_profiles(r, out / PROFILES))))
     log.info("w0 = %.6g m, w_edge = %.6g m, wd = %.6g m", r["w0"], r["w_edge"], r["wd"])
     log.info("equilibrium: reaction %.6g N for %.6g N applied (relative error %.1e)",
              r["equilibrium"]["reaction"], r["equilibrium"]["applied_load"],

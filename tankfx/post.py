@@ -17,6 +17,7 @@ from mpi4py import MPI
 
 __all__ = ["allsum", "assemble_scalar", "evaluate_at", "nodal_values_on_facets",
            "soil_cell_fields", "write_fields", "FIELD_FILES", "STATUS_CODES", "summary_rows",
+           "write_profiles", "PROFILE_FILES",
            "summary_table", "write_report"]
 
 
@@ -191,6 +192,39 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
 FIELD_FILES = ("soil.pvd", "plate.vtp", "wall.vtp")
 #: Interface states as numbers in the structure's files (VTK point data are numeric).
 STATUS_CODES = {"none": 0, "stick": 1, "slip": 2, "separated": 3, "rebonded": 4}
+
+
+#: The profiles :func:`write_profiles` writes, one CSV file each where the results have it.
+PROFILE_FILES = ("surface.csv", "axis.csv", "plate.csv", "wall.csv")
+#: The SI unit of each profile column (results.json's ``conventions`` say the signs).
+PROFILE_UNITS = {"r": "m", "z": "m", "w": "m", "u_r": "m", "u_z": "m", "rotation": "rad",
+                 "M_r": "N m/m", "M_theta": "N m/m", "M_z": "N m/m", "Q_r": "N/m", "Q": "N/m",
+                 "N_theta": "N/m", "sigma_zz": "Pa", "contact_normal": "Pa",
+                 "contact_shear": "Pa", "contact_status": ""}
+
+
+def write_profiles(results: dict, directory) -> list[Path]:
+    """The results' profiles (ground surface, axis, plate, wall) as CSV files in
+    ``directory``, a column per quantity with its unit in the header, for a spreadsheet
+    (rank 0 only; the numbers are those of results.json)."""
+    import csv
+
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    written = []
+    for name in PROFILE_FILES:
+        prof = results["profiles"].get(name.removesuffix(".csv"))
+        if not prof:
+            continue
+        keys = list(prof)
+        path = directory / name
+        with path.open("w", newline="") as f:
+            out = csv.writer(f)
+            out.writerow([f"{k} [{PROFILE_UNITS[k]}]" if PROFILE_UNITS.get(k) else k
+                          for k in keys])
+            out.writerows(zip(*(prof[k] for k in keys)))
+        written.append(path)
+    return written
 
 
 def write_fields(solution, directory) -> list[Path]:

@@ -1,5 +1,6 @@
 """The command line, as a user runs it: results.json with the contract's keys, a log, no
 overwriting without --force, and the same numbers under `mpiexec -n 2`."""
+import csv
 import json
 import os
 import shutil
@@ -113,12 +114,27 @@ def test_a_load_path_scene_file(tmp_path):
     assert second["interface"]["rebonded_length"]["plate"] > 0.0
     assert r["w0"] == second["w0"] and r["stage"] == 2
     assert "stage 2: w0" in (out / "tankfx.log").read_text()
+    # the profiles as CSV files: the numbers of results.json, a unit in each header
+    for name in ("surface", "axis", "plate", "wall"):
+        with (out / "profiles" / f"{name}.csv").open() as f:
+            rows = list(csv.reader(f))
+        prof = r["profiles"][name]
+        assert [h.split(" [")[0] for h in rows[0]] == list(prof)
+        for col, key in enumerate(prof):
+            got = [row[col] for row in rows[1:]]
+            expected = prof[key] if key == "contact_status" else None
+            if expected is None:
+                np.testing.assert_array_equal(np.array(got, dtype=float), prof[key])
+            else:
+                assert got == expected
+    assert "M_r [N m/m]" in (out / "profiles" / "plate.csv").read_text().splitlines()[0]
 
 
 def test_without_figures_and_fields_writes_neither(tmp_path):
     out = tmp_path / "out"
     assert _run("run", SCENE, "--out", out, "--no-figures", "--no-fields").returncode == 0
-    assert sorted(p.name for p in out.iterdir()) == ["report.md", "results.json", "tankfx.log"]
+    assert sorted(p.name for p in out.iterdir()) == ["profiles", "report.md", "results.json",
+                                                     "tankfx.log"]
     assert "![" not in (out / "report.md").read_text()
     # --coarse: the same scene on the coarse mesh, w0 within a few tenths of a per cent
     coarse = tmp_path / "coarse"
