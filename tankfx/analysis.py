@@ -146,12 +146,18 @@ class SoilBlock:
             self.nu = fem.Constant(msh, s.nu)
             self.gradient = fem.Constant(msh, s.E_gradient)
         self.E = soil_forms.modulus_with_depth(self.E_s, self.gradient, h)
-        if s.model == "hyperbolic":
+        if s.nonlinear:
             # the secant modulus, one value per cell, starting at the initial tangent modulus
             # (at the cell's centroid, like the paper's element modulus)
             Q0 = fem.functionspace(msh, ("DG", 0))
             modulus = fem.Function(Q0, name="secant_modulus")
-            modulus.interpolate(fem.Expression(self.E, Q0.element.interpolation_points))
+            if s.model == "duncan_chang":      # at the geostatic confinement
+                from .hyperbolic import initial_modulus
+
+                modulus.x.array[Q0.dofmap.list[:, 0]] = initial_modulus(
+                    s, -_cell_midpoints(msh)[:, 1])
+            else:
+                modulus.interpolate(fem.Expression(self.E, Q0.element.interpolation_points))
             self.E = modulus
         self.trial, self.test = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
         self._cell_measures(len(strata))
@@ -449,7 +455,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                          split=model.a_split if linear_soil and mohr_coulomb else None)
     timings["forms"] = time.perf_counter() - t
     warnings = list(getattr(model, "warnings", []))
-    unloading = scene.unloading_stages() if scene.soil.model == "hyperbolic" else []
+    unloading = scene.unloading_stages() if scene.soil.nonlinear else []
     if unloading:
         warnings.append(
             f"stages {', '.join(map(str, unloading))}: less vertical load than an earlier "
@@ -470,7 +476,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         t = time.perf_counter()
         soil_iteration = None
         model.begin_stage()
-        if scene.soil.model == "hyperbolic":
+        if scene.soil.nonlinear:
             from .hyperbolic import HyperbolicIteration
 
             soil_iteration = HyperbolicIteration(model).run(

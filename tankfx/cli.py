@@ -173,6 +173,11 @@ def describe(scene) -> list[str]:
     out = [f"scene: {scene.title}"]
     kondner = (f", Kondner 1/a = {1 / s.hyperbolic_a:.4g} Pa, 1/b = {1 / s.hyperbolic_b:.4g} "
                f"Pa" if s.model == "hyperbolic" else "")
+    if s.model == "duncan_chang":
+        kondner = (f"; Duncan-Chang (E = K p_a): K = {s.modulus_number:g}, n = "
+                   f"{s.modulus_exponent:g}, R_f = {s.failure_ratio:g}, c = {s.cohesion:g} Pa, "
+                   f"phi = {s.friction_angle:g} deg, gamma = {s.unit_weight:g} N/m^3, K0 = "
+                   f"{s.K0:.3g}, p_a = {s.atmospheric_pressure:g} Pa")
     for k, st in enumerate(s.strata):
         where = "from the surface" if k == 0 else f"from {st.depth:g} m"
         form = "mixed u-p form" if st.nu > MIXED_FROM_NU else "displacement form"
@@ -205,7 +210,7 @@ def describe(scene) -> list[str]:
                f"near field {m.near_size:.4g} m, growth {m.growth:g}; domain {d.radius:g} x "
                f"{d.depth:g} m; solver {scene.solver.method}")
     iterations = []
-    if s.model == "hyperbolic":
+    if s.nonlinear:
         iterations.append(f"Picard on the secant modulus (tolerance {s.tolerance:g}, at most "
                           f"{s.max_iterations})")
     if scene.plate is not None and scene.interface.condition == "mohr_coulomb":

@@ -29,6 +29,13 @@ not.
 
 Like the paper, the secant approach ignores the in-situ (geostatic) stress: the soil is
 unstressed before the tank is built, and the moduli depend on the strains the tank causes.
+
+Duncan & Chang's soil (model = "duncan_chang", 1970) is Kondner's law whose constants follow
+each cell's confining stress sigma_3 (the minor principal compression of the geostatic
+stress, gamma h vertically and K0 gamma h horizontally, plus the tank's): the initial
+modulus 1/a = K p_a (sigma_3 / p_a)^n and the ultimate deviator 1/b = q_f / R_f, q_f = (2 c
+cos phi + 2 sigma_3 sin phi) / (1 - sin phi) (Mohr-Coulomb). The same Picard iteration
+updates a and b from the current stress at each step.
 """
 from __future__ import annotations
 
@@ -47,8 +54,14 @@ from .solve import SolveError
 __all__ = ["kondner_deviator", "principal_strains", "major_strain", "kondner_parameters",
            "stress_level",
            "secant_update",
-           "HyperbolicIteration", "SoilFailure", "ULTIMATE_FRACTION", "first_order_excess"]
+           "HyperbolicIteration", "SoilFailure", "ULTIMATE_FRACTION", "first_order_excess",
+           "geostatic_stress", "duncan_chang_parameters", "initial_modulus",
+           "MIN_CONFINEMENT"]
 
+#: Duncan & Chang's confining stress is held at this fraction of p_a at least: at the
+#: ground surface, and where the tank's stress puts a cell in tension, sigma_3 would give no
+#: modulus and no strength.
+MIN_CONFINEMENT = 0.01
 #: A cell whose model deviator reaches this fraction of 1/b counts as at the ultimate.
 ULTIMATE_FRACTION = 0.99
 #: The secant modulus never falls below this fraction of the initial one (it must not reach
@@ -92,6 +105,34 @@ def kondner_parameters(soil, depth):
     return 1.0 / st["E"], st["hyperbolic_b"], st["nu"]
 
 
+def geostatic_stress(soil, depth):
+    """(sigma_v, sigma_h), Pa, compression positive, of the ground at rest at ``depth`` (m;
+    none above the ground): gamma h and K0 gamma h."""
+    sigma_v = soil.unit_weight * np.maximum(np.asarray(depth, dtype=float), 0.0)
+    return sigma_v, soil.K0 * sigma_v
+
+
+def duncan_chang_parameters(soil, sigma_3):
+    """Kondner's (a, b) of Duncan & Chang's soil at confining stress ``sigma_3`` (Pa,
+    compression positive, held at MIN_CONFINEMENT p_a at least): 1/a = K p_a (sigma_3 /
+    p_a)^n, 1/b = (2 c cos phi + 2 sigma_3 sin phi) / ((1 - sin phi) R_f)."""
+    p_a = soil.atmospheric_pressure
+    s3 = np.maximum(sigma_3, MIN_CONFINEMENT * p_a)
+    E_i = soil.modulus_number * p_a * (s3 / p_a) ** soil.modulus_exponent
+    phi = np.radians(soil.friction_angle)
+    q_f = (2.0 * soil.cohesion * np.cos(phi) + 2.0 * s3 * np.sin(phi)) / (1.0 - np.sin(phi))
+    return 1.0 / E_i, soil.failure_ratio / q_f
+
+
+def initial_modulus(soil, depth):
+    """The nonlinear soil's initial tangent modulus of cells at ``depth``: Kondner's 1/a of
+    their stratum, or Duncan & Chang's at the geostatic confinement."""
+    if soil.model == "duncan_chang":
+        sigma_v, sigma_h = geostatic_stress(soil, depth)
+        return 1.0 / duncan_chang_parameters(soil, np.minimum(sigma_v, sigma_h))[0]
+    return 1.0 / kondner_parameters(soil, depth)[0]
+
+
 def stress_level(eps_min, eps_max, nu, a, b):
     """The deviator Kondner's law gives the strain (Eq. 17) over the ultimate 1/b: 1 at
     failure."""
@@ -131,7 +172,16 @@ class HyperbolicIteration:
         # everything below is in cell order; V's and T's dofs are mapped through their maps
         self.dof_E = V.dofmap.list[:, 0]
         self.mid = dmesh.compute_midpoints(msh, 2, np.arange(n_cells, dtype=np.int32))[:, :2]
-        self.a, self.b, self.nu = kondner_parameters(s, -self.mid[:, 1])
+        self.duncan_chang = s.model == "duncan_chang"
+        if self.duncan_chang:
+            # the geostatic stress per cell (tension positive, (rr, zz, rz, theta)), to
+            # which the tank's is added for the confinement
+            sigma_v, sigma_h = geostatic_stress(s, -self.mid[:, 1])
+            self.geostatic = np.stack([-sigma_h, -sigma_v, 0.0 * sigma_v, -sigma_h], axis=1)
+            self.a, self.b = duncan_chang_parameters(s, np.minimum(sigma_v, sigma_h))
+            self.nu = np.full(len(self.a), s.nu)
+        else:
+            self.a, self.b, self.nu = kondner_parameters(s, -self.mid[:, 1])
         self.E_initial = 1.0 / self.a
         self.is_soil = np.zeros(n_cells, dtype=bool)
         self.is_soil[model.domain.cells("soil")] = True
@@ -142,6 +192,12 @@ class HyperbolicIteration:
         self.strain_expr = fem.Expression(
             ufl.as_vector([eps[0, 0], eps[1, 1], eps[0, 1], eps[2, 2]]),
             T.element.interpolation_points)
+        if self.duncan_chang:
+            sig = soil.stress()
+            self.stress = fem.Function(T)
+            self.stress_expr = fem.Expression(
+                ufl.as_vector([sig[0, 0], sig[1, 1], sig[0, 1], sig[2, 2]]),
+                T.element.interpolation_points)
         self.history: list[dict] = []
         self.anderson_depth = ANDERSON_DEPTH
         self._x_hist, self._f_hist, self._g_hist = [], [], []
@@ -159,13 +215,21 @@ class HyperbolicIteration:
         centre = np.array([[0.0, -m.scene.embedment]])
         w0_hist = []
         own = np.flatnonzero(self.is_soil[: self.n_owned])
-        log.info("hyperbolic soil: 1/a = %.4g Pa, 1/b = %.4g Pa, tolerance %.3g (Eq. 18)",
-                 1.0 / s.hyperbolic_a, 1.0 / s.hyperbolic_b, tol)
+        if self.duncan_chang:
+            log.info("Duncan-Chang soil: K = %.4g, n = %.3g, R_f = %.3g, c = %.4g Pa, phi = "
+                     "%.3g deg, gamma = %.4g N/m^3, K0 = %.3g; tolerance %.3g (Eq. 18)",
+                     s.modulus_number, s.modulus_exponent, s.failure_ratio, s.cohesion,
+                     s.friction_angle, s.unit_weight, s.K0, tol)
+        else:
+            log.info("hyperbolic soil: 1/a = %.4g Pa, 1/b = %.4g Pa, tolerance %.3g (Eq. 18)",
+                     1.0 / s.hyperbolic_a, 1.0 / s.hyperbolic_b, tol)
         log.info("  it  changing  max misfit  at ultimate  du/u        time s")
         for it in range(1, max_it + 1):
             t0 = time.perf_counter()
             unsettled = inner_solve()     # interface elements that changed state (single loop)
             eps_min, eps_max = self.cell_principal_strains()
+            if self.duncan_chang:
+                self._confine()
             E = self.modulus.x.array[self.dof_E]
             _, _, misfit, E_new, ultimate = secant_update(E, self.nu, eps_min, eps_max,
                                                           self.a, self.b)
@@ -186,6 +250,8 @@ class HyperbolicIteration:
             log.info("  %2d %9d %11.3e %12d  %10.3e %8.2f", it, n_changing, worst, n_ult,
                      du_rel, row["time_s"])
             if n_changing == 0 and du_rel <= du_tol and not unsettled:
+                # the converged Kondner constants of each cell, for the stress level
+                self.model.soil.kondner = (self.a, self.b, self.nu)
                 return {"converged": True, "iterations": it, "history": self.history,
                         "criterion": f"no cell's deviator misfit exceeds {tol:g} (Eq. 20; "
                                      f"largest {worst:.2e}) and the displacement update is "
@@ -201,13 +267,24 @@ class HyperbolicIteration:
                 new = self._anderson(E, new, floor, own)
             self.modulus.x.array[self.dof_E] = new
         if n_ult > 0:
+            ultimate_is = ("their Mohr-Coulomb strength / R_f at their confinement"
+                           if self.duncan_chang else f"1/b = {1.0 / s.hyperbolic_b:.4g} Pa")
             raise SoilFailure(f"soil failure {self._where(ultimate & self.is_soil)}: {n_ult} "
-                              f"elements at the ultimate deviator (1/b = "
-                              f"{1.0 / s.hyperbolic_b:.4g} Pa) after {max_it} iterations: the "
-                              f"soil cannot carry this load", self.history)
+                              f"elements at the ultimate deviator ({ultimate_is}) after "
+                              f"{max_it} iterations: the soil cannot carry this load",
+                              self.history)
         raise SolveError(f"the hyperbolic soil iteration did not converge in {max_it} "
                          f"iterations (largest deviator misfit {worst:.3g} > {tol:g})",
                          self.history)
+
+    def _confine(self) -> None:
+        """Duncan & Chang: each cell's a and b at its confinement, the minor principal
+        compression of the geostatic stress plus the current solution's."""
+        self.stress.interpolate(self.stress_expr)
+        total = self.geostatic + self.stress.x.array.reshape(-1, 4)[self.dof_T]
+        _, most_tensile = principal_strains(total[:, 0], total[:, 1], total[:, 2], total[:, 3])
+        self.a, self.b = duncan_chang_parameters(self.model.scene.soil, -most_tensile)
+        self.E_initial = 1.0 / self.a
 
     def cell_principal_strains(self) -> tuple[np.ndarray, np.ndarray]:
         """The smallest and largest principal strain of the current displacement at each
@@ -306,7 +383,8 @@ def first_order_excess(scene, comm: MPI.Comm = MPI.COMM_WORLD) -> dict:
     from .solve import make_solver
 
     if scene.soil.model != "hyperbolic":
-        raise ValueError("first_order_excess needs [soil] model = \"hyperbolic\"")
+        raise ValueError("first_order_excess needs [soil] model = \"hyperbolic\" (Kondner's "
+                         "constants fixed; Duncan & Chang's follow the stress)")
     if scene.plate is None or scene.interface.condition == "mohr_coulomb":
         raise ValueError("first_order_excess needs a plate and a bonded or smooth interface")
     if scene.soil.max_nu > MIXED_FROM_NU:

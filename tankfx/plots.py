@@ -453,7 +453,7 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
                "layer_depths": [layer.depth for layer in scene.soil.layers]}
     figures = [(plot_section, (solution.u, solution.sigma_zz, directory / "section.png"),
                 section)]
-    if scene.soil.model == "hyperbolic":
+    if scene.soil.nonlinear:
         level = soil_cell_fields(solution.model)["stress_level"]
         figures.append((plot_section, (solution.u, level, directory / "stress_level.png"),
                         {**section, "label": "q / q_ult", "scalar_scale": 1.0}))

@@ -168,9 +168,12 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
     values = {"modulus": _cellwise(block.E, Q0)[:, 0],
               "deviator": s_max - s_min,
               "mean_stress": -(sig[:, 0] + sig[:, 1] + sig[:, 3]) / 3.0}
-    if s.model == "hyperbolic":
+    if s.nonlinear:
         eps = _cellwise(components(soil_forms.strain(block.u, block.r)), T)
-        a, b, nu = hyperbolic.kondner_parameters(s, _cellwise(soil_forms.depth(msh), Q0)[:, 0])
+        # Kondner's constants of each cell: as the iteration converged on them (Duncan &
+        # Chang's follow the stress), else those of its stratum
+        a, b, nu = getattr(block, "kondner", None) or hyperbolic.kondner_parameters(
+            s, _cellwise(soil_forms.depth(msh), Q0)[:, 0])
         eps_min, eps_max = hyperbolic.principal_strains(eps[:, 0], eps[:, 1], eps[:, 2],
                                                         eps[:, 3])
         values["stress_level"] = hyperbolic.stress_level(eps_min, eps_max, nu, a, b)
@@ -350,6 +353,11 @@ def write_report(results: dict, figures: list[Path], path) -> Path:
     lines = [f"# {r['title']}", ""]
     hyperbolic = (f", 1/b = {1.0 / soil['hyperbolic_b']:.4g} Pa"
                   if soil.get("model") == "hyperbolic" else "")
+    if soil.get("model") == "duncan_chang":
+        hyperbolic = (f" (K p_a), K = {soil['modulus_number']:g}, n = "
+                      f"{soil['modulus_exponent']:g}, R_f = {soil['failure_ratio']:g}, c = "
+                      f"{soil['cohesion']:g} Pa, phi = {soil['friction_angle']:g} deg, gamma = "
+                      f"{soil['unit_weight']:g} N/m^3, K0 = {soil['K0']:.3g}")
     scene_rows = [("soil", f"{soil.get('model', 'linear')}, E_s = {soil['E']:.4g} Pa, "
                            f"nu = {soil['nu']:g}, lambda = {soil.get('E_gradient', 0.0):g} /m"
                            f"{hyperbolic}")]

@@ -82,6 +82,17 @@ class Soil:
     hyperbolic_b: float | None = None  #: 1/b = ultimate deviator stress (hyperbolic model)
     tolerance: float | None = None     #: Eq. 18's relative deviator misfit (hyperbolic)
     max_iterations: int | None = None  #: Picard iterations at most (hyperbolic)
+    # Duncan & Chang's soil (model = "duncan_chang"): Kondner's law with the initial modulus
+    # K p_a (sigma_3 / p_a)^n and the ultimate deviator (Mohr-Coulomb strength) / R_f of
+    # each cell's confining stress: geostatic (unit weight, K0) plus the tank's
+    modulus_number: float | None = None      #: K
+    modulus_exponent: float | None = None    #: n
+    failure_ratio: float | None = None       #: R_f = (sigma_1 - sigma_3)_f / ultimate
+    cohesion: float | None = None            #: c, Pa
+    friction_angle: float | None = None      #: phi, degrees
+    unit_weight: float | None = None         #: gamma, N/m^3 (geostatic stress)
+    K0: float | None = None                  #: horizontal / vertical geostatic stress
+    atmospheric_pressure: float | None = None  #: p_a, Pa
     #: the strata below the surface soil (which the keys above describe, from the surface
     #: down to the first layer's top), top down
     layers: tuple[Layer, ...] = ()
@@ -92,6 +103,11 @@ class Soil:
         top = Layer(depth=0.0, E=self.E, nu=self.nu, E_gradient=self.E_gradient,
                     hyperbolic_a=self.hyperbolic_a, hyperbolic_b=self.hyperbolic_b)
         return (top, *self.layers)
+
+    @property
+    def nonlinear(self) -> bool:
+        """Whether the soil is iterated (Kondner's law, alone or Duncan & Chang's)."""
+        return self.model in ("hyperbolic", "duncan_chang")
 
     @property
     def max_nu(self) -> float:
@@ -246,8 +262,9 @@ class Scene:
         d = self.to_dict()
         for sec, changes in sections.items():
             if isinstance(changes, dict):
-                if sec == "soil" and "hyperbolic_a" in changes and "E" not in changes:
-                    d["soil"].pop("E", None)      # 1/a: the new a's
+                if sec == "soil" and "E" not in changes and {
+                        "hyperbolic_a", "modulus_number", "atmospheric_pressure"} & set(changes):
+                    d["soil"].pop("E", None)      # 1/a or K p_a: the new one's
                 d.setdefault(sec, {}).update(changes)
             else:
                 d[sec] = changes
@@ -349,7 +366,11 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
     "soil": {"E": (float, False), "nu": (float, True), "E_gradient": (float, False),
              "model": (str, False), "hyperbolic_a": (float, False),
              "hyperbolic_b": (float, False), "tolerance": (float, False),
-             "max_iterations": (int, False)},
+             "max_iterations": (int, False), "modulus_number": (float, False),
+             "modulus_exponent": (float, False), "failure_ratio": (float, False),
+             "cohesion": (float, False), "friction_angle": (float, False),
+             "unit_weight": (float, False), "K0": (float, False),
+             "atmospheric_pressure": (float, False)},
     "plate": {"radius": (float, True), "thickness": (float, False), "Kp": (float, False),
               "E": (float, True), "nu": (float, True), "embedment": (float, False),
               "unit_weight": (float, False)},
@@ -376,7 +397,13 @@ _LAYER_SPEC: dict[str, tuple[type, bool]] = {
 _SOLVER_METHODS = ("direct", "iterative")
 _TOP = {"title": str}
 _REQUIRED_SECTIONS = ("soil", "load")
-_SOIL_MODELS = ("linear", "hyperbolic")
+_SOIL_MODELS = ("linear", "hyperbolic", "duncan_chang")
+#: the keys of Duncan & Chang's soil, and those of them it requires
+_DUNCAN_CHANG = ("modulus_number", "modulus_exponent", "failure_ratio", "cohesion",
+                 "friction_angle", "unit_weight", "K0", "atmospheric_pressure")
+_DUNCAN_CHANG_REQUIRED = ("modulus_number", "modulus_exponent", "unit_weight")
+#: p_a, Pa: the reference pressure of Duncan & Chang's modulus
+ATMOSPHERIC_PRESSURE = 101325.0
 _CONDITIONS = ("bonded", "smooth", "mohr_coulomb")
 _ON_CYCLE = ("hold", "stop")
 _STATES = ("element", "node")
@@ -509,11 +536,20 @@ def _parse(data: dict[str, Any]) -> Scene:
                 rd.bad(f"soil.E = {soil['E']!r} contradicts soil.hyperbolic_a (1/a = "
                        f"{1.0 / a_h:.6g} Pa is the surface modulus of a hyperbolic soil); "
                        f"remove soil.E")
-        if model != "hyperbolic" and "E" not in soil:
+        elif model == "duncan_chang":
+            _duncan_chang(rd, soil)
+        if model == "linear" and "E" not in soil:
             rd.bad("soil.E: missing; add 'E = ...' under [soil] (Pa)")
-        for key in ("hyperbolic_a", "hyperbolic_b", "tolerance", "max_iterations"):
+        for key in ("hyperbolic_a", "hyperbolic_b"):
             if key in soil and model != "hyperbolic":
                 rd.bad(f"soil.{key}: only used with model = \"hyperbolic\"; remove it")
+        for key in ("tolerance", "max_iterations"):
+            if key in soil and model == "linear":
+                rd.bad(f"soil.{key}: only used with a nonlinear soil (model = \"hyperbolic\" "
+                       f"or \"duncan_chang\"); remove it")
+        for key in _DUNCAN_CHANG:
+            if key in soil and model != "duncan_chang":
+                rd.bad(f"soil.{key}: only used with model = \"duncan_chang\"; remove it")
         tol = soil.get("tolerance")
         if tol is not None and not (0.0 < tol < 1.0):
             rd.bad(f"soil.tolerance = {tol!r}: the relative deviator misfit of Eq. 18 must "
@@ -522,6 +558,10 @@ def _parse(data: dict[str, Any]) -> Scene:
             rd.bad("soil.max_iterations: must be >= 1")
     layers = _layers(rd, raw_layers, (soil or {}).get("model", "linear")) \
         if raw_layers is not None else []
+    if layers and (soil or {}).get("model") == "duncan_chang":
+        rd.bad("soil.layers: not with model = \"duncan_chang\" in this version (its geostatic "
+               "stress over layers of different unit weight is not built); use "
+               "model = \"hyperbolic\" layers, or one Duncan-Chang soil")
 
     plate = secs["plate"]
     if plate is not None:
@@ -694,12 +734,27 @@ def _parse(data: dict[str, Any]) -> Scene:
 
     # ---- resolve defaults, now that every value is known to be sane
     hyperbolic = soil.get("model", "linear") == "hyperbolic"
-    soil_dc = Soil(E=1.0 / soil["hyperbolic_a"] if hyperbolic else soil["E"], nu=soil["nu"],
+    dc = soil.get("model", "linear") == "duncan_chang"
+    dc_values = {}
+    if dc:
+        phi = soil.get("friction_angle", 0.0)
+        dc_values = {"modulus_number": soil["modulus_number"],
+                     "modulus_exponent": soil["modulus_exponent"],
+                     "failure_ratio": soil.get("failure_ratio", 0.9),
+                     "cohesion": soil.get("cohesion", 0.0), "friction_angle": phi,
+                     "unit_weight": soil["unit_weight"],
+                     "K0": soil.get("K0", 1.0 - math.sin(math.radians(phi))),
+                     "atmospheric_pressure": soil.get("atmospheric_pressure",
+                                                      ATMOSPHERIC_PRESSURE)}
+    E_surface = (1.0 / soil["hyperbolic_a"] if hyperbolic else
+                 dc_values["modulus_number"] * dc_values["atmospheric_pressure"] if dc
+                 else soil["E"])
+    soil_dc = Soil(E=E_surface, nu=soil["nu"], **dc_values,
                    E_gradient=soil.get("E_gradient", 0.0),
                    model=soil.get("model", "linear"), hyperbolic_a=soil.get("hyperbolic_a"),
                    hyperbolic_b=soil.get("hyperbolic_b"),
-                   tolerance=soil.get("tolerance", 0.05) if hyperbolic else None,
-                   max_iterations=soil.get("max_iterations", 40) if hyperbolic else None,
+                   tolerance=soil.get("tolerance", 0.05) if hyperbolic or dc else None,
+                   max_iterations=soil.get("max_iterations", 40) if hyperbolic or dc else None,
                    layers=tuple(Layer(depth=x["depth"],
                                       E=1.0 / x["hyperbolic_a"] if hyperbolic else x["E"],
                                       nu=x["nu"], E_gradient=x.get("E_gradient", 0.0),
@@ -754,6 +809,41 @@ def _parse(data: dict[str, Any]) -> Scene:
     return Scene(soil=soil_dc, load=load_dc, domain=domain_dc, mesh=mesh_dc, plate=plate_dc,
                  wall=wall_dc, interface=interface_dc, solver=solver_dc,
                  title=data.get("title", "tankfx scene"))
+
+
+def _duncan_chang(rd: _Reader, soil: dict) -> None:
+    """The keys of Duncan & Chang's soil: K, n and the unit weight required; a strength
+    (c or phi); E is K p_a, not given."""
+    for key in _DUNCAN_CHANG_REQUIRED:
+        if key not in soil:
+            rd.bad(f"soil.{key}: missing for model = \"duncan_chang\"; add it ("
+                   + {"modulus_number": "K: the initial modulus is K p_a (sigma_3 / p_a)^n",
+                      "modulus_exponent": "n, e.g. 0.5",
+                      "unit_weight": "N/m^3: the geostatic stress sets the confinement"}[key]
+                   + ")")
+    for key in ("modulus_number", "unit_weight", "K0", "atmospheric_pressure"):
+        rd.positive(soil, "soil", key)
+    rd.positive(soil, "soil", "cohesion", allow_zero=True)
+    n = soil.get("modulus_exponent")
+    if n is not None and not 0.0 <= n <= 1.0:
+        rd.bad(f"soil.modulus_exponent = {n!r}: must lie in [0, 1] (0: a modulus independent "
+               f"of confinement; 1: proportional to it)")
+    rf = soil.get("failure_ratio")
+    if rf is not None and not 0.0 < rf <= 1.0:
+        rd.bad(f"soil.failure_ratio = {rf!r}: R_f must lie in (0, 1] (typically 0.7-0.9)")
+    phi = soil.get("friction_angle")
+    if phi is not None and not 0.0 <= phi < 90.0:
+        rd.bad(f"soil.friction_angle = {phi!r}: degrees, must lie in [0, 90)")
+    if not soil.get("cohesion", 0.0) > 0.0 and not (phi or 0.0) > 0.0:
+        rd.bad("soil.cohesion, soil.friction_angle: Duncan & Chang's soil needs a strength; "
+               "give cohesion > 0 (Pa) or friction_angle > 0 (degrees)")
+    K, p_a = soil.get("modulus_number"), soil.get("atmospheric_pressure", ATMOSPHERIC_PRESSURE)
+    if "E" in soil and K and K > 0 and p_a > 0 and abs(soil["E"] / (K * p_a) - 1.0) > 1e-6:
+        rd.bad(f"soil.E = {soil['E']!r}: not used with model = \"duncan_chang\" (its "
+               f"reference modulus is K p_a = {K * p_a:.6g} Pa); remove it")
+    if soil.get("E_gradient", 0.0) != 0.0:
+        rd.bad("soil.E_gradient: not used with model = \"duncan_chang\" (the modulus grows "
+               "with the confining stress instead); remove it")
 
 
 def _layers(rd: _Reader, raw, model: str) -> list[dict[str, Any]]:

@@ -65,8 +65,9 @@ def _with(scene: Scene, values: dict) -> Scene:
             if layer[2] == "hyperbolic_a":
                 layers[k - 1].pop("E", None)          # 1/a: the new a's
             continue
-        if section == "soil" and name == "hyperbolic_a":
-            data["soil"].pop("E", None)
+        if section == "soil" and name in ("hyperbolic_a", "modulus_number",
+                                          "atmospheric_pressure"):
+            data["soil"].pop("E", None)               # 1/a or K p_a: the new one's
         if section in ("plate", "wall") and name in ("Kp", "Kt") and section in data:
             data[section].pop("thickness", None)      # Kp / Kt replace the thickness
         if section in ("plate", "wall") and name == "thickness" and section in data:

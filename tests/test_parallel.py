@@ -110,10 +110,15 @@ def test_tank_parallel_equals_serial(embedment, condition, nu, tan_phi, states):
                                       {"depth": 1.5, "E": 20e6, "nu": 0.3}]},
     # a hyperbolic soil with a weaker layer
     dict(HYPERBOLIC_SOIL, layers=[{"depth": 0.8, "hyperbolic_a": 5e-7, "hyperbolic_b": 4e-5,
-                                   "nu": 0.35}])], ids=["linear_mixed", "hyperbolic"])
+                                   "nu": 0.35}]),
+    # Duncan & Chang's soil: the confinement from the cells' stresses on every rank
+    {"model": "duncan_chang", "nu": 0.3, "modulus_number": 400.0, "modulus_exponent": 0.5,
+     "cohesion": 5e3, "friction_angle": 35.0, "unit_weight": 18e3}],
+    ids=["linear_mixed", "hyperbolic", "duncan_chang"])
 def test_layered_ground_parallel_equals_serial(soil):
     """Layered ground: the cells' strata, the per-layer pressures and pins, the secant
-    iteration's per-layer parameters are the same on 1 and 2 ranks."""
+    iteration's per-layer parameters are the same on 1 and 2 ranks; and so are Duncan &
+    Chang's constants from the cells' confinement."""
     scene = Scene.from_dict(small_tank(soil=soil, interface={
         "condition": "mohr_coulomb", "tan_phi": 0.5}, load=WATER_LOAD))
     parallel, serial = _solve_both(scene)

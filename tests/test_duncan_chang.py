@@ -1,0 +1,128 @@
+"""Duncan & Chang's soil (`model = "duncan_chang"`): Kondner's law whose constants follow
+each cell's confinement. Checked in its Kondner limit (n = 0, phi = 0: the paper's
+hyperbolic soil exactly), against Gibson's closed form for a modulus growing in proportion
+to depth (n = 1, K0 = 1, incompressible) with the first-order convergence that per-cell
+moduli give, cell by cell at convergence against the law recomputed here from the stresses,
+and for the scene's checks."""
+import math
+
+import numpy as np
+import pytest
+import ufl
+from dolfinx import fem
+
+from conftest import small_tank
+from tankfx import Scene, SceneError, analyse
+from tankfx import soil as soil_forms
+from tankfx.hyperbolic import major_strain, principal_strains
+from tankfx.post import _cellwise
+
+P_A = 101325.0
+SAND = {"model": "duncan_chang", "nu": 0.3, "modulus_number": 400.0, "modulus_exponent": 0.5,
+        "cohesion": 5e3, "friction_angle": 35.0, "unit_weight": 18e3}
+
+
+def test_kondner_limit_is_the_hyperbolic_soil():
+    """n = 0 and phi = 0: 1/a = K p_a and 1/b = 2 c / R_f everywhere, Kondner's constants:
+    the same iterations and settlement as model = "hyperbolic" (1e-12)."""
+    K, c, R_f = 100.0, 50e3, 0.9
+    load = {"pressure": 40e3, "load_radius": 1.0}
+    dc = Scene.from_dict({"soil": {"model": "duncan_chang", "nu": 0.3, "modulus_number": K,
+                                   "modulus_exponent": 0.0, "cohesion": c,
+                                   "unit_weight": 18e3, "failure_ratio": R_f}, "load": load})
+    kondner = Scene.from_dict({"soil": {"model": "hyperbolic", "nu": 0.3,
+                                        "hyperbolic_a": 1 / (K * P_A),
+                                        "hyperbolic_b": R_f / (2 * c)}, "load": load})
+    r_dc, r_k = analyse(dc).results, analyse(kondner).results
+    assert r_dc["soil"]["iterations"] == r_k["soil"]["iterations"] > 2
+    assert r_dc["w0"] == pytest.approx(r_k["w0"], rel=1e-12)
+
+
+def _gibson(near_size):
+    """n = 1, K0 = 1: E = K gamma h (p_a drops out; p_a = 1 Pa puts the confinement's
+    floor at 5e-7 m), incompressible, a strength too large to matter."""
+    K, gamma, p, a = 100.0, 20e3, 1e3, 10.0
+    scene = Scene.from_dict({"soil": {"model": "duncan_chang", "nu": 0.5, "modulus_number": K,
+                                      "modulus_exponent": 1.0, "cohesion": 1e9,
+                                      "unit_weight": gamma, "K0": 1.0,
+                                      "atmospheric_pressure": 1.0},
+                             "load": {"pressure": p, "load_radius": a},
+                             "mesh": {"degree": 2, "near_size": near_size}})
+    # Gibson (1967): G = m_G z and nu = 0.5 settle p / (2 m_G) under any load; E = 3 G
+    return analyse(scene).results["w0"] / (3 * p / (2 * K * gamma)) - 1
+
+
+def test_modulus_proportional_to_depth_is_gibsons_soil():
+    """The centre settles as Gibson's soil within 2.5 % with near-field elements of a / 10
+    (measured -2.0 %), the error halving with the elements (ratio 1.6-2.4, measured 1.94):
+    the moduli are per cell, first order in the element size where E varies fastest."""
+    coarse, fine = _gibson(2.0), _gibson(1.0)
+    assert -0.025 < fine < 0.0
+    assert 1.6 < coarse / fine < 2.4
+
+
+def test_converged_cells_obey_duncan_chang():
+    """The 1 m tank on sand (K = 400, n = 0.5, c = 5 kPa, phi = 35 deg) under 50 kPa: at
+    convergence each soil cell's secant modulus is Kondner's 1 / (a + b eps_p) with a and b
+    of Duncan & Chang at its confinement, recomputed here from the cell's stress and the
+    geostatic stress (Eq. 18 tolerance)."""
+    scene = Scene.from_dict(small_tank(soil=SAND, load={"pressure": 50e3}))
+    solution = analyse(scene)
+    assert solution.results["soil"]["converged"]
+    model = solution.model
+    block = model.soil
+    msh = block.u.function_space.mesh
+    T = fem.functionspace(msh, ("DG", 0, (4,)))
+    Q0 = fem.functionspace(msh, ("DG", 0))
+
+    def comps(t):
+        return ufl.as_vector([t[0, 0], t[1, 1], t[0, 1], t[2, 2]])
+
+    sig = _cellwise(comps(block.stress()), T)
+    eps = _cellwise(comps(soil_forms.strain(block.u, block.r)), T)
+    E = _cellwise(block.E, Q0)[:, 0]
+    h = np.maximum(-_cellwise(ufl.SpatialCoordinate(msh)[1], Q0)[:, 0], 0.0)
+    K0 = 1 - math.sin(math.radians(35.0))
+    total = sig + np.stack([-K0 * 18e3 * h, -18e3 * h, 0 * h, -K0 * 18e3 * h], axis=1)
+    s3 = np.maximum(-principal_strains(*total.T)[1], 0.01 * P_A)
+    E_i = 400.0 * P_A * (s3 / P_A) ** 0.5
+    phi = math.radians(35.0)
+    q_f = (2 * 5e3 * math.cos(phi) + 2 * s3 * math.sin(phi)) / (1 - math.sin(phi))
+    eps_p = major_strain(*principal_strains(*eps.T), 0.3)
+    E_law = 1.0 / (1.0 / E_i + 0.9 / q_f * eps_p)
+    soil_cells = model.domain.cells("soil")
+    soil_cells = soil_cells[soil_cells < msh.topology.index_map(2).size_local]
+    misfit = np.abs(E[soil_cells] - E_law[soil_cells]) / E[soil_cells]
+    # measured: largest 0.023, median 5e-7
+    assert np.max(misfit) < scene.soil.tolerance
+    assert np.median(misfit) < 1e-4
+    # and the soil is nonlinear there: the corner's cells far below their initial modulus
+    # (measured: down to 0.09 of it)
+    assert np.min(E[soil_cells] / E_i[soil_cells]) < 0.5
+
+
+@pytest.mark.parametrize("changes, expected", [
+    ({"modulus_number": None}, "soil.modulus_number: missing"),
+    ({"modulus_exponent": None}, "soil.modulus_exponent: missing"),
+    ({"unit_weight": None}, "soil.unit_weight: missing"),
+    ({"cohesion": 0.0, "friction_angle": 0.0}, "needs a strength"),
+    ({"modulus_exponent": 1.5}, "soil.modulus_exponent = 1.5"),
+    ({"failure_ratio": 1.2}, "soil.failure_ratio = 1.2"),
+    ({"friction_angle": 95.0}, "soil.friction_angle = 95.0"),
+    ({"K0": -0.5}, "soil.K0 = -0.5"),
+    ({"E": 5e6}, "soil.E = 5000000.0: not used"),
+    ({"E_gradient": 0.2}, "soil.E_gradient: not used"),
+    ({"hyperbolic_a": 1e-7}, "soil.hyperbolic_a: only used"),
+    ({"layers": [{"depth": 1.0, "E": 1e6, "nu": 0.3}]}, "soil.layers: not with"),
+])
+def test_bad_duncan_chang_soil_is_refused(changes, expected):
+    soil = {k: v for k, v in (SAND | changes).items() if v is not None}
+    with pytest.raises(SceneError) as err:
+        Scene.from_dict({"soil": soil, "load": {"pressure": 1e4, "load_radius": 1.0}})
+    assert expected in str(err.value), str(err.value)
+
+
+def test_duncan_chang_keys_need_the_model():
+    with pytest.raises(SceneError, match="soil.modulus_number: only used with model"):
+        Scene.from_dict({"soil": {"E": 1e7, "nu": 0.3, "modulus_number": 300.0},
+                         "load": {"pressure": 1e4, "load_radius": 1.0}})
