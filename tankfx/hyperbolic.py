@@ -187,17 +187,14 @@ class HyperbolicIteration:
         self.is_soil[model.domain.cells("soil")] = True
         T = fem.functionspace(msh, ("DG", 0, (4,)))
         self.dof_T = T.dofmap.list[:, 0]
-        eps = soil_forms.strain(soil.u, soil.r)
         self.strain = fem.Function(T)
         self.strain_expr = fem.Expression(
-            ufl.as_vector([eps[0, 0], eps[1, 1], eps[0, 1], eps[2, 2]]),
+            soil_forms.tensor_components(soil_forms.strain(soil.u, soil.r)),
             T.element.interpolation_points)
         if self.duncan_chang:
-            sig = soil.stress()
             self.stress = fem.Function(T)
-            self.stress_expr = fem.Expression(
-                ufl.as_vector([sig[0, 0], sig[1, 1], sig[0, 1], sig[2, 2]]),
-                T.element.interpolation_points)
+            self.stress_expr = fem.Expression(soil_forms.tensor_components(soil.stress()),
+                                              T.element.interpolation_points)
         self.history: list[dict] = []
         self.anderson_depth = ANDERSON_DEPTH
         self._x_hist, self._f_hist, self._g_hist = [], [], []

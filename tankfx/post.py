@@ -10,7 +10,6 @@ import weakref
 from pathlib import Path
 
 import numpy as np
-import ufl
 from dolfinx import fem, geometry
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
@@ -159,17 +158,14 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
     Q0 = fem.functionspace(msh, ("DG", 0))
     T = fem.functionspace(msh, ("DG", 0, (4,)))
 
-    def components(t):       # (rr, zz, rz, theta) of an axisymmetric tensor
-        return ufl.as_vector([t[0, 0], t[1, 1], t[0, 1], t[2, 2]])
-
-    sig = _cellwise(components(block.stress()), T)
+    sig = _cellwise(soil_forms.tensor_components(block.stress()), T)
     # principal_strains is the eigen-split of any axisymmetric tensor: here, of the stress
     s_min, s_max = hyperbolic.principal_strains(sig[:, 0], sig[:, 1], sig[:, 2], sig[:, 3])
     values = {"modulus": _cellwise(block.E, Q0)[:, 0],
               "deviator": s_max - s_min,
               "mean_stress": -(sig[:, 0] + sig[:, 1] + sig[:, 3]) / 3.0}
     if s.nonlinear:
-        eps = _cellwise(components(soil_forms.strain(block.u, block.r)), T)
+        eps = _cellwise(soil_forms.tensor_components(soil_forms.strain(block.u, block.r)), T)
         # Kondner's constants of each cell: as the iteration converged on them (Duncan &
         # Chang's follow the stress), else those of its stratum
         a, b, nu = getattr(block, "kondner", None) or hyperbolic.kondner_parameters(

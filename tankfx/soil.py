@@ -17,7 +17,7 @@ import ufl
 
 __all__ = ["radius", "depth", "strain", "stress", "lame", "modulus_with_depth",
            "stiffness_form", "hoop_strain", "mixed_stress", "mixed_stiffness_forms",
-           "inverse_lambda", "quadrature_degree"]
+           "inverse_lambda", "quadrature_degree", "tensor_components"]
 
 
 def quadrature_degree(degree: int) -> int:
@@ -53,6 +53,11 @@ def strain(u, r, on_axis: bool = False):
     return ufl.as_tensor([[g[0, 0], 0.5 * (g[0, 1] + g[1, 0]), 0.0],
                           [0.5 * (g[0, 1] + g[1, 0]), g[1, 1], 0.0],
                           [0.0, 0.0, hoop_strain(u, r, on_axis)]])
+
+
+def tensor_components(t):
+    """(rr, zz, rz, theta) of an axisymmetric tensor, as a vector (for cell fields)."""
+    return ufl.as_vector([t[0, 0], t[1, 1], t[0, 1], t[2, 2]])
 
 
 def lame(E, nu):

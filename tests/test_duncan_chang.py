@@ -75,11 +75,8 @@ def test_converged_cells_obey_duncan_chang():
     T = fem.functionspace(msh, ("DG", 0, (4,)))
     Q0 = fem.functionspace(msh, ("DG", 0))
 
-    def comps(t):
-        return ufl.as_vector([t[0, 0], t[1, 1], t[0, 1], t[2, 2]])
-
-    sig = _cellwise(comps(block.stress()), T)
-    eps = _cellwise(comps(soil_forms.strain(block.u, block.r)), T)
+    sig = _cellwise(soil_forms.tensor_components(block.stress()), T)
+    eps = _cellwise(soil_forms.tensor_components(soil_forms.strain(block.u, block.r)), T)
     E = _cellwise(block.E, Q0)[:, 0]
     h = np.maximum(-_cellwise(ufl.SpatialCoordinate(msh)[1], Q0)[:, 0], 0.0)
     K0 = 1 - math.sin(math.radians(35.0))
