@@ -182,6 +182,10 @@ def describe(scene) -> list[str]:
         where = "from the surface" if k == 0 else f"from {st.depth:g} m"
         form = "mixed u-p form" if st.nu > MIXED_FROM_NU else "displacement form"
         kk = (f", 1/b = {1 / st.hyperbolic_b:.4g} Pa" if k and s.model == "hyperbolic" else "")
+        if k and s.model == "duncan_chang":
+            kk = (f"; K = {st.modulus_number:g}, n = {st.modulus_exponent:g}, R_f = "
+                  f"{st.failure_ratio:g}, c = {st.cohesion:g} Pa, phi = {st.friction_angle:g} "
+                  f"deg, gamma = {st.unit_weight:g} N/m^3, K0 = {st.K0:.3g}")
         out.append(f"  soil {where}: E = {st.E:.4g} Pa, nu = {st.nu:g}, E_gradient = "
                    f"{st.E_gradient:g} /m{kondner if k == 0 else kk} ({form})")
     if scene.plate is not None:

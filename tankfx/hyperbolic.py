@@ -107,21 +107,29 @@ def kondner_parameters(soil, depth):
 
 def geostatic_stress(soil, depth):
     """(sigma_v, sigma_h), Pa, compression positive, of the ground at rest at ``depth`` (m;
-    none above the ground): gamma h and K0 gamma h."""
-    sigma_v = soil.unit_weight * np.maximum(np.asarray(depth, dtype=float), 0.0)
-    return sigma_v, soil.K0 * sigma_v
+    none above the ground): the weight of the strata above, sum of gamma_i times the part of
+    each above the depth, and K0 of the depth's stratum times it."""
+    h = np.maximum(np.asarray(depth, dtype=float), 0.0)
+    strata = soil.strata
+    tops = [st.depth for st in strata]
+    bottoms = tops[1:] + [np.inf]
+    sigma_v = sum(st.unit_weight * np.clip(h - top, 0.0, bottom - top)
+                  for st, top, bottom in zip(strata, tops, bottoms))
+    return sigma_v, soil.at_depth(h)["K0"] * sigma_v
 
 
-def duncan_chang_parameters(soil, sigma_3):
+def duncan_chang_parameters(soil, sigma_3, depth):
     """Kondner's (a, b) of Duncan & Chang's soil at confining stress ``sigma_3`` (Pa,
-    compression positive, held at MIN_CONFINEMENT p_a at least): 1/a = K p_a (sigma_3 /
-    p_a)^n, 1/b = (2 c cos phi + 2 sigma_3 sin phi) / ((1 - sin phi) R_f)."""
+    compression positive, held at MIN_CONFINEMENT p_a at least) of cells at ``depth``, with
+    their stratum's constants: 1/a = K p_a (sigma_3 / p_a)^n, 1/b = (2 c cos phi + 2 sigma_3
+    sin phi) / ((1 - sin phi) R_f)."""
     p_a = soil.atmospheric_pressure
+    st = soil.at_depth(depth)
     s3 = np.maximum(sigma_3, MIN_CONFINEMENT * p_a)
-    E_i = soil.modulus_number * p_a * (s3 / p_a) ** soil.modulus_exponent
-    phi = np.radians(soil.friction_angle)
-    q_f = (2.0 * soil.cohesion * np.cos(phi) + 2.0 * s3 * np.sin(phi)) / (1.0 - np.sin(phi))
-    return 1.0 / E_i, soil.failure_ratio / q_f
+    E_i = st["modulus_number"] * p_a * (s3 / p_a) ** st["modulus_exponent"]
+    phi = np.radians(st["friction_angle"])
+    q_f = (2.0 * st["cohesion"] * np.cos(phi) + 2.0 * s3 * np.sin(phi)) / (1.0 - np.sin(phi))
+    return 1.0 / E_i, st["failure_ratio"] / q_f
 
 
 def initial_modulus(soil, depth):
@@ -129,7 +137,7 @@ def initial_modulus(soil, depth):
     their stratum, or Duncan & Chang's at the geostatic confinement."""
     if soil.model == "duncan_chang":
         sigma_v, sigma_h = geostatic_stress(soil, depth)
-        return 1.0 / duncan_chang_parameters(soil, np.minimum(sigma_v, sigma_h))[0]
+        return 1.0 / duncan_chang_parameters(soil, np.minimum(sigma_v, sigma_h), depth)[0]
     return 1.0 / kondner_parameters(soil, depth)[0]
 
 
@@ -178,8 +186,9 @@ class HyperbolicIteration:
             # which the tank's is added for the confinement
             sigma_v, sigma_h = geostatic_stress(s, -self.mid[:, 1])
             self.geostatic = np.stack([-sigma_h, -sigma_v, 0.0 * sigma_v, -sigma_h], axis=1)
-            self.a, self.b = duncan_chang_parameters(s, np.minimum(sigma_v, sigma_h))
-            self.nu = np.full(len(self.a), s.nu)
+            self.a, self.b = duncan_chang_parameters(s, np.minimum(sigma_v, sigma_h),
+                                                     -self.mid[:, 1])
+            self.nu = s.at_depth(-self.mid[:, 1])["nu"]
         else:
             self.a, self.b, self.nu = kondner_parameters(s, -self.mid[:, 1])
         self.E_initial = 1.0 / self.a
@@ -280,7 +289,8 @@ class HyperbolicIteration:
         self.stress.interpolate(self.stress_expr)
         total = self.geostatic + self.stress.x.array.reshape(-1, 4)[self.dof_T]
         _, most_tensile = principal_strains(total[:, 0], total[:, 1], total[:, 2], total[:, 3])
-        self.a, self.b = duncan_chang_parameters(self.model.scene.soil, -most_tensile)
+        self.a, self.b = duncan_chang_parameters(self.model.scene.soil, -most_tensile,
+                                                 -self.mid[:, 1])
         self.E_initial = 1.0 / self.a
 
     def cell_principal_strains(self) -> tuple[np.ndarray, np.ndarray]:

@@ -360,6 +360,10 @@ def write_report(results: dict, figures: list[Path], path) -> Path:
     for k, layer in enumerate(soil.get("layers", []), start=1):
         kondner = (f", 1/b = {1.0 / layer['hyperbolic_b']:.4g} Pa"
                    if soil.get("model") == "hyperbolic" else "")
+        if soil.get("model") == "duncan_chang":
+            kondner = (f", K = {layer['modulus_number']:g}, n = {layer['modulus_exponent']:g}, "
+                       f"c = {layer['cohesion']:g} Pa, phi = {layer['friction_angle']:g} deg, "
+                       f"gamma = {layer['unit_weight']:g} N/m^3")
         scene_rows.append((f"layer {k}", f"from {layer['depth']:g} m down: E = "
                                          f"{layer['E']:.4g} Pa, nu = {layer['nu']:g}, lambda = "
                                          f"{layer.get('E_gradient', 0.0):g} /m{kondner}"))

@@ -70,6 +70,19 @@ class Layer:
     E_gradient: float = 0.0  #: 1/m, from its top down
     hyperbolic_a: float | None = None
     hyperbolic_b: float | None = None
+    # Duncan & Chang's constants of the layer (model = "duncan_chang"; p_a is the soil's)
+    modulus_number: float | None = None
+    modulus_exponent: float | None = None
+    failure_ratio: float | None = None
+    cohesion: float | None = None
+    friction_angle: float | None = None
+    unit_weight: float | None = None
+    K0: float | None = None
+
+
+#: Duncan & Chang's constants that each stratum has (p_a is the soil's, one for all)
+STRATUM_DUNCAN_CHANG = ("modulus_number", "modulus_exponent", "failure_ratio", "cohesion",
+                        "friction_angle", "unit_weight", "K0")
 
 
 @dataclass(frozen=True)
@@ -101,7 +114,8 @@ class Soil:
     def strata(self) -> tuple[Layer, ...]:
         """Every stratum from the surface down, the surface soil as the first (depth 0)."""
         top = Layer(depth=0.0, E=self.E, nu=self.nu, E_gradient=self.E_gradient,
-                    hyperbolic_a=self.hyperbolic_a, hyperbolic_b=self.hyperbolic_b)
+                    hyperbolic_a=self.hyperbolic_a, hyperbolic_b=self.hyperbolic_b,
+                    **{k: getattr(self, k) for k in STRATUM_DUNCAN_CHANG})
         return (top, *self.layers)
 
     @property
@@ -123,11 +137,13 @@ class Soil:
 
     def at_depth(self, depth) -> dict[str, np.ndarray]:
         """Per depth (m, arrays): the stratum's top ``top``, its ``E_top``, ``E_gradient``,
-        ``nu``, Kondner's ``hyperbolic_a`` and ``hyperbolic_b`` (hyperbolic model), and the
+        ``nu``, Kondner's ``hyperbolic_a`` and ``hyperbolic_b`` (hyperbolic model), Duncan &
+        Chang's constants (STRATUM_DUNCAN_CHANG; 0 where the model has none), and the
         initial modulus ``E`` = E_top (1 + E_gradient (h - top)) (h clipped at the ground)."""
         idx = self.stratum_of(depth)
         out = {key: np.array([getattr(st, key) or 0.0 for st in self.strata])[idx]
-               for key in ("E_gradient", "nu", "hyperbolic_a", "hyperbolic_b")}
+               for key in ("E_gradient", "nu", "hyperbolic_a", "hyperbolic_b",
+                           *STRATUM_DUNCAN_CHANG)}
         out["top"] = np.array([st.depth for st in self.strata])[idx]
         out["E_top"] = np.array([st.E for st in self.strata])[idx]
         h = np.maximum(np.asarray(depth, dtype=float), 0.0)
@@ -393,7 +409,10 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
 _LAYER_SPEC: dict[str, tuple[type, bool]] = {
     "depth": (float, True), "E": (float, False), "nu": (float, True),
     "E_gradient": (float, False), "hyperbolic_a": (float, False),
-    "hyperbolic_b": (float, False)}
+    "hyperbolic_b": (float, False), "modulus_number": (float, False),
+    "modulus_exponent": (float, False), "failure_ratio": (float, False),
+    "cohesion": (float, False), "friction_angle": (float, False),
+    "unit_weight": (float, False), "K0": (float, False)}
 _SOLVER_METHODS = ("direct", "iterative")
 _TOP = {"title": str}
 _REQUIRED_SECTIONS = ("soil", "load")
@@ -556,12 +575,9 @@ def _parse(data: dict[str, Any]) -> Scene:
                    f"lie in (0, 1) (the paper's 0.05 is the default)")
         if soil.get("max_iterations", 1) < 1:
             rd.bad("soil.max_iterations: must be >= 1")
-    layers = _layers(rd, raw_layers, (soil or {}).get("model", "linear")) \
+    layers = _layers(rd, raw_layers, (soil or {}).get("model", "linear"),
+                     (soil or {}).get("atmospheric_pressure")) \
         if raw_layers is not None else []
-    if layers and (soil or {}).get("model") == "duncan_chang":
-        rd.bad("soil.layers: not with model = \"duncan_chang\" in this version (its geostatic "
-               "stress over layers of different unit weight is not built); use "
-               "model = \"hyperbolic\" layers, or one Duncan-Chang soil")
 
     plate = secs["plate"]
     if plate is not None:
@@ -737,15 +753,8 @@ def _parse(data: dict[str, Any]) -> Scene:
     dc = soil.get("model", "linear") == "duncan_chang"
     dc_values = {}
     if dc:
-        phi = soil.get("friction_angle", 0.0)
-        dc_values = {"modulus_number": soil["modulus_number"],
-                     "modulus_exponent": soil["modulus_exponent"],
-                     "failure_ratio": soil.get("failure_ratio", 0.9),
-                     "cohesion": soil.get("cohesion", 0.0), "friction_angle": phi,
-                     "unit_weight": soil["unit_weight"],
-                     "K0": soil.get("K0", 1.0 - math.sin(math.radians(phi))),
-                     "atmospheric_pressure": soil.get("atmospheric_pressure",
-                                                      ATMOSPHERIC_PRESSURE)}
+        p_a = soil.get("atmospheric_pressure", ATMOSPHERIC_PRESSURE)
+        dc_values = _duncan_chang_values(soil, p_a) | {"atmospheric_pressure": p_a}
     E_surface = (1.0 / soil["hyperbolic_a"] if hyperbolic else
                  dc_values["modulus_number"] * dc_values["atmospheric_pressure"] if dc
                  else soil["E"])
@@ -755,11 +764,7 @@ def _parse(data: dict[str, Any]) -> Scene:
                    hyperbolic_b=soil.get("hyperbolic_b"),
                    tolerance=soil.get("tolerance", 0.05) if hyperbolic or dc else None,
                    max_iterations=soil.get("max_iterations", 40) if hyperbolic or dc else None,
-                   layers=tuple(Layer(depth=x["depth"],
-                                      E=1.0 / x["hyperbolic_a"] if hyperbolic else x["E"],
-                                      nu=x["nu"], E_gradient=x.get("E_gradient", 0.0),
-                                      hyperbolic_a=x.get("hyperbolic_a"),
-                                      hyperbolic_b=x.get("hyperbolic_b")) for x in layers))
+                   layers=tuple(_layer(x, hyperbolic, dc, dc_values) for x in layers))
     plate_dc = None
     if plate is not None:
         t = plate.get("thickness") or plate_thickness_from_Kp(
@@ -811,42 +816,66 @@ def _parse(data: dict[str, Any]) -> Scene:
                  title=data.get("title", "tankfx scene"))
 
 
-def _duncan_chang(rd: _Reader, soil: dict) -> None:
-    """The keys of Duncan & Chang's soil: K, n and the unit weight required; a strength
-    (c or phi); E is K p_a, not given."""
+def _duncan_chang_values(part: dict, p_a: float) -> dict[str, float]:
+    """Duncan & Chang's constants of a soil or layer table, defaults resolved."""
+    phi = part.get("friction_angle", 0.0)
+    return {"modulus_number": part["modulus_number"],
+            "modulus_exponent": part["modulus_exponent"],
+            "failure_ratio": part.get("failure_ratio", 0.9),
+            "cohesion": part.get("cohesion", 0.0), "friction_angle": phi,
+            "unit_weight": part["unit_weight"],
+            "K0": part.get("K0", 1.0 - math.sin(math.radians(phi)))}
+
+
+def _layer(x: dict, hyperbolic: bool, dc: bool, dc_values: dict) -> Layer:
+    """A checked [[soil.layers]] table, resolved."""
+    if dc:
+        values = _duncan_chang_values(x, dc_values["atmospheric_pressure"])
+        return Layer(depth=x["depth"], E=values["modulus_number"] *
+                     dc_values["atmospheric_pressure"], nu=x["nu"], **values)
+    return Layer(depth=x["depth"], E=1.0 / x["hyperbolic_a"] if hyperbolic else x["E"],
+                 nu=x["nu"], E_gradient=x.get("E_gradient", 0.0),
+                 hyperbolic_a=x.get("hyperbolic_a"), hyperbolic_b=x.get("hyperbolic_b"))
+
+
+def _duncan_chang(rd: _Reader, soil: dict, name: str = "soil",
+                  p_a: float | None = None) -> None:
+    """The keys of Duncan & Chang's soil (or of one of its layers, ``name``): K, n and the
+    unit weight required; a strength (c or phi); E is K p_a, not given."""
     for key in _DUNCAN_CHANG_REQUIRED:
         if key not in soil:
-            rd.bad(f"soil.{key}: missing for model = \"duncan_chang\"; add it ("
+            rd.bad(f"{name}.{key}: missing for model = \"duncan_chang\"; add it ("
                    + {"modulus_number": "K: the initial modulus is K p_a (sigma_3 / p_a)^n",
                       "modulus_exponent": "n, e.g. 0.5",
                       "unit_weight": "N/m^3: the geostatic stress sets the confinement"}[key]
                    + ")")
     for key in ("modulus_number", "unit_weight", "K0", "atmospheric_pressure"):
-        rd.positive(soil, "soil", key)
-    rd.positive(soil, "soil", "cohesion", allow_zero=True)
+        rd.positive(soil, name, key)
+    rd.positive(soil, name, "cohesion", allow_zero=True)
     n = soil.get("modulus_exponent")
     if n is not None and not 0.0 <= n <= 1.0:
-        rd.bad(f"soil.modulus_exponent = {n!r}: must lie in [0, 1] (0: a modulus independent "
-               f"of confinement; 1: proportional to it)")
+        rd.bad(f"{name}.modulus_exponent = {n!r}: must lie in [0, 1] (0: a modulus "
+               f"independent of confinement; 1: proportional to it)")
     rf = soil.get("failure_ratio")
     if rf is not None and not 0.0 < rf <= 1.0:
-        rd.bad(f"soil.failure_ratio = {rf!r}: R_f must lie in (0, 1] (typically 0.7-0.9)")
+        rd.bad(f"{name}.failure_ratio = {rf!r}: R_f must lie in (0, 1] (typically 0.7-0.9)")
     phi = soil.get("friction_angle")
     if phi is not None and not 0.0 <= phi < 90.0:
-        rd.bad(f"soil.friction_angle = {phi!r}: degrees, must lie in [0, 90)")
+        rd.bad(f"{name}.friction_angle = {phi!r}: degrees, must lie in [0, 90)")
     if not soil.get("cohesion", 0.0) > 0.0 and not (phi or 0.0) > 0.0:
-        rd.bad("soil.cohesion, soil.friction_angle: Duncan & Chang's soil needs a strength; "
-               "give cohesion > 0 (Pa) or friction_angle > 0 (degrees)")
-    K, p_a = soil.get("modulus_number"), soil.get("atmospheric_pressure", ATMOSPHERIC_PRESSURE)
+        rd.bad(f"{name}.cohesion, {name}.friction_angle: Duncan & Chang's soil needs a "
+               f"strength; give cohesion > 0 (Pa) or friction_angle > 0 (degrees)")
+    K = soil.get("modulus_number")
+    p_a = p_a or soil.get("atmospheric_pressure", ATMOSPHERIC_PRESSURE)
     if "E" in soil and K and K > 0 and p_a > 0 and abs(soil["E"] / (K * p_a) - 1.0) > 1e-6:
-        rd.bad(f"soil.E = {soil['E']!r}: not used with model = \"duncan_chang\" (its "
+        rd.bad(f"{name}.E = {soil['E']!r}: not used with model = \"duncan_chang\" (its "
                f"reference modulus is K p_a = {K * p_a:.6g} Pa); remove it")
     if soil.get("E_gradient", 0.0) != 0.0:
-        rd.bad("soil.E_gradient: not used with model = \"duncan_chang\" (the modulus grows "
-               "with the confining stress instead); remove it")
+        rd.bad(f"{name}.E_gradient: not used with model = \"duncan_chang\" (the modulus "
+               f"grows with the confining stress instead); remove it")
 
 
-def _layers(rd: _Reader, raw, model: str) -> list[dict[str, Any]]:
+def _layers(rd: _Reader, raw, model: str, p_a: float | None = None) -> list[dict[str, Any]]:
     """The [[soil.layers]] tables, checked like [soil]; top down, each below the last."""
     if not isinstance(raw, list) or not all(isinstance(x, dict) for x in raw):
         rd.bad("soil.layers: a list of tables, one '[[soil.layers]]' header each, with the "
@@ -872,7 +901,17 @@ def _layers(rd: _Reader, raw, model: str) -> list[dict[str, Any]]:
         rd.positive(layer, name, "E")
         rd.positive(layer, name, "E_gradient", allow_zero=True)
         rd.poisson(layer, name, incompressible=True)
-        if model == "hyperbolic":
+        for key in _DUNCAN_CHANG:
+            if key in raw_layer and model != "duncan_chang":
+                rd.bad(f"{name}.{key}: only used with soil.model = \"duncan_chang\"; "
+                       f"remove it")
+        if model == "duncan_chang":
+            _duncan_chang(rd, layer, name, p_a)
+            for key in ("hyperbolic_a", "hyperbolic_b"):
+                if key in raw_layer:
+                    rd.bad(f"{name}.{key}: only used with soil.model = \"hyperbolic\"; "
+                           f"remove it")
+        elif model == "hyperbolic":
             for key in ("hyperbolic_a", "hyperbolic_b"):
                 if key not in raw_layer:
                     rd.bad(f"{name}.{key}: missing for model = \"hyperbolic\"; every layer "

@@ -62,8 +62,8 @@ def _with(scene: Scene, values: dict) -> Scene:
                 raise SceneError([f"{key}: the base scene has {len(layers)} soil layer(s); "
                                   f"count them from 1"])
             layers[k - 1][layer[2]] = value
-            if layer[2] == "hyperbolic_a":
-                layers[k - 1].pop("E", None)          # 1/a: the new a's
+            if layer[2] in ("hyperbolic_a", "modulus_number"):
+                layers[k - 1].pop("E", None)          # 1/a or K p_a: the new one's
             continue
         if section == "soil" and name in ("hyperbolic_a", "modulus_number",
                                           "atmospheric_pressure"):
