@@ -106,6 +106,10 @@ class Soil:
     unit_weight: float | None = None         #: gamma, N/m^3 (geostatic stress)
     K0: float | None = None                  #: horizontal / vertical geostatic stress
     atmospheric_pressure: float | None = None  #: p_a, Pa
+    #: depth of the water table, m (None: below everything): the confinement is effective,
+    #: the geostatic stress less the hydrostatic pore pressure below it
+    water_table: float | None = None
+    water_unit_weight: float | None = None   #: gamma_w, N/m^3
     #: the strata below the surface soil (which the keys above describe, from the surface
     #: down to the first layer's top), top down
     layers: tuple[Layer, ...] = ()
@@ -386,7 +390,8 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
              "modulus_exponent": (float, False), "failure_ratio": (float, False),
              "cohesion": (float, False), "friction_angle": (float, False),
              "unit_weight": (float, False), "K0": (float, False),
-             "atmospheric_pressure": (float, False)},
+             "atmospheric_pressure": (float, False), "water_table": (float, False),
+             "water_unit_weight": (float, False)},
     "plate": {"radius": (float, True), "thickness": (float, False), "Kp": (float, False),
               "E": (float, True), "nu": (float, True), "embedment": (float, False),
               "unit_weight": (float, False)},
@@ -419,7 +424,10 @@ _REQUIRED_SECTIONS = ("soil", "load")
 _SOIL_MODELS = ("linear", "hyperbolic", "duncan_chang")
 #: the keys of Duncan & Chang's soil, and those of them it requires
 _DUNCAN_CHANG = ("modulus_number", "modulus_exponent", "failure_ratio", "cohesion",
-                 "friction_angle", "unit_weight", "K0", "atmospheric_pressure")
+                 "friction_angle", "unit_weight", "K0", "atmospheric_pressure", "water_table",
+                 "water_unit_weight")
+#: gamma_w, N/m^3
+WATER_UNIT_WEIGHT = 9810.0
 _DUNCAN_CHANG_REQUIRED = ("modulus_number", "modulus_exponent", "unit_weight")
 #: p_a, Pa: the reference pressure of Duncan & Chang's modulus
 ATMOSPHERIC_PRESSURE = 101325.0
@@ -578,6 +586,19 @@ def _parse(data: dict[str, Any]) -> Scene:
     layers = _layers(rd, raw_layers, (soil or {}).get("model", "linear"),
                      (soil or {}).get("atmospheric_pressure")) \
         if raw_layers is not None else []
+    if (soil or {}).get("model") == "duncan_chang" and "water_table" in soil:
+        # below the water table a stratum must be heavier than water: its effective weight
+        # gamma - gamma_w carries the confinement
+        gamma_w = soil.get("water_unit_weight", WATER_UNIT_WEIGHT)
+        tops = [0.0] + [x.get("depth", 0.0) for x in layers]
+        bottoms = tops[1:] + [math.inf]
+        for k, (part, bottom) in enumerate(zip([soil, *layers], bottoms)):
+            g = part.get("unit_weight")
+            if isinstance(g, float) and bottom > soil["water_table"] and g <= gamma_w:
+                where = "soil" if k == 0 else f"soil.layers[{k}]"
+                rd.bad(f"{where}.unit_weight = {g!r}: below the water table (soil.water_table "
+                       f"= {soil['water_table']!r} m) a stratum's unit weight must exceed "
+                       f"water's ({gamma_w:g} N/m^3); give its saturated unit weight")
 
     plate = secs["plate"]
     if plate is not None:
@@ -754,7 +775,10 @@ def _parse(data: dict[str, Any]) -> Scene:
     dc_values = {}
     if dc:
         p_a = soil.get("atmospheric_pressure", ATMOSPHERIC_PRESSURE)
-        dc_values = _duncan_chang_values(soil, p_a) | {"atmospheric_pressure": p_a}
+        dc_values = _duncan_chang_values(soil, p_a) | {
+            "atmospheric_pressure": p_a, "water_table": soil.get("water_table"),
+            "water_unit_weight": soil.get("water_unit_weight", WATER_UNIT_WEIGHT)
+            if "water_table" in soil else None}
     E_surface = (1.0 / soil["hyperbolic_a"] if hyperbolic else
                  dc_values["modulus_number"] * dc_values["atmospheric_pressure"] if dc
                  else soil["E"])
@@ -849,8 +873,10 @@ def _duncan_chang(rd: _Reader, soil: dict, name: str = "soil",
                       "modulus_exponent": "n, e.g. 0.5",
                       "unit_weight": "N/m^3: the geostatic stress sets the confinement"}[key]
                    + ")")
-    for key in ("modulus_number", "unit_weight", "K0", "atmospheric_pressure"):
+    for key in ("modulus_number", "unit_weight", "K0", "atmospheric_pressure",
+                "water_unit_weight"):
         rd.positive(soil, name, key)
+    rd.positive(soil, name, "water_table", allow_zero=True)
     rd.positive(soil, name, "cohesion", allow_zero=True)
     n = soil.get("modulus_exponent")
     if n is not None and not 0.0 <= n <= 1.0:

@@ -158,3 +158,23 @@ def test_alike_layers_are_the_one_duncan_chang_soil():
     weaker = w0(SAND | {"layers": [{k: v for k, v in SAND.items() if k != "model"} |
                                    {"depth": 0.9, "modulus_number": 100.0}]}).results
     assert weaker["w0"] > 1.05 * plain["w0"]
+
+
+def test_water_table_makes_the_confinement_effective():
+    """A water table at the surface with saturated unit weights gamma + gamma_w is the dry
+    ground of gamma (the same effective stress): the same settlement to 1e-9 (2e-10: round-
+    off of (gamma + gamma_w) h - gamma_w h); a water table
+    at 1 m lowers the confinement below it (sigma_v' at 3 m = 3 gamma - 2 gamma_w) and the
+    tank settles more than on dry ground; a stratum below the water table lighter than
+    water is refused."""
+    from tankfx.hyperbolic import geostatic_stress
+
+    dry = Scene.from_dict(small_tank(soil=SAND, load={"pressure": 50e3}))
+    wet = dry.with_changes(soil={"unit_weight": 18e3 + 9810.0, "water_table": 0.0})
+    assert analyse(wet).results["w0"] == pytest.approx(analyse(dry).results["w0"], rel=1e-9)
+    deep = dry.with_changes(soil={"water_table": 1.0})
+    sigma_v, _ = geostatic_stress(deep.soil, np.array([0.5, 3.0]))
+    np.testing.assert_allclose(sigma_v, [9e3, 3 * 18e3 - 2 * 9810.0])
+    assert analyse(deep).results["w0"] > analyse(dry).results["w0"]
+    with pytest.raises(SceneError, match="soil.unit_weight = 9000.0: below the water table"):
+        dry.with_changes(soil={"unit_weight": 9e3, "water_table": 2.0})
