@@ -188,6 +188,9 @@ def describe(scene) -> list[str]:
                   f"deg, gamma = {st.unit_weight:g} N/m^3, K0 = {st.K0:.3g}")
         out.append(f"  soil {where}: E = {st.E:.4g} Pa, nu = {st.nu:g}, E_gradient = "
                    f"{st.E_gradient:g} /m{kondner if k == 0 else kk} ({form})")
+    if s.model == "duncan_chang" and s.water_table is not None:
+        out.append(f"  water table {s.water_table:g} m down: the confinement below it is "
+                   f"effective (gamma_w = {s.water_unit_weight:g} N/m^3)")
     if scene.plate is not None:
         pl = scene.plate
         out.append(f"  plate: a = {pl.radius:g} m, t = {pl.thickness:.4g} m, Kp = "
