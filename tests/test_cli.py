@@ -303,6 +303,8 @@ def test_check_says_what_a_scene_builds_without_solving(tmp_path):
 
     sweep = _run("check", ROOT / "demos" / "sweeps" / "kp_interface.toml")
     assert sweep.returncode == 0 and "a sweep of 12 cases" in sweep.stdout
+    for path in sorted((ROOT / "demos" / "sweeps").glob("*.toml")):     # every shipped one
+        assert _run("check", path).returncode == 0, path
 
     bad = tmp_path / "bad.toml"
     bad.write_text(SCENE.read_text().replace("nu = 0.3", "nu = 0.7"))
