@@ -149,7 +149,8 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
     sigma_theta) / 3, Pa, compression positive like ``sigma_zz``; for a hyperbolic soil
     ``stress_level``: the deviator Kondner's law gives the cell's strain (Eq. 17) over the
     ultimate 1/b, 1 at failure (converged, it equals deviator x b to the Eq. 18 tolerance);
-    ``soil``: 1 on soil cells, 0 where the foundation took the soil's place."""
+    ``soil``: 1 on soil cells, 0 where the foundation took the soil's place; on layered
+    ground ``stratum``: 0 in the surface soil, k in the k-th layer."""
     from . import hyperbolic
     from . import soil as soil_forms
 
@@ -176,6 +177,9 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
     is_soil = np.zeros(len(Q0.dofmap.list))
     is_soil[model.domain.cells("soil")] = 1.0
     # the other cells (the foundation's excavation, the tank's inside) carry no soil
+    if s.layers:
+        # which stratum each cell is in (0: the surface soil, k: the k-th layer)
+        values["stratum"] = block.stratum.astype(float)
     values = {name: np.where(is_soil > 0, v, 0.0) for name, v in values.items()}
     values["soil"] = is_soil
     fields = {}

@@ -200,6 +200,7 @@ def test_hyperbolic_layers_use_their_own_parameters(tmp_path):
     lower = depth > top
     a = np.where(lower, a2, HYPERBOLIC_SOIL["hyperbolic_a"])
     b = np.where(lower, b2, HYPERBOLIC_SOIL["hyperbolic_b"])
+    np.testing.assert_array_equal(grid.cell_data["stratum"][soil_cells], lower.astype(float))
     E = grid.cell_data["modulus"][soil_cells]
     level = grid.cell_data["stress_level"][soil_cells]
     deviator = grid.cell_data["deviator"][soil_cells]
