@@ -522,6 +522,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
 def _stage_summary(r: dict) -> dict:
     """A stage's key numbers, for the load path's table in the last stage's results."""
     out = {"stage": r["stage"], "load": r["scene"]["load"],
+           "applied_load": r["equilibrium"]["applied_load"],
            **{k: r[k] for k in ("w0", "w_edge", "wd", "w_mean", "M0", "nondim")},
            "soil_iterations": r["soil"]["iterations"], "linear_solves": r["linear_solves"]}
     if "interface" in r:

@@ -18,7 +18,7 @@ __all__ = ["gather_grid", "plot_section", "plot_surface_settlement", "plot_momen
 
 #: The figures ``write_figures`` may write (which ones depends on the scene).
 FIGURES = ("section.png", "stress_level.png", "settlement.png", "moments.png", "profiles.png",
-           "contact.png")
+           "contact.png", "load_path.png")
 
 if not os.environ.get("DISPLAY"):
     # no X server: render through EGL rather than let VTK try (and warn about) X first
@@ -390,6 +390,28 @@ def plot_curves(x, panels: dict[str, dict[str, np.ndarray]], path: str | Path,
     return _save(p, path)
 
 
+def plot_load_path(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """A load path's settlements (and the plate's centre moment) against the applied
+    vertical load, stage by stage (e.g. a tank's filling): from the last stage's results.
+    Rank 0 writes the PNG."""
+    stages = results.get("stages")
+    if not stages:
+        return None
+    # from the unloaded state: every soil model here is elastic (total loads), so nothing
+    # moves without load
+    x = np.array([0.0] + [st["applied_load"] for st in stages]) / 1e3
+
+    def curve(key, scale):
+        return [0.0] + [st[key] * scale for st in stages]
+
+    panels = {"settlement [mm]": {"w0 (centre)": curve("w0", 1e3),
+                                  "w_edge": curve("w_edge", 1e3)},
+              "wd [mm]": {"differential": curve("wd", 1e3)}}
+    if stages[-1].get("M0") is not None:
+        panels["M0 [kN m/m]"] = {"centre moment": curve("M0", 1e-3)}
+    return plot_curves(x, panels, path, "applied vertical load [kN]", title=title)
+
+
 def plot_contact(results: dict, path: str | Path, title: str = "") -> Path | None:
     """Contact normal and shear stress along the plate underside (and the embedded wall
     face), with the Mohr-Coulomb limit c + sigma_n tan phi drawn beside the shear and the
@@ -457,6 +479,8 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
         level = soil_cell_fields(solution.model)["stress_level"]
         figures.append((plot_section, (solution.u, level, directory / "stress_level.png"),
                         {**section, "label": "q / q_ult", "scalar_scale": 1.0}))
+    if "stages" in r:
+        figures.append((plot_load_path, (r, directory / "load_path.png"), {"title": title}))
     if scene.plate is not None:
         figures += [(plot_moment_diagrams, (r, directory / "moments.png"), {"title": title}),
                     (plot_structure_profiles, (r, directory / "profiles.png"),

@@ -128,6 +128,14 @@ def test_a_load_path_scene_file(tmp_path):
             else:
                 assert got == expected
     assert "M_r [N m/m]" in (out / "profiles" / "plate.csv").read_text().splitlines()[0]
+    # the load path's figure: settlements against the stages' applied loads
+    from tankfx.plots import plot_load_path
+
+    fig = plot_load_path(r, tmp_path / "load_path.png", title="path")
+    assert fig is not None and fig.stat().st_size > 10_000
+    assert [st["applied_load"] for st in r["stages"]] == pytest.approx(
+        [first["applied_load"], r["equilibrium"]["applied_load"]])
+    assert r["stages"][1]["applied_load"] > r["stages"][0]["applied_load"] > 0
 
 
 def test_without_figures_and_fields_writes_neither(tmp_path):
