@@ -125,12 +125,16 @@ class SoilBlock:
         #: of its own: p = -lambda tr(eps) jumps where lambda does, at a layer's top, which
         #: one pressure continuous over the layers cannot follow (measured: w0 1.6-1.8 %
         #: off on three layers, against 3e-5 without a mixed layer)
-        self.mixed_strata = [i for i, st in enumerate(strata) if st.nu > MIXED_FROM_NU]
+        # Duncan & Chang's soil is mixed throughout: a failed cell keeps its bulk modulus
+        # while its secant shear modulus falls, nu -> 0.5 (tankfx.hyperbolic)
+        dc = s.model == "duncan_chang"
+        self.mixed_strata = [i for i, st in enumerate(strata) if dc or st.nu > MIXED_FROM_NU]
         self.mixed = bool(self.mixed_strata)
         self.stratum = np.zeros(0, dtype=np.int32)     # per local cell (layered ground)
-        if s.layers:
+        if s.layers or dc:
             # per cell, its stratum's values (the layers' tops are lines of the mesh, so
-            # no cell straddles two): E = E_top (1 + lambda (h - top)) within each
+            # no cell straddles two): E = E_top (1 + lambda (h - top)) within each; and a
+            # Poisson's ratio per cell, which a failed Duncan-Chang cell changes
             depth = -_cell_midpoints(msh)[:, 1]
             self.stratum = s.stratum_of(depth).astype(np.int32)
             values = s.at_depth(depth)

@@ -56,7 +56,7 @@ __all__ = ["kondner_deviator", "principal_strains", "major_strain", "kondner_par
            "secant_update",
            "HyperbolicIteration", "SoilFailure", "ULTIMATE_FRACTION", "first_order_excess",
            "geostatic_stress", "duncan_chang_parameters", "initial_modulus",
-           "MIN_CONFINEMENT"]
+           "MIN_CONFINEMENT", "failed_moduli"]
 
 #: Duncan & Chang's confining stress is held at this fraction of p_a at least: at the
 #: ground surface, and where the tank's stress puts a cell in tension, sigma_3 would give no
@@ -145,6 +145,11 @@ def initial_modulus(soil, depth):
     return 1.0 / kondner_parameters(soil, depth)[0]
 
 
+def failed_moduli(K, G):
+    """(E, nu) of an isotropic cell of bulk modulus K and shear modulus G."""
+    return 9.0 * K * G / (3.0 * K + G), (3.0 * K - 2.0 * G) / (2.0 * (3.0 * K + G))
+
+
 def stress_level(eps_min, eps_max, nu, a, b):
     """The deviator Kondner's law gives the strain (Eq. 17) over the ultimate 1/b: 1 at
     failure."""
@@ -192,7 +197,11 @@ class HyperbolicIteration:
             self.geostatic = np.stack([-sigma_h, -sigma_v, 0.0 * sigma_v, -sigma_h], axis=1)
             self.a, self.b = duncan_chang_parameters(s, np.minimum(sigma_v, sigma_h),
                                                      -self.mid[:, 1])
-            self.nu = s.at_depth(-self.mid[:, 1])["nu"]
+            self.nu = self.nu_intact = s.at_depth(-self.mid[:, 1])["nu"]
+            self.failure_ratio = s.at_depth(-self.mid[:, 1])["failure_ratio"]
+            # a failed cell's Poisson's ratio, in the soil's per-cell field
+            self.nu_field = soil.nu
+            self.dof_nu = soil.nu.function_space.dofmap.list[:, 0]
         else:
             self.a, self.b, self.nu = kondner_parameters(s, -self.mid[:, 1])
         self.E_initial = 1.0 / self.a
@@ -241,8 +250,26 @@ class HyperbolicIteration:
             if self.duncan_chang:
                 self._confine()
             E = self.modulus.x.array[self.dof_E]
-            _, _, misfit, E_new, ultimate = secant_update(E, self.nu, eps_min, eps_max,
-                                                          self.a, self.b)
+            nu_k = self.nu_intact if self.duncan_chang else self.nu
+            _, q_m, misfit, E_new, ultimate = secant_update(E, nu_k, eps_min, eps_max,
+                                                            self.a, self.b)
+            if self.duncan_chang:
+                # Mohr-Coulomb failure: where Kondner's deviator passes q_f = R_f / b the
+                # deviator is held at q_f (perfectly plastic): secant shear modulus q_f / (2
+                # (eps_max - eps_min)), and the bulk modulus Kondner's secant has at q_f,
+                # (1 - R_f) / a / (3 (1 - 2 nu)): both continuous at the onset
+                q_f = self.failure_ratio / self.b
+                failed = (q_m >= q_f) & self.is_soil
+                nu0 = np.minimum(self.nu_intact, 0.4999)
+                # (at most the initial modulus: only failed cells, strained, use it)
+                G = np.minimum(q_f / (2.0 * np.maximum(eps_max - eps_min, 1e-300)),
+                               self.E_initial)
+                K = (1.0 - self.failure_ratio) * self.E_initial / (3.0 * (1.0 - 2.0 * nu0))
+                E_f, nu_f = failed_moduli(K, G)
+                E_new = np.where(failed, E_f, E_new)
+                self.nu_target = np.where(failed, nu_f, self.nu_intact)
+                misfit = np.abs(E - E_new) / E
+                ultimate = failed
             changing = (misfit > tol) & self.is_soil
             n_changing = comm.allreduce(int(changing[own].sum()))
             n_ult = comm.allreduce(int((ultimate & self.is_soil)[own].sum()))
@@ -261,7 +288,8 @@ class HyperbolicIteration:
                      du_rel, row["time_s"])
             if n_changing == 0 and du_rel <= du_tol and not unsettled:
                 # the converged Kondner constants of each cell, for the stress level
-                self.model.soil.kondner = (self.a, self.b, self.nu)
+                self.model.soil.kondner = (self.a, self.b, self.nu_intact if
+                                           self.duncan_chang else self.nu)
                 return {"converged": True, "iterations": it, "history": self.history,
                         "criterion": f"no cell's deviator misfit exceeds {tol:g} (Eq. 20; "
                                      f"largest {worst:.2e}) and the displacement update is "
@@ -276,13 +304,23 @@ class HyperbolicIteration:
             if self.anderson_depth:
                 new = self._anderson(E, new, floor, own)
             self.modulus.x.array[self.dof_E] = new
+            if self.duncan_chang:
+                self.nu = self.nu_target
+                self.nu_field.x.array[self.dof_nu] = self.nu
+        if n_ult > 0 and self.duncan_chang:
+            raise SoilFailure(
+                f"no converged state with {n_ult} failed elements (Mohr-Coulomb) "
+                f"{self._where(ultimate & self.is_soil)} after {max_it} iterations (largest "
+                f"modulus misfit {worst:.2g}, last displacement update {du_rel:.1e}): either "
+                f"the soil cannot carry this load (the settlement keeps growing), or the failed "
+                f"zone's moduli do not settle (a displacement update far below 1e-2: a soil "
+                f"without cohesion has no strength at zero confinement, e.g. beside a rigid "
+                f"foundation's corner; a little cohesion settles it)", self.history)
         if n_ult > 0:
-            ultimate_is = ("their Mohr-Coulomb strength / R_f at their confinement"
-                           if self.duncan_chang else f"1/b = {1.0 / s.hyperbolic_b:.4g} Pa")
             raise SoilFailure(f"soil failure {self._where(ultimate & self.is_soil)}: {n_ult} "
-                              f"elements at the ultimate deviator ({ultimate_is}) after "
-                              f"{max_it} iterations: the soil cannot carry this load",
-                              self.history)
+                              f"elements at the ultimate deviator (1/b = "
+                              f"{1.0 / s.hyperbolic_b:.4g} Pa) after {max_it} iterations: the "
+                              f"soil cannot carry this load", self.history)
         raise SolveError(f"the hyperbolic soil iteration did not converge in {max_it} "
                          f"iterations (largest deviator misfit {worst:.3g} > {tol:g})",
                          self.history)

@@ -712,6 +712,12 @@ def _parse(data: dict[str, Any]) -> Scene:
     nus = [x.get("nu") for x in [soil or {}, *layers]]
     nus = [v for v in nus if isinstance(v, (int, float))]
     nu_s = max(nus) if nus else None
+    if (soil or {}).get("model") == "duncan_chang" and nus:
+        # solved in the mixed form throughout (a failed cell's nu tends to 0.5)
+        if min(nus) <= 0.0:
+            rd.bad(f"soil nu = {min(nus)!r}: Duncan & Chang's soil is solved in the mixed "
+                   f"form, which takes 1 / lambda, infinite at nu = 0; use nu > 0")
+        nu_s = 0.5
     solver = secs["solver"] or {}
     method = solver.get("method", "direct")
     if isinstance(method, str) and method not in _SOLVER_METHODS:
@@ -723,12 +729,14 @@ def _parse(data: dict[str, Any]) -> Scene:
                f"1e-6 of the load)")
     if isinstance(solver.get("max_iterations"), int) and solver["max_iterations"] < 1:
         rd.bad(f"solver.max_iterations = {solver['max_iterations']!r}: must be >= 1")
+    mixed_why = ("Duncan & Chang's soil (a failed cell's nu tends to 0.5)"
+                 if (soil or {}).get("model") == "duncan_chang" else f"soil nu = {nu_s!r}")
     if method == "iterative" and nu_s is not None and nu_s > MIXED_FROM_NU:
-        rd.bad(f"solver.method = \"iterative\" with soil nu = {nu_s!r}: the mixed form of a "
+        rd.bad(f"solver.method = \"iterative\" with {mixed_why}: the mixed form of a "
                f"nearly incompressible soil (nu > {MIXED_FROM_NU}) has a zero pressure block "
                f"that GAMG cannot take; use method = \"direct\"")
     if deg == 1 and nu_s is not None and nu_s > MIXED_FROM_NU:
-        rd.bad(f"mesh.degree = 1 with soil nu = {nu_s!r}: a nearly incompressible soil is "
+        rd.bad(f"mesh.degree = 1 with {mixed_why}: a nearly incompressible soil is "
                f"solved in the mixed (Taylor-Hood) form, which needs degree 2 or 3; use "
                f"degree 2 or 3")
     rd.positive(mesh, "mesh", "edge_size")

@@ -24,18 +24,21 @@ SAND = {"model": "duncan_chang", "nu": 0.3, "modulus_number": 400.0, "modulus_ex
 
 def test_kondner_limit_is_the_hyperbolic_soil():
     """n = 0 and phi = 0: 1/a = K p_a and 1/b = 2 c / R_f everywhere, Kondner's constants:
-    the same iterations and settlement as model = "hyperbolic" (1e-12)."""
+    where no cell reaches its strength q_f, the same iterations and settlement as model =
+    "hyperbolic" (1e-10; at nu = 0.46, where both are solved in the mixed form, which
+    Duncan & Chang's soil always is)."""
     K, c, R_f = 100.0, 50e3, 0.9
     load = {"pressure": 40e3, "load_radius": 1.0}
-    dc = Scene.from_dict({"soil": {"model": "duncan_chang", "nu": 0.3, "modulus_number": K,
+    dc = Scene.from_dict({"soil": {"model": "duncan_chang", "nu": 0.46, "modulus_number": K,
                                    "modulus_exponent": 0.0, "cohesion": c,
                                    "unit_weight": 18e3, "failure_ratio": R_f}, "load": load})
-    kondner = Scene.from_dict({"soil": {"model": "hyperbolic", "nu": 0.3,
+    kondner = Scene.from_dict({"soil": {"model": "hyperbolic", "nu": 0.46,
                                         "hyperbolic_a": 1 / (K * P_A),
                                         "hyperbolic_b": R_f / (2 * c)}, "load": load})
     r_dc, r_k = analyse(dc).results, analyse(kondner).results
+    assert r_dc["soil"]["cells_at_ultimate"] == 0
     assert r_dc["soil"]["iterations"] == r_k["soil"]["iterations"] > 2
-    assert r_dc["w0"] == pytest.approx(r_k["w0"], rel=1e-12)
+    assert r_dc["w0"] == pytest.approx(r_k["w0"], rel=1e-10)
 
 
 def _gibson(near_size):
@@ -62,11 +65,14 @@ def test_modulus_proportional_to_depth_is_gibsons_soil():
 
 
 def test_converged_cells_obey_duncan_chang():
-    """The 1 m tank on sand (K = 400, n = 0.5, c = 5 kPa, phi = 35 deg) under 50 kPa: at
-    convergence each soil cell's secant modulus is Kondner's 1 / (a + b eps_p) with a and b
-    of Duncan & Chang at its confinement, recomputed here from the cell's stress and the
-    geostatic stress (Eq. 18 tolerance)."""
-    scene = Scene.from_dict(small_tank(soil=SAND, load={"pressure": 50e3}))
+    """The 1 m tank on sand (K = 400, n = 0.5, c = 5 kPa, phi = 35 deg) under 100 kPa: at
+    convergence each soil cell's secant modulus is Duncan & Chang's, recomputed here from
+    the cell's stress plus the geostatic stress: Kondner's 1 / (a + b eps_p) below the
+    Mohr-Coulomb strength q_f, and where Kondner's deviator would pass q_f (the failed
+    cells, around the foundation's corner) the secant shear modulus q_f / (2 (eps_1 -
+    eps_3)) with the bulk modulus of Kondner's secant at q_f (Eq. 18 tolerance); the failed
+    cells' deviator is their strength (within twice the tolerance)."""
+    scene = Scene.from_dict(small_tank(soil=SAND, load={"pressure": 100e3}))
     solution = analyse(scene)
     assert solution.results["soil"]["converged"]
     model = solution.model
@@ -81,21 +87,28 @@ def test_converged_cells_obey_duncan_chang():
     h = np.maximum(-_cellwise(ufl.SpatialCoordinate(msh)[1], Q0)[:, 0], 0.0)
     K0 = 1 - math.sin(math.radians(35.0))
     total = sig + np.stack([-K0 * 18e3 * h, -18e3 * h, 0 * h, -K0 * 18e3 * h], axis=1)
-    s3 = np.maximum(-principal_strains(*total.T)[1], 0.01 * P_A)
+    s_min, s_max = principal_strains(*total.T)
+    s3 = np.maximum(-s_max, 0.01 * P_A)
     E_i = 400.0 * P_A * (s3 / P_A) ** 0.5
     phi = math.radians(35.0)
     q_f = (2 * 5e3 * math.cos(phi) + 2 * s3 * math.sin(phi)) / (1 - math.sin(phi))
-    eps_p = major_strain(*principal_strains(*eps.T), 0.3)
-    E_law = 1.0 / (1.0 / E_i + 0.9 / q_f * eps_p)
-    soil_cells = model.domain.cells("soil")
-    soil_cells = soil_cells[soil_cells < msh.topology.index_map(2).size_local]
-    misfit = np.abs(E[soil_cells] - E_law[soil_cells]) / E[soil_cells]
-    # measured: largest 0.023, median 5e-7
+    e_min, e_max = principal_strains(*eps.T)
+    eps_p = major_strain(e_min, e_max, 0.3)
+    E_kondner = 1.0 / (1.0 / E_i + 0.9 / q_f * eps_p)
+    failed = E_kondner * eps_p >= q_f
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # unstrained cells
+        G, K = q_f / (2 * (e_max - e_min)), 0.1 * E_i / (3 * (1 - 2 * 0.3))
+        E_law = np.where(failed, 9 * K * G / (3 * K + G), E_kondner)
+    cells = model.domain.cells("soil")
+    cells = cells[cells < msh.topology.index_map(2).size_local]
+    misfit = np.abs(E[cells] - E_law[cells]) / E[cells]
+    # measured: 205 failed cells; misfit largest 0.049 (the iteration's own criterion),
+    # median 3e-7; the failed cells' deviator within 8.4 % of q_f
+    assert failed[cells].sum() > 50
     assert np.max(misfit) < scene.soil.tolerance
     assert np.median(misfit) < 1e-4
-    # and the soil is nonlinear there: the corner's cells far below their initial modulus
-    # (measured: down to 0.09 of it)
-    assert np.min(E[soil_cells] / E_i[soil_cells]) < 0.5
+    deviator = (s_max - s_min)[cells][failed[cells]]
+    assert np.max(np.abs(deviator / q_f[cells][failed[cells]] - 1)) < 2 * scene.soil.tolerance
 
 
 @pytest.mark.parametrize("changes, expected", [
