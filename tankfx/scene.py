@@ -935,7 +935,7 @@ def _layers(rd: _Reader, raw, model: str, p_a: float | None = None) -> list[dict
         rd.positive(layer, name, "E")
         rd.positive(layer, name, "E_gradient", allow_zero=True)
         rd.poisson(layer, name, incompressible=True)
-        for key in _DUNCAN_CHANG:
+        for key in STRATUM_DUNCAN_CHANG:
             if key in raw_layer and model != "duncan_chang":
                 rd.bad(f"{name}.{key}: only used with soil.model = \"duncan_chang\"; "
                        f"remove it")
