@@ -197,9 +197,10 @@ def _size_field(g: DomainGeometry, gmsh, singular) -> None:
         n = fields.add("MathEval")
         fields.setString(n, "F", f"{g.near_size!r} + {g.growth!r}*max(0, F{d0}-{g.near_radius!r})")
         ids.append(n)
-    if g.layer_depths and g.near_size is not None:
-        # a stratum thinner than the near field's elements gets elements no larger than its
-        # thickness there, not slivers: the band of each, out to the near field's edge
+    if g.near_size is not None:
+        # a stratum thinner than the near field's elements (a layer, or the soil above a
+        # shallow rigid base) gets elements no larger than its thickness there, not
+        # slivers: the band of each, out to the near field's edge
         tops = [0.0, *g.layer_depths, g.domain_depth]
         for top, bottom in zip(tops[:-1], tops[1:]):
             if bottom - top < g.near_size:

@@ -103,6 +103,19 @@ def test_extreme_layer_contrast(base):
     assert r["equilibrium"]["relative_error"] < 1e-6
 
 
+def test_shallow_rigid_base_is_burmisters():
+    """One soil 1.5 m deep on a rigid base under a 10 m load (the base shallower than the
+    near field's elements): Burmister's layer on a rigid base within 0.05 % (measured
+    -5e-7 and -9.2e-5; the edge -4.5e-4 before the thin-stratum rule reached it)."""
+    a, H = 10.0, 1.5
+    scene = Scene.from_dict({"soil": {"E": 10e6, "nu": 0.3}, "domain": {"depth": H},
+                             "load": {"pressure": P, "load_radius": a}})
+    r = analyse(scene).results
+    w = ref.layered_surface_settlement(P, a, [0.0, a], [(H, 10e6, 0.3)], None)
+    assert r["w0"] == pytest.approx(w[0], rel=5e-4)
+    assert r["w_edge"] == pytest.approx(w[1], rel=5e-4)
+
+
 def test_wide_load_on_layers_is_oedometric():
     """A load 50 times wider than two layers on a rigid base at 3 m: the centre settles as
     in the oedometer (closed form, independent of the transform) within 0.1 %."""
