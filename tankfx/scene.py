@@ -544,61 +544,7 @@ def _parse(data: dict[str, Any]) -> Scene:
     secs = {name: rd.section(name) for name in _SPEC}
 
     soil = secs["soil"]
-    if soil is not None:
-        rd.positive(soil, "soil", "E")
-        rd.poisson(soil, "soil", incompressible=True)
-        rd.positive(soil, "soil", "E_gradient", allow_zero=True)
-        model = soil.get("model", "linear")
-        if model not in _SOIL_MODELS:
-            rd.bad(f"soil.model = {model!r}: unknown model{_suggest(model, _SOIL_MODELS)}")
-        elif model == "hyperbolic":
-            for key in ("hyperbolic_a", "hyperbolic_b"):
-                if key not in soil:
-                    rd.bad(f"soil.{key}: missing for model = \"hyperbolic\"; add it (1/Pa: "
-                           f"1/a is the initial tangent modulus, 1/b the ultimate deviator "
-                           f"stress)")
-                rd.positive(soil, "soil", key)
-            a_h = soil.get("hyperbolic_a")
-            if "E" in soil and a_h and a_h > 0 and abs(soil["E"] * a_h - 1.0) > 1e-6:
-                rd.bad(f"soil.E = {soil['E']!r} contradicts soil.hyperbolic_a (1/a = "
-                       f"{1.0 / a_h:.6g} Pa is the surface modulus of a hyperbolic soil); "
-                       f"remove soil.E")
-        elif model == "duncan_chang":
-            _duncan_chang(rd, soil)
-        if model == "linear" and "E" not in soil:
-            rd.bad("soil.E: missing; add 'E = ...' under [soil] (Pa)")
-        for key in ("hyperbolic_a", "hyperbolic_b"):
-            if key in soil and model != "hyperbolic":
-                rd.bad(f"soil.{key}: only used with model = \"hyperbolic\"; remove it")
-        for key in ("tolerance", "max_iterations"):
-            if key in soil and model == "linear":
-                rd.bad(f"soil.{key}: only used with a nonlinear soil (model = \"hyperbolic\" "
-                       f"or \"duncan_chang\"); remove it")
-        for key in _DUNCAN_CHANG:
-            if key in soil and model != "duncan_chang":
-                rd.bad(f"soil.{key}: only used with model = \"duncan_chang\"; remove it")
-        tol = soil.get("tolerance")
-        if tol is not None and not (0.0 < tol < 1.0):
-            rd.bad(f"soil.tolerance = {tol!r}: the relative deviator misfit of Eq. 18 must "
-                   f"lie in (0, 1) (the paper's 0.05 is the default)")
-        if soil.get("max_iterations", 1) < 1:
-            rd.bad("soil.max_iterations: must be >= 1")
-    layers = _layers(rd, raw_layers, (soil or {}).get("model", "linear"),
-                     (soil or {}).get("atmospheric_pressure")) \
-        if raw_layers is not None else []
-    if (soil or {}).get("model") == "duncan_chang" and "water_table" in soil:
-        # below the water table a stratum must be heavier than water: its effective weight
-        # gamma - gamma_w carries the confinement
-        gamma_w = soil.get("water_unit_weight", WATER_UNIT_WEIGHT)
-        tops = [0.0] + [x.get("depth", 0.0) for x in layers]
-        bottoms = tops[1:] + [math.inf]
-        for k, (part, bottom) in enumerate(zip([soil, *layers], bottoms)):
-            g = part.get("unit_weight")
-            if isinstance(g, float) and bottom > soil["water_table"] and g <= gamma_w:
-                where = "soil" if k == 0 else f"soil.layers[{k}]"
-                rd.bad(f"{where}.unit_weight = {g!r}: below the water table (soil.water_table "
-                       f"= {soil['water_table']!r} m) a stratum's unit weight must exceed "
-                       f"water's ({gamma_w:g} N/m^3); give its saturated unit weight")
+    layers = _check_soil(rd, soil, raw_layers)
 
     plate = secs["plate"]
     if plate is not None:
@@ -846,6 +792,66 @@ def _parse(data: dict[str, Any]) -> Scene:
     return Scene(soil=soil_dc, load=load_dc, domain=domain_dc, mesh=mesh_dc, plate=plate_dc,
                  wall=wall_dc, interface=interface_dc, solver=solver_dc,
                  title=data.get("title", "tankfx scene"))
+
+
+def _check_soil(rd: _Reader, soil: dict | None, raw_layers) -> list[dict[str, Any]]:
+    """The [soil] table's checks, its model's and its layers' (returned, checked)."""
+    if soil is not None:
+        rd.positive(soil, "soil", "E")
+        rd.poisson(soil, "soil", incompressible=True)
+        rd.positive(soil, "soil", "E_gradient", allow_zero=True)
+        model = soil.get("model", "linear")
+        if model not in _SOIL_MODELS:
+            rd.bad(f"soil.model = {model!r}: unknown model{_suggest(model, _SOIL_MODELS)}")
+        elif model == "hyperbolic":
+            for key in ("hyperbolic_a", "hyperbolic_b"):
+                if key not in soil:
+                    rd.bad(f"soil.{key}: missing for model = \"hyperbolic\"; add it (1/Pa: "
+                           f"1/a is the initial tangent modulus, 1/b the ultimate deviator "
+                           f"stress)")
+                rd.positive(soil, "soil", key)
+            a_h = soil.get("hyperbolic_a")
+            if "E" in soil and a_h and a_h > 0 and abs(soil["E"] * a_h - 1.0) > 1e-6:
+                rd.bad(f"soil.E = {soil['E']!r} contradicts soil.hyperbolic_a (1/a = "
+                       f"{1.0 / a_h:.6g} Pa is the surface modulus of a hyperbolic soil); "
+                       f"remove soil.E")
+        elif model == "duncan_chang":
+            _duncan_chang(rd, soil)
+        if model == "linear" and "E" not in soil:
+            rd.bad("soil.E: missing; add 'E = ...' under [soil] (Pa)")
+        for key in ("hyperbolic_a", "hyperbolic_b"):
+            if key in soil and model != "hyperbolic":
+                rd.bad(f"soil.{key}: only used with model = \"hyperbolic\"; remove it")
+        for key in ("tolerance", "max_iterations"):
+            if key in soil and model == "linear":
+                rd.bad(f"soil.{key}: only used with a nonlinear soil (model = \"hyperbolic\" "
+                       f"or \"duncan_chang\"); remove it")
+        for key in _DUNCAN_CHANG:
+            if key in soil and model != "duncan_chang":
+                rd.bad(f"soil.{key}: only used with model = \"duncan_chang\"; remove it")
+        tol = soil.get("tolerance")
+        if tol is not None and not (0.0 < tol < 1.0):
+            rd.bad(f"soil.tolerance = {tol!r}: the relative deviator misfit of Eq. 18 must "
+                   f"lie in (0, 1) (the paper's 0.05 is the default)")
+        if soil.get("max_iterations", 1) < 1:
+            rd.bad("soil.max_iterations: must be >= 1")
+    layers = _layers(rd, raw_layers, (soil or {}).get("model", "linear"),
+                     (soil or {}).get("atmospheric_pressure")) \
+        if raw_layers is not None else []
+    if (soil or {}).get("model") == "duncan_chang" and "water_table" in soil:
+        # below the water table a stratum must be heavier than water: its effective weight
+        # gamma - gamma_w carries the confinement
+        gamma_w = soil.get("water_unit_weight", WATER_UNIT_WEIGHT)
+        tops = [0.0] + [x.get("depth", 0.0) for x in layers]
+        bottoms = tops[1:] + [math.inf]
+        for k, (part, bottom) in enumerate(zip([soil, *layers], bottoms)):
+            g = part.get("unit_weight")
+            if isinstance(g, float) and bottom > soil["water_table"] and g <= gamma_w:
+                where = "soil" if k == 0 else f"soil.layers[{k}]"
+                rd.bad(f"{where}.unit_weight = {g!r}: below the water table (soil.water_table "
+                       f"= {soil['water_table']!r} m) a stratum's unit weight must exceed "
+                       f"water's ({gamma_w:g} N/m^3); give its saturated unit weight")
+    return layers
 
 
 def _duncan_chang_values(part: dict, p_a: float) -> dict[str, float]:
