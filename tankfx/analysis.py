@@ -153,14 +153,13 @@ class SoilBlock:
         if s.nonlinear:
             # the secant modulus, one value per cell, starting at the initial tangent modulus
             # (at the cell's centroid, like the paper's element modulus)
-            Q0 = fem.functionspace(msh, ("DG", 0))
-            modulus = fem.Function(Q0, name="secant_modulus")
-            if s.model == "duncan_chang":      # at the geostatic confinement
+            if dc:      # at the geostatic confinement (depth: the cells', above)
                 from .hyperbolic import initial_modulus
 
-                modulus.x.array[Q0.dofmap.list[:, 0]] = initial_modulus(
-                    s, -_cell_midpoints(msh)[:, 1])
+                modulus = _cell_field(msh, initial_modulus(s, depth), "secant_modulus")
             else:
+                Q0 = fem.functionspace(msh, ("DG", 0))
+                modulus = fem.Function(Q0, name="secant_modulus")
                 modulus.interpolate(fem.Expression(self.E, Q0.element.interpolation_points))
             self.E = modulus
         self.trial, self.test = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)

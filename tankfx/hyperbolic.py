@@ -122,13 +122,12 @@ def geostatic_stress(soil, depth):
     return sigma_v, soil.at_depth(h)["K0"] * sigma_v
 
 
-def duncan_chang_parameters(soil, sigma_3, depth):
+def duncan_chang_parameters(soil, sigma_3, st):
     """Kondner's (a, b) of Duncan & Chang's soil at confining stress ``sigma_3`` (Pa,
-    compression positive, held at MIN_CONFINEMENT p_a at least) of cells at ``depth``, with
-    their stratum's constants: 1/a = K p_a (sigma_3 / p_a)^n, 1/b = (2 c cos phi + 2 sigma_3
-    sin phi) / ((1 - sin phi) R_f)."""
+    compression positive, held at MIN_CONFINEMENT p_a at least) of cells whose strata's
+    constants are ``st`` (``soil.at_depth`` of their depths): 1/a = K p_a (sigma_3 /
+    p_a)^n, 1/b = (2 c cos phi + 2 sigma_3 sin phi) / ((1 - sin phi) R_f)."""
     p_a = soil.atmospheric_pressure
-    st = soil.at_depth(depth)
     s3 = np.maximum(sigma_3, MIN_CONFINEMENT * p_a)
     E_i = st["modulus_number"] * p_a * (s3 / p_a) ** st["modulus_exponent"]
     phi = np.radians(st["friction_angle"])
@@ -141,7 +140,8 @@ def initial_modulus(soil, depth):
     their stratum, or Duncan & Chang's at the geostatic confinement."""
     if soil.model == "duncan_chang":
         sigma_v, sigma_h = geostatic_stress(soil, depth)
-        return 1.0 / duncan_chang_parameters(soil, np.minimum(sigma_v, sigma_h), depth)[0]
+        return 1.0 / duncan_chang_parameters(soil, np.minimum(sigma_v, sigma_h),
+                                             soil.at_depth(depth))[0]
     return 1.0 / kondner_parameters(soil, depth)[0]
 
 
@@ -191,14 +191,16 @@ class HyperbolicIteration:
         self.mid = dmesh.compute_midpoints(msh, 2, np.arange(n_cells, dtype=np.int32))[:, :2]
         self.duncan_chang = s.model == "duncan_chang"
         if self.duncan_chang:
-            # the geostatic stress per cell (tension positive, (rr, zz, rz, theta)), to
-            # which the tank's is added for the confinement
+            # each cell's stratum's constants, looked up once; the geostatic stress per
+            # cell (tension positive, (rr, zz, rz, theta)), to which the tank's is added for
+            # the confinement
+            self.strata = s.at_depth(-self.mid[:, 1])
             sigma_v, sigma_h = geostatic_stress(s, -self.mid[:, 1])
             self.geostatic = np.stack([-sigma_h, -sigma_v, 0.0 * sigma_v, -sigma_h], axis=1)
             self.a, self.b = duncan_chang_parameters(s, np.minimum(sigma_v, sigma_h),
-                                                     -self.mid[:, 1])
-            self.nu = self.nu_intact = s.at_depth(-self.mid[:, 1])["nu"]
-            self.failure_ratio = s.at_depth(-self.mid[:, 1])["failure_ratio"]
+                                                     self.strata)
+            self.nu = self.nu_intact = self.strata["nu"]
+            self.failure_ratio = self.strata["failure_ratio"]
             # a failed cell's Poisson's ratio, in the soil's per-cell field
             self.nu_field = soil.nu
             self.dof_nu = soil.nu.function_space.dofmap.list[:, 0]
@@ -332,7 +334,7 @@ class HyperbolicIteration:
         total = self.geostatic + self.stress.x.array.reshape(-1, 4)[self.dof_T]
         _, most_tensile = principal_strains(total[:, 0], total[:, 1], total[:, 2], total[:, 3])
         self.a, self.b = duncan_chang_parameters(self.model.scene.soil, -most_tensile,
-                                                 -self.mid[:, 1])
+                                                 self.strata)
         self.E_initial = 1.0 / self.a
 
     def cell_principal_strains(self) -> tuple[np.ndarray, np.ndarray]:

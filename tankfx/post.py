@@ -174,12 +174,12 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
         eps_min, eps_max = hyperbolic.principal_strains(eps[:, 0], eps[:, 1], eps[:, 2],
                                                         eps[:, 3])
         values["stress_level"] = hyperbolic.stress_level(eps_min, eps_max, nu, a, b)
-    is_soil = np.zeros(len(Q0.dofmap.list))
-    is_soil[model.domain.cells("soil")] = 1.0
-    # the other cells (the foundation's excavation, the tank's inside) carry no soil
     if s.layers:
         # which stratum each cell is in (0: the surface soil, k: the k-th layer)
         values["stratum"] = block.stratum.astype(float)
+    is_soil = np.zeros(len(Q0.dofmap.list))
+    is_soil[model.domain.cells("soil")] = 1.0
+    # the other cells (the foundation's excavation, the tank's inside) carry no soil
     values = {name: np.where(is_soil > 0, v, 0.0) for name, v in values.items()}
     values["soil"] = is_soil
     fields = {}
