@@ -34,8 +34,10 @@ Duncan & Chang's soil (model = "duncan_chang", 1970) is Kondner's law whose cons
 each cell's confining stress sigma_3 (the minor principal compression of the geostatic
 stress, gamma h vertically and K0 gamma h horizontally, plus the tank's): the initial
 modulus 1/a = K p_a (sigma_3 / p_a)^n and the ultimate deviator 1/b = q_f / R_f, q_f = (2 c
-cos phi + 2 sigma_3 sin phi) / (1 - sin phi) (Mohr-Coulomb). The same Picard iteration
-updates a and b from the current stress at each step.
+cos phi + 2 sigma_3 sin phi) / (1 - sin phi) (Mohr-Coulomb); past q_f a cell is perfectly
+plastic. The same Picard iteration gives each cell the secant moduli of this law with the
+confinement those moduli produce (``duncan_chang_secant``), since read off the current
+stress the confinement would move against the modulus and the iteration swing.
 """
 from __future__ import annotations
 
@@ -56,7 +58,7 @@ __all__ = ["kondner_deviator", "principal_strains", "major_strain", "kondner_par
            "secant_update",
            "HyperbolicIteration", "SoilFailure", "ULTIMATE_FRACTION", "first_order_excess",
            "geostatic_stress", "duncan_chang_parameters", "initial_modulus",
-           "MIN_CONFINEMENT", "failed_moduli"]
+           "MIN_CONFINEMENT", "failed_moduli", "duncan_chang_secant"]
 
 #: Duncan & Chang's confining stress is held at this fraction of p_a at least: at the
 #: ground surface, and where the tank's stress puts a cell in tension, sigma_3 would give no
@@ -148,6 +150,73 @@ def initial_modulus(soil, depth):
 def failed_moduli(K, G):
     """(E, nu) of an isotropic cell of bulk modulus K and shear modulus G."""
     return 9.0 * K * G / (3.0 * K + G), (3.0 * K - 2.0 * G) / (2.0 * (3.0 * K + G))
+
+
+#: Halvings of the bracket of ln G in the consistent Duncan-Chang update (from a width of
+#: 120: ln G to 1e-10).
+CONSISTENT_HALVINGS = 40
+_MEAN = np.array([1.0, 1.0, 0.0, 1.0])      # the identity in (rr, zz, rz, theta)
+
+
+def duncan_chang_secant(soil, st, geostatic, stress, G, eps_min, eps_max) -> dict:
+    """Duncan & Chang's secant moduli of cells, consistent with the confinement they give.
+
+    ``stress``: the cells' current stress ((rr, zz, rz, theta), tension positive) at shear
+    modulus ``G``; ``geostatic``: the ground's at rest; ``st``: the cells' strata's
+    constants (``soil.at_depth``). The law is G = min(G_K, G_f): Kondner's secant
+    E / (2 (1 + nu)), E = 1 / (a + b eps_p), or where that would pass the Mohr-Coulomb
+    strength q_f = R_f / b the perfectly plastic q_f / (2 (eps_1 - eps_3)) (the two are
+    equal at q = q_f, so the cell has failed where G_K > G_f); a failed cell keeps the bulk
+    modulus of Kondner's secant at q_f, (1 - R_f) / a / (3 (1 - 2 nu)). a, b and q_f follow
+    sigma_3, the minor principal compression of the geostatic plus the current stress.
+
+    That stress's deviator is proportional to G, and a larger deviator lowers sigma_3 and
+    with it the strength (d ln q_f / d ln q ~ -0.9 at phi = 35 deg): a Picard step that
+    reads sigma_3 off the current stress feeds each change of modulus back with the
+    opposite sign, and the failed cells' moduli swing from one iteration to the next. So
+    each cell's G here solves G = min(G_K, G_f)(sigma_3(G)), its deviator scaled by
+    G / G_current, its mean stress and strains held (bisection on ln G). The root is
+    unique where the mean and geostatic stress alone confine the cell: sigma_3 is concave
+    in the deviator's scale s, so s dsigma_3/ds < sigma_3 and the law's log-slope is below
+    1. At a fixed point G = G_current and this is the law at the current stress.
+
+    Returns ``E``, ``nu``, ``G``, ``K`` (failed cells' bulk modulus, else nan), ``failed``
+    and Kondner's ``a``, ``b`` at the solved confinement."""
+    nu = st["nu"]
+    R_f = st["failure_ratio"]
+    mean = (stress[:, 0] + stress[:, 1] + stress[:, 3]) / 3.0
+    fixed = geostatic + mean[:, None] * _MEAN
+    dev = stress - mean[:, None] * _MEAN
+    spread = eps_max - eps_min
+    eps_p = spread / (1.0 + nu)
+
+    def law(ln_G):
+        total = fixed + (np.exp(ln_G) / G)[:, None] * dev
+        _, most_tensile = principal_strains(total[:, 0], total[:, 1], total[:, 2], total[:, 3])
+        a, b = duncan_chang_parameters(soil, -most_tensile, st)
+        G_K = 1.0 / (a + b * eps_p) / (2.0 * (1.0 + nu))
+        with np.errstate(divide="ignore"):           # unstrained cells: no plastic branch
+            G_f = R_f / b / (2.0 * spread)
+        return np.minimum(G_K, G_f), G_K > G_f, a, b
+
+    lo, hi = np.log(G) - 60.0, np.log(G) + 60.0
+    for _ in range(CONSISTENT_HALVINGS):
+        mid = 0.5 * (lo + hi)
+        above = law(mid)[0] > np.exp(mid)            # the root lies above mid
+        lo, hi = np.where(above, mid, lo), np.where(above, hi, mid)
+    G_new, failed, a, b = law(0.5 * (lo + hi))
+    K = np.where(failed, (1.0 - R_f) / a / (3.0 * (1.0 - 2.0 * np.minimum(nu, 0.4999))),
+                 np.nan)
+    E, nu_new = _moduli(G_new, K, nu)
+    return {"E": E, "nu": nu_new, "G": G_new, "K": K, "failed": failed, "a": a, "b": b}
+
+
+def _moduli(G, K, nu):
+    """(E, nu) of cells of shear modulus G: intact ones (K nan) keep their nu, failed ones
+    have bulk modulus K."""
+    failed = np.isfinite(K)
+    E_f, nu_f = failed_moduli(np.where(failed, K, 1.0), G)
+    return np.where(failed, E_f, 2.0 * (1.0 + nu) * G), np.where(failed, nu_f, nu)
 
 
 def stress_level(eps_min, eps_max, nu, a, b):
@@ -249,29 +318,22 @@ class HyperbolicIteration:
             t0 = time.perf_counter()
             unsettled = inner_solve()     # interface elements that changed state (single loop)
             eps_min, eps_max = self.cell_principal_strains()
-            if self.duncan_chang:
-                self._confine()
             E = self.modulus.x.array[self.dof_E]
-            nu_k = self.nu_intact if self.duncan_chang else self.nu
-            _, q_m, misfit, E_new, ultimate = secant_update(E, nu_k, eps_min, eps_max,
-                                                            self.a, self.b)
             if self.duncan_chang:
-                # Mohr-Coulomb failure: where Kondner's deviator passes q_f = R_f / b the
-                # deviator is held at q_f (perfectly plastic): secant shear modulus q_f / (2
-                # (eps_max - eps_min)), and the bulk modulus Kondner's secant has at q_f,
-                # (1 - R_f) / a / (3 (1 - 2 nu)): both continuous at the onset
-                q_f = self.failure_ratio / self.b
-                failed = (q_m >= q_f) & self.is_soil
-                nu0 = np.minimum(self.nu_intact, 0.4999)
-                # (at most the initial modulus: only failed cells, strained, use it)
-                G = np.minimum(q_f / (2.0 * np.maximum(eps_max - eps_min, 1e-300)),
-                               self.E_initial)
-                K = (1.0 - self.failure_ratio) * self.E_initial / (3.0 * (1.0 - 2.0 * nu0))
-                E_f, nu_f = failed_moduli(K, G)
-                E_new = np.where(failed, E_f, E_new)
-                self.nu_target = np.where(failed, nu_f, self.nu_intact)
+                # Duncan & Chang: a, b and failure follow each cell's confinement; the
+                # misfit is the modulus's distance from the consistent secant modulus
+                self.stress.interpolate(self.stress_expr)
+                # (cells outside the soil, e.g. the pit's void, given G = 1 to keep quiet)
+                law = duncan_chang_secant(
+                    s, self.strata, self.geostatic, self.stress.x.array.reshape(-1, 4)[self.dof_T],
+                    np.where(self.is_soil, E / (2.0 * (1.0 + self.nu)), 1.0), eps_min, eps_max)
+                self.a, self.b, E_new = law["a"], law["b"], law["E"]
+                self.E_initial = 1.0 / self.a
                 misfit = np.abs(E - E_new) / E
-                ultimate = failed
+                ultimate = law["failed"]
+            else:
+                _, _, misfit, E_new, ultimate = secant_update(E, self.nu, eps_min, eps_max,
+                                                              self.a, self.b)
             changing = (misfit > tol) & self.is_soil
             n_changing = comm.allreduce(int(changing[own].sum()))
             n_ult = comm.allreduce(int((ultimate & self.is_soil)[own].sum()))
@@ -302,22 +364,32 @@ class HyperbolicIteration:
             # outside the tolerance; that freezes a misfit of up to the tolerance, worth
             # 2.5 % of w0 at the paper's 0.05 in the flexible-load test)
             floor = MODULUS_FLOOR * self.E_initial
-            new = np.where(self.is_soil, np.maximum(E_new, floor), E)
-            if self.anderson_depth:
-                new = self._anderson(E, new, floor, own)
-            self.modulus.x.array[self.dof_E] = new
             if self.duncan_chang:
-                self.nu = self.nu_target
+                # accelerated on ln G with each failed cell's bulk modulus held, so that a
+                # failed cell's (E, nu) stay a pair of the law
+                G = E / (2.0 * (1.0 + self.nu))
+                G_new = np.maximum(law["G"], floor / 3.0)
+                if self.anderson_depth:
+                    G_new = self._anderson(G, G_new, floor / 3.0, own,
+                                           ceiling=self.E_initial / 2.0)
+                new, nu_new = _moduli(G_new, law["K"], self.nu_intact)
+                self.nu = np.where(self.is_soil, nu_new, self.nu_intact)
                 self.nu_field.x.array[self.dof_nu] = self.nu
+            else:
+                new = np.maximum(E_new, floor)
+                if self.anderson_depth:
+                    new = self._anderson(E, new, floor, own, ceiling=self.E_initial)
+            self.modulus.x.array[self.dof_E] = np.where(self.is_soil, new, E)
         if n_ult > 0 and self.duncan_chang:
             raise SoilFailure(
                 f"no converged state with {n_ult} failed elements (Mohr-Coulomb) "
                 f"{self._where(ultimate & self.is_soil)} after {max_it} iterations (largest "
                 f"modulus misfit {worst:.2g}, last displacement update {du_rel:.1e}): either "
                 f"the soil cannot carry this load (the settlement keeps growing), or the failed "
-                f"zone's moduli do not settle (a displacement update far below 1e-2: a soil "
-                f"without cohesion has no strength at zero confinement, e.g. beside a rigid "
-                f"foundation's corner; a little cohesion settles it)", self.history)
+                f"zone's moduli settle too slowly (a displacement update far below 1e-2: a "
+                f"soil without cohesion has almost no strength near the surface beside the "
+                f"foundation; raise [soil] max_iterations, or give the soil a little "
+                f"cohesion)", self.history)
         if n_ult > 0:
             raise SoilFailure(f"soil failure {self._where(ultimate & self.is_soil)}: {n_ult} "
                               f"elements at the ultimate deviator (1/b = "
@@ -327,16 +399,6 @@ class HyperbolicIteration:
                          f"iterations (largest deviator misfit {worst:.3g} > {tol:g})",
                          self.history)
 
-    def _confine(self) -> None:
-        """Duncan & Chang: each cell's a and b at its confinement, the minor principal
-        compression of the geostatic stress plus the current solution's."""
-        self.stress.interpolate(self.stress_expr)
-        total = self.geostatic + self.stress.x.array.reshape(-1, 4)[self.dof_T]
-        _, most_tensile = principal_strains(total[:, 0], total[:, 1], total[:, 2], total[:, 3])
-        self.a, self.b = duncan_chang_parameters(self.model.scene.soil, -most_tensile,
-                                                 self.strata)
-        self.E_initial = 1.0 / self.a
-
     def cell_principal_strains(self) -> tuple[np.ndarray, np.ndarray]:
         """The smallest and largest principal strain of the current displacement at each
         cell's centroid, in cell order."""
@@ -344,12 +406,12 @@ class HyperbolicIteration:
         e = self.strain.x.array.reshape(-1, 4)[self.dof_T]
         return principal_strains(e[:, 0], e[:, 1], e[:, 2], e[:, 3])
 
-    def _anderson(self, E, G, floor, own):
-        """Anderson acceleration (type II, depth ``anderson_depth``) of the secant map on
-        log E: x_{k+1} = g_k - dG gamma, gamma the least-squares fit of the residual
-        f_k = g_k - x_k by its recent differences. Inner products are summed over the owned
-        cells of all ranks, so every rank takes the same step; the result is kept between
-        the floor and the initial modulus."""
+    def _anderson(self, E, G, floor, own, ceiling):
+        """Anderson acceleration (type II, depth ``anderson_depth``) of the secant map
+        E -> G of a modulus, on log E: x_{k+1} = g_k - dG gamma, gamma the least-squares fit
+        of the residual f_k = g_k - x_k by its recent differences. Inner products are summed
+        over the owned cells of all ranks, so every rank takes the same step; the result is
+        kept between the floor and the ceiling (per cell)."""
         comm = self.model.domain.mesh.comm
         # only soil cells take part; the others (inside the tank, above the ground, where
         # E(h) of a steep gradient is negative) are given 1 so that log stays quiet
@@ -373,7 +435,7 @@ class HyperbolicIteration:
         except np.linalg.LinAlgError:
             return G
         x_new = g - dG @ gamma
-        out = np.exp(np.clip(x_new, np.log(floor), np.log(self.E_initial)))
+        out = np.exp(np.clip(x_new, np.log(floor), np.log(ceiling)))
         return np.where(self.is_soil & np.isfinite(out), out, G)
 
     def _where(self, mask) -> str:
