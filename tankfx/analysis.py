@@ -27,7 +27,7 @@ from ._memory import keep_freed_memory
 from ._threads import limit_blas_threads
 from .mesh import CELL_TAGS, FACET_TAGS, Domain, build_domain
 from .post import assemble_scalar, evaluate_at, nodal_values_on_facets
-from .scene import MIXED_FROM_NU, Load, Scene
+from .scene import Load, Scene
 from .solve import make_solver, mass_solve, reaction_force
 
 __all__ = ["Solution", "analyse", "analyse_path", "CONVENTIONS"]
@@ -125,10 +125,9 @@ class SoilBlock:
         #: of its own: p = -lambda tr(eps) jumps where lambda does, at a layer's top, which
         #: one pressure continuous over the layers cannot follow (measured: w0 1.6-1.8 %
         #: off on three layers, against 3e-5 without a mixed layer)
-        # Duncan & Chang's soil is mixed throughout: a failed cell keeps its bulk modulus
-        # while its secant shear modulus falls, nu -> 0.5 (tankfx.hyperbolic)
+        # (and Duncan & Chang's soil throughout: Soil.mixed_strata)
         dc = s.model == "duncan_chang"
-        self.mixed_strata = [i for i, st in enumerate(strata) if dc or st.nu > MIXED_FROM_NU]
+        self.mixed_strata = s.mixed_strata
         self.mixed = bool(self.mixed_strata)
         self.stratum = np.zeros(0, dtype=np.int32)     # per local cell (layered ground)
         if s.layers or dc:
@@ -439,9 +438,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     timings["mesh"] = time.perf_counter() - t
     ncells = domain.mesh.topology.index_map(2).size_global
     log.info("mesh: %d cells in %.2f s", ncells, timings["mesh"])
-    for st in scene.soil.strata[1:]:
+    for k, st in enumerate(scene.soil.strata[1:], start=1):
         log.info("  layer from %g m down: E = %.4g Pa, nu = %g%s", st.depth, st.E, st.nu,
-                 " (mixed form)" if st.nu > MIXED_FROM_NU else "")
+                 " (mixed form)" if k in scene.soil.mixed_strata else "")
 
     t = time.perf_counter()
     model = build_model(replace(scene, load=stages[0]), domain)

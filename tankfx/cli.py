@@ -167,27 +167,20 @@ def cmd_run(args) -> int:
 
 def describe(scene) -> list[str]:
     """What a scene resolves to and what an analysis of it builds and iterates, in lines."""
-    from .scene import MIXED_FROM_NU
+    from dataclasses import asdict
+
+    from .scene import stratum_constants
 
     s, a = scene.soil, scene.foundation_radius
     out = [f"scene: {scene.title}"]
-    kondner = (f", Kondner 1/a = {1 / s.hyperbolic_a:.4g} Pa, 1/b = {1 / s.hyperbolic_b:.4g} "
-               f"Pa" if s.model == "hyperbolic" else "")
-    if s.model == "duncan_chang":
-        kondner = (f"; Duncan-Chang (E = K p_a): K = {s.modulus_number:g}, n = "
-                   f"{s.modulus_exponent:g}, R_f = {s.failure_ratio:g}, c = {s.cohesion:g} Pa, "
-                   f"phi = {s.friction_angle:g} deg, gamma = {s.unit_weight:g} N/m^3, K0 = "
-                   f"{s.K0:.3g}, p_a = {s.atmospheric_pressure:g} Pa")
     for k, st in enumerate(s.strata):
         where = "from the surface" if k == 0 else f"from {st.depth:g} m"
-        form = "mixed u-p form" if st.nu > MIXED_FROM_NU else "displacement form"
-        kk = (f", 1/b = {1 / st.hyperbolic_b:.4g} Pa" if k and s.model == "hyperbolic" else "")
-        if k and s.model == "duncan_chang":
-            kk = (f"; K = {st.modulus_number:g}, n = {st.modulus_exponent:g}, R_f = "
-                  f"{st.failure_ratio:g}, c = {st.cohesion:g} Pa, phi = {st.friction_angle:g} "
-                  f"deg, gamma = {st.unit_weight:g} N/m^3, K0 = {st.K0:.3g}")
+        form = "mixed u-p form" if k in s.mixed_strata else "displacement form"
+        consts = stratum_constants(s.model, asdict(st))
+        if k == 0 and s.model == "duncan_chang":
+            consts += f", p_a = {s.atmospheric_pressure:g} Pa"
         out.append(f"  soil {where}: E = {st.E:.4g} Pa, nu = {st.nu:g}, E_gradient = "
-                   f"{st.E_gradient:g} /m{kondner if k == 0 else kk} ({form})")
+                   f"{st.E_gradient:g} /m{consts} ({form})")
     if s.model == "duncan_chang" and s.water_table is not None:
         out.append(f"  water table {s.water_table:g} m down: the confinement below it is "
                    f"effective (gamma_w = {s.water_unit_weight:g} N/m^3)")

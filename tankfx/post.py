@@ -14,6 +14,8 @@ from dolfinx import fem, geometry
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
+from .scene import stratum_constants
+
 __all__ = ["allsum", "assemble_scalar", "evaluate_at", "nodal_values_on_facets",
            "soil_cell_fields", "write_fields", "FIELD_FILES", "STATUS_CODES", "summary_rows",
            "write_profiles", "PROFILE_FILES",
@@ -351,26 +353,14 @@ def write_report(results: dict, figures: list[Path], path) -> Path:
     r, sc = results, results["scene"]
     soil = sc["soil"]
     lines = [f"# {r['title']}", ""]
-    hyperbolic = (f", 1/b = {1.0 / soil['hyperbolic_b']:.4g} Pa"
-                  if soil.get("model") == "hyperbolic" else "")
-    if soil.get("model") == "duncan_chang":
-        hyperbolic = (f" (K p_a), K = {soil['modulus_number']:g}, n = "
-                      f"{soil['modulus_exponent']:g}, R_f = {soil['failure_ratio']:g}, c = "
-                      f"{soil['cohesion']:g} Pa, phi = {soil['friction_angle']:g} deg, gamma = "
-                      f"{soil['unit_weight']:g} N/m^3, K0 = {soil['K0']:.3g}")
-    scene_rows = [("soil", f"{soil.get('model', 'linear')}, E_s = {soil['E']:.4g} Pa, "
-                           f"nu = {soil['nu']:g}, lambda = {soil.get('E_gradient', 0.0):g} /m"
-                           f"{hyperbolic}")]
+    model = soil.get("model", "linear")
+    scene_rows = [("soil", f"{model}, E_s = {soil['E']:.4g} Pa, nu = {soil['nu']:g}, lambda = "
+                           f"{soil.get('E_gradient', 0.0):g} /m{stratum_constants(model, soil)}")]
     for k, layer in enumerate(soil.get("layers", []), start=1):
-        kondner = (f", 1/b = {1.0 / layer['hyperbolic_b']:.4g} Pa"
-                   if soil.get("model") == "hyperbolic" else "")
-        if soil.get("model") == "duncan_chang":
-            kondner = (f", K = {layer['modulus_number']:g}, n = {layer['modulus_exponent']:g}, "
-                       f"c = {layer['cohesion']:g} Pa, phi = {layer['friction_angle']:g} deg, "
-                       f"gamma = {layer['unit_weight']:g} N/m^3")
         scene_rows.append((f"layer {k}", f"from {layer['depth']:g} m down: E = "
                                          f"{layer['E']:.4g} Pa, nu = {layer['nu']:g}, lambda = "
-                                         f"{layer.get('E_gradient', 0.0):g} /m{kondner}"))
+                                         f"{layer.get('E_gradient', 0.0):g} /m"
+                                         f"{stratum_constants(model, layer)}"))
     if "plate" in sc:
         pl = sc["plate"]
         scene_rows.append(("plate", f"a = {pl['radius']:g} m, t = {pl['thickness']:.4g} m, "

@@ -12,6 +12,7 @@ import difflib
 import json
 import math
 import tomllib
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
@@ -85,6 +86,21 @@ STRATUM_DUNCAN_CHANG = ("modulus_number", "modulus_exponent", "failure_ratio", "
                         "friction_angle", "unit_weight", "K0")
 
 
+def stratum_constants(model: str, st: Mapping[str, Any]) -> str:
+    """A nonlinear stratum's constants in words, as `tankfx check` and the report write
+    them (``st``: a :class:`Layer` as a dict, or a stratum of results.json's scene):
+    Kondner's 1/b (its 1/a is the stratum's E), or Duncan & Chang's K, n, R_f, c, phi,
+    gamma and K0; nothing for a linear soil."""
+    if model == "hyperbolic":
+        return f", Kondner 1/b = {1.0 / st['hyperbolic_b']:.4g} Pa (1/a = E)"
+    if model == "duncan_chang":
+        return (f", Duncan-Chang K = {st['modulus_number']:g}, n = {st['modulus_exponent']:g}, "
+                f"R_f = {st['failure_ratio']:g}, c = {st['cohesion']:g} Pa, phi = "
+                f"{st['friction_angle']:g} deg, gamma = {st['unit_weight']:g} N/m^3, K0 = "
+                f"{st['K0']:.3g} (E = K p_a)")
+    return ""
+
+
 @dataclass(frozen=True)
 class Soil:
     E: float                 #: Young's modulus at the ground surface, Pa (1/a if hyperbolic)
@@ -126,6 +142,14 @@ class Soil:
     def nonlinear(self) -> bool:
         """Whether the soil is iterated (Kondner's law, alone or Duncan & Chang's)."""
         return self.model in ("hyperbolic", "duncan_chang")
+
+    @property
+    def mixed_strata(self) -> list[int]:
+        """Indices into :attr:`strata` of those solved in the mixed u-p form: nu >
+        MIXED_FROM_NU, and every stratum of Duncan & Chang's soil (a failed cell keeps its
+        bulk modulus while its secant shear modulus falls: nu -> 0.5)."""
+        dc = self.model == "duncan_chang"
+        return [i for i, st in enumerate(self.strata) if dc or st.nu > MIXED_FROM_NU]
 
     @property
     def max_nu(self) -> float:
