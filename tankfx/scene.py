@@ -765,7 +765,9 @@ def _parse(data: dict[str, Any]) -> Scene:
                    model=soil.get("model", "linear"), hyperbolic_a=soil.get("hyperbolic_a"),
                    hyperbolic_b=soil.get("hyperbolic_b"),
                    tolerance=soil.get("tolerance", 0.05) if hyperbolic or dc else None,
-                   max_iterations=soil.get("max_iterations", 40) if hyperbolic or dc else None,
+                   # (Duncan & Chang's failed zones settle slowly: 10-64 iterations measured)
+                   max_iterations=(soil.get("max_iterations", 80 if dc else 40)
+                                   if hyperbolic or dc else None),
                    layers=tuple(_layer(x, hyperbolic, dc, dc_values) for x in layers))
     plate_dc = None
     if plate is not None:
