@@ -274,7 +274,6 @@ class HyperbolicIteration:
             self.a, self.b = duncan_chang_parameters(s, np.minimum(sigma_v, sigma_h),
                                                      self.strata)
             self.nu = self.nu_intact = self.strata["nu"]
-            self.failure_ratio = self.strata["failure_ratio"]
             # a failed cell's Poisson's ratio, in the soil's per-cell field
             self.nu_field = soil.nu
             self.dof_nu = soil.nu.function_space.dofmap.list[:, 0]
