@@ -84,12 +84,6 @@ def _versions() -> dict[str, str]:
     return out
 
 
-def _cell_midpoints(msh) -> np.ndarray:
-    """(r, z) of every local cell's midpoint (owned and ghost), in cell order."""
-    n = msh.topology.index_map(2).size_local + msh.topology.index_map(2).num_ghosts
-    return dmesh.compute_midpoints(msh, 2, np.arange(n, dtype=np.int32))[:, :2]
-
-
 def _cell_field(msh, values: np.ndarray, name: str) -> fem.Function:
     """A DG0 field of per-cell values (in cell order)."""
     f = fem.Function(fem.functionspace(msh, ("DG", 0)), name=name)
@@ -130,13 +124,16 @@ class SoilBlock:
         self.mixed_strata = s.mixed_strata
         self.mixed = bool(self.mixed_strata)
         self.stratum = np.zeros(0, dtype=np.int32)     # per local cell (layered ground)
+        #: per local cell, its stratum's constants (Soil.at_depth; layered ground and
+        #: Duncan & Chang's soil, else None)
+        self.cell_strata = None
         if s.layers or dc:
             # per cell, its stratum's values (the layers' tops are lines of the mesh, so
             # no cell straddles two): E = E_top (1 + lambda (h - top)) within each; and a
             # Poisson's ratio per cell, which a failed Duncan-Chang cell changes
-            depth = -_cell_midpoints(msh)[:, 1]
+            depth = -domain.cell_midpoints[:, 1]
             self.stratum = s.stratum_of(depth).astype(np.int32)
-            values = s.at_depth(depth)
+            values = self.cell_strata = s.at_depth(depth)
             self.E_s, self.gradient, top, self.nu = (
                 _cell_field(msh, values[key], key) for key in ("E_top", "E_gradient", "top",
                                                                "nu"))
@@ -155,7 +152,8 @@ class SoilBlock:
             if dc:      # at the geostatic confinement (depth: the cells', above)
                 from .hyperbolic import initial_modulus
 
-                modulus = _cell_field(msh, initial_modulus(s, depth), "secant_modulus")
+                modulus = _cell_field(msh, initial_modulus(s, depth, values),
+                                      "secant_modulus")
             else:
                 Q0 = fem.functionspace(msh, ("DG", 0))
                 modulus = fem.Function(Q0, name="secant_modulus")

@@ -142,13 +142,14 @@ def duncan_chang_parameters(soil, sigma_3, st):
     return 1.0 / E_i, st["failure_ratio"] / q_f
 
 
-def initial_modulus(soil, depth):
+def initial_modulus(soil, depth, st=None):
     """The nonlinear soil's initial tangent modulus of cells at ``depth``: Kondner's 1/a of
-    their stratum, or Duncan & Chang's at the geostatic confinement."""
+    their stratum, or Duncan & Chang's at the geostatic confinement (``st``: their strata's
+    constants, ``soil.at_depth(depth)``, if at hand)."""
     if soil.model == "duncan_chang":
         sigma_v, sigma_h = geostatic_stress(soil, depth)
         return 1.0 / duncan_chang_parameters(soil, np.minimum(sigma_v, sigma_h),
-                                             soil.at_depth(depth))[0]
+                                             soil.at_depth(depth) if st is None else st)[0]
     return 1.0 / kondner_parameters(soil, depth)[0]
 
 
@@ -250,8 +251,6 @@ class HyperbolicIteration:
     """Picard iteration on the DG0 secant modulus of a model's soil block."""
 
     def __init__(self, model):
-        from dolfinx import mesh as dmesh
-
         self.model = model
         soil = model.soil
         s = model.scene.soil
@@ -262,13 +261,13 @@ class HyperbolicIteration:
         self.n_owned = msh.topology.index_map(2).size_local
         # everything below is in cell order; V's and T's dofs are mapped through their maps
         self.dof_E = V.dofmap.list[:, 0]
-        self.mid = dmesh.compute_midpoints(msh, 2, np.arange(n_cells, dtype=np.int32))[:, :2]
+        self.mid = model.domain.cell_midpoints
         self.duncan_chang = s.model == "duncan_chang"
         if self.duncan_chang:
-            # each cell's stratum's constants, looked up once; the geostatic stress per
+            # each cell's stratum's constants (the soil block's); the geostatic stress per
             # cell (tension positive, (rr, zz, rz, theta)), to which the tank's is added for
             # the confinement
-            self.strata = s.at_depth(-self.mid[:, 1])
+            self.strata = soil.cell_strata
             sigma_v, sigma_h = geostatic_stress(s, -self.mid[:, 1])
             self.geostatic = np.stack([-sigma_h, -sigma_v, 0.0 * sigma_v, -sigma_h], axis=1)
             self.a, self.b = duncan_chang_parameters(s, np.minimum(sigma_v, sigma_h),

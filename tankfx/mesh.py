@@ -8,6 +8,7 @@ mode, which is therefore always used.
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import logging
@@ -83,6 +84,13 @@ class Domain:
 
     def cells(self, name: str) -> np.ndarray:
         return self.cell_tags.find(CELL_TAGS[name])
+
+    @functools.cached_property
+    def cell_midpoints(self) -> np.ndarray:
+        """(r, z) of every local cell's midpoint (owned and ghost), in cell order."""
+        imap = self.mesh.topology.index_map(2)
+        cells = np.arange(imap.size_local + imap.num_ghosts, dtype=np.int32)
+        return dmesh.compute_midpoints(self.mesh, 2, cells)[:, :2]
 
     @property
     def has_void(self) -> bool:

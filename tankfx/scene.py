@@ -81,6 +81,10 @@ class Layer:
     K0: float | None = None
 
 
+#: The [soil] (or layer) keys that set its E (1/a, K p_a): a change of one of them drops
+#: the E resolved from the old value (Scene.with_changes, sweep axes)
+E_FROM_KEYS = ("hyperbolic_a", "modulus_number", "atmospheric_pressure")
+
 #: Duncan & Chang's constants that each stratum has (p_a is the soil's, one for all)
 STRATUM_DUNCAN_CHANG = ("modulus_number", "modulus_exponent", "failure_ratio", "cohesion",
                         "friction_angle", "unit_weight", "K0")
@@ -306,8 +310,7 @@ class Scene:
         d = self.to_dict()
         for sec, changes in sections.items():
             if isinstance(changes, dict):
-                if sec == "soil" and "E" not in changes and {
-                        "hyperbolic_a", "modulus_number", "atmospheric_pressure"} & set(changes):
+                if sec == "soil" and "E" not in changes and set(E_FROM_KEYS) & set(changes):
                     d["soil"].pop("E", None)      # 1/a or K p_a: the new one's
                 d.setdefault(sec, {}).update(changes)
             else:
@@ -436,19 +439,15 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
 }
 #: the keys of one [[soil.layers]] table
 _LAYER_SPEC: dict[str, tuple[type, bool]] = {
-    "depth": (float, True), "E": (float, False), "nu": (float, True),
-    "E_gradient": (float, False), "hyperbolic_a": (float, False),
-    "hyperbolic_b": (float, False), "modulus_number": (float, False),
-    "modulus_exponent": (float, False), "failure_ratio": (float, False),
-    "cohesion": (float, False), "friction_angle": (float, False),
-    "unit_weight": (float, False), "K0": (float, False)}
+    "depth": (float, True), "nu": (float, True),
+    **{key: (float, False) for key in ("E", "E_gradient", "hyperbolic_a", "hyperbolic_b",
+                                       *STRATUM_DUNCAN_CHANG)}}
 _SOLVER_METHODS = ("direct", "iterative")
 _TOP = {"title": str}
 _REQUIRED_SECTIONS = ("soil", "load")
 _SOIL_MODELS = ("linear", "hyperbolic", "duncan_chang")
 #: the keys of Duncan & Chang's soil, and those of them it requires
-_DUNCAN_CHANG = ("modulus_number", "modulus_exponent", "failure_ratio", "cohesion",
-                 "friction_angle", "unit_weight", "K0", "atmospheric_pressure", "water_table",
+_DUNCAN_CHANG = (*STRATUM_DUNCAN_CHANG, "atmospheric_pressure", "water_table",
                  "water_unit_weight")
 #: gamma_w, N/m^3
 WATER_UNIT_WEIGHT = 9810.0
@@ -830,17 +829,7 @@ def _check_soil(rd: _Reader, soil: dict | None, raw_layers) -> list[dict[str, An
         if model not in _SOIL_MODELS:
             rd.bad(f"soil.model = {model!r}: unknown model{_suggest(model, _SOIL_MODELS)}")
         elif model == "hyperbolic":
-            for key in ("hyperbolic_a", "hyperbolic_b"):
-                if key not in soil:
-                    rd.bad(f"soil.{key}: missing for model = \"hyperbolic\"; add it (1/Pa: "
-                           f"1/a is the initial tangent modulus, 1/b the ultimate deviator "
-                           f"stress)")
-                rd.positive(soil, "soil", key)
-            a_h = soil.get("hyperbolic_a")
-            if "E" in soil and a_h and a_h > 0 and abs(soil["E"] * a_h - 1.0) > 1e-6:
-                rd.bad(f"soil.E = {soil['E']!r} contradicts soil.hyperbolic_a (1/a = "
-                       f"{1.0 / a_h:.6g} Pa is the surface modulus of a hyperbolic soil); "
-                       f"remove soil.E")
+            _kondner(rd, soil, soil, "soil", "the surface modulus of a hyperbolic soil")
         elif model == "duncan_chang":
             _duncan_chang(rd, soil)
         if model == "linear" and "E" not in soil:
@@ -900,6 +889,20 @@ def _layer(x: dict, hyperbolic: bool, dc: bool, dc_values: dict) -> Layer:
     return Layer(depth=x["depth"], E=1.0 / x["hyperbolic_a"] if hyperbolic else x["E"],
                  nu=x["nu"], E_gradient=x.get("E_gradient", 0.0),
                  hyperbolic_a=x.get("hyperbolic_a"), hyperbolic_b=x.get("hyperbolic_b"))
+
+
+def _kondner(rd: _Reader, table: dict, given, name: str, what_E: str) -> None:
+    """Kondner's a and b of the soil or a layer (``name``; ``given``: its keys as written):
+    both required and positive; an E given must be 1/a (``what_E``)."""
+    for key in ("hyperbolic_a", "hyperbolic_b"):
+        if key not in given:
+            rd.bad(f"{name}.{key}: missing for model = \"hyperbolic\"; add it (1/Pa: 1/a is "
+                   f"the initial tangent modulus, 1/b the ultimate deviator stress)")
+        rd.positive(table, name, key)
+    a_h = table.get("hyperbolic_a")
+    if "E" in table and a_h and a_h > 0 and abs(table["E"] * a_h - 1.0) > 1e-6:
+        rd.bad(f"{name}.E = {table['E']!r} contradicts {name}.hyperbolic_a (1/a = "
+               f"{1.0 / a_h:.6g} Pa is {what_E}); remove {name}.E")
 
 
 def _duncan_chang(rd: _Reader, soil: dict, name: str = "soil",
@@ -973,27 +976,15 @@ def _layers(rd: _Reader, raw, model: str, p_a: float | None = None) -> list[dict
                        f"remove it")
         if model == "duncan_chang":
             _duncan_chang(rd, layer, name, p_a)
-            for key in ("hyperbolic_a", "hyperbolic_b"):
-                if key in raw_layer:
-                    rd.bad(f"{name}.{key}: only used with soil.model = \"hyperbolic\"; "
-                           f"remove it")
         elif model == "hyperbolic":
-            for key in ("hyperbolic_a", "hyperbolic_b"):
-                if key not in raw_layer:
-                    rd.bad(f"{name}.{key}: missing for model = \"hyperbolic\"; every layer "
-                           f"has its own Kondner parameters (1/Pa)")
-                rd.positive(layer, name, key)
-            a_h = layer.get("hyperbolic_a")
-            if "E" in layer and a_h and a_h > 0 and abs(layer["E"] * a_h - 1.0) > 1e-6:
-                rd.bad(f"{name}.E = {layer['E']!r} contradicts {name}.hyperbolic_a (1/a is "
-                       f"the layer's modulus at its top); remove {name}.E")
-        else:
-            if "E" not in raw_layer:
-                rd.bad(f"{name}.E: missing; add 'E = ...' (Pa, the modulus at the layer's top)")
-            for key in ("hyperbolic_a", "hyperbolic_b"):
-                if key in raw_layer:
-                    rd.bad(f"{name}.{key}: only used with soil.model = \"hyperbolic\"; "
-                           f"remove it")
+            # every layer has its own Kondner parameters
+            _kondner(rd, layer, raw_layer, name, "the layer's modulus at its top")
+        elif "E" not in raw_layer:
+            rd.bad(f"{name}.E: missing; add 'E = ...' (Pa, the modulus at the layer's top)")
+        for key in ("hyperbolic_a", "hyperbolic_b"):
+            if key in raw_layer and model != "hyperbolic":
+                rd.bad(f"{name}.{key}: only used with soil.model = \"hyperbolic\"; "
+                       f"remove it")
         out.append(layer)
     depths = [x.get("depth") for x in out]
     for k in range(1, len(out)):

@@ -30,7 +30,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from .scene import Scene, SceneError, load_scene
+from .scene import E_FROM_KEYS, Scene, SceneError, load_scene
 
 __all__ = ["Sweep", "load_sweep", "run_sweep", "COLUMNS"]
 
@@ -62,11 +62,10 @@ def _with(scene: Scene, values: dict) -> Scene:
                 raise SceneError([f"{key}: the base scene has {len(layers)} soil layer(s); "
                                   f"count them from 1"])
             layers[k - 1][layer[2]] = value
-            if layer[2] in ("hyperbolic_a", "modulus_number"):
+            if layer[2] in E_FROM_KEYS:
                 layers[k - 1].pop("E", None)          # 1/a or K p_a: the new one's
             continue
-        if section == "soil" and name in ("hyperbolic_a", "modulus_number",
-                                          "atmospheric_pressure"):
+        if section == "soil" and name in E_FROM_KEYS:
             data["soil"].pop("E", None)               # 1/a or K p_a: the new one's
         if section in ("plate", "wall") and name in ("Kp", "Kt") and section in data:
             data[section].pop("thickness", None)      # Kp / Kt replace the thickness
