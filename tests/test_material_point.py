@@ -68,8 +68,10 @@ def column(p, confined, tolerance):
     model = SimpleNamespace(
         soil=SimpleNamespace(u=u, E=E, r=r),
         scene=SimpleNamespace(soil=soil, embedment=0.0, foundation_radius=RADIUS),
-        domain=SimpleNamespace(mesh=msh, cells=lambda name: np.arange(n_cells,
-                                                                      dtype=np.int32)))
+        domain=SimpleNamespace(
+            mesh=msh, cells=lambda name: np.arange(n_cells, dtype=np.int32),
+            cell_midpoints=dmesh.compute_midpoints(
+                msh, 2, np.arange(n_cells, dtype=np.int32))[:, :2]))
 
     def inner_solve():
         solver.solve()
