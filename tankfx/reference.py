@@ -18,7 +18,8 @@ __all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settl
            "flexible_mean_settlement", "flexible_axis_stress", "flexible_axis_radial_stress",
            "point_load_displacement",
            "rigid_plate_centre_moment", "bessel_j", "layered_surface_compliance",
-           "layered_surface_settlement", "one_dimensional_settlement"]
+           "layered_surface_settlement", "one_dimensional_settlement",
+           "stepped_wall_under_liquid", "stepped_plate"]
 
 
 def flexible_centre_settlement(p, a, E, nu):
@@ -248,3 +249,173 @@ def one_dimensional_settlement(p, layers) -> float:
     [(thickness, E, nu), ...] on a rigid base: every layer compresses in confined
     (oedometric) strain, sum of p h / M with M = E (1 - nu) / ((1 + nu)(1 - 2 nu))."""
     return sum(p * h * (1.0 + nu) * (1.0 - 2.0 * nu) / (E * (1.0 - nu)) for h, E, nu in layers)
+
+
+# --------------------------------------------------------------------------- stepped members
+# A wall of courses and a plate with a thickened annular ring: the classical thin-shell and
+# thin-plate equations solved exactly in each stretch of constant thickness, the stretches
+# joined by continuity of displacement, slope, moment and shear (a small linear system).
+
+
+def _stretches(bounds, breaks):
+    """[(x0, x1, index of the member's stretch)] from a member's stretch bounds and extra
+    break points (a load's kink), in order."""
+    cuts = sorted(set(bounds) | {b for b in breaks if bounds[0] < b < bounds[-1]})
+    pieces = []
+    for x0, x1 in zip(cuts[:-1], cuts[1:]):
+        k = int(np.searchsorted(bounds, 0.5 * (x0 + x1))) - 1
+        pieces.append((x0, x1, k))
+    return pieces
+
+
+def stepped_wall_under_liquid(R, courses, E, nu, gamma, liquid_height, z):
+    """A cylindrical wall of ``courses`` [(height, thickness), ...] from the bottom, their
+    mid-surfaces on the one radius R, clamped at its base (z = 0) and free at its top, full
+    of liquid of unit weight gamma to ``liquid_height``: the outward radial displacement w
+    and the meridional moment M_s (N m/m, outer face in tension positive, M_s = -D w'') at
+    heights ``z``.
+
+    In each course (Timoshenko & Woinowsky-Krieger 1959, Sec. 117) D w'''' + (E t / R^2) w
+    = p(z), p = gamma (liquid_height - z)^+, solved exactly: the membrane part p R^2 / (E t)
+    (p is linear in each stretch: the liquid's surface is a break) and four bending
+    solutions, two decaying from each end of the stretch, so that no exponential overflows.
+    Stretches meet with w, w', M_s = -D w'' and Q = -(D w'')' continuous."""
+    heights = np.array([h for h, _ in courses], dtype=float)
+    thick = np.array([t for _, t in courses], dtype=float)
+    bounds = np.concatenate([[0.0], np.cumsum(heights)])
+    pieces = _stretches(bounds, [liquid_height])
+    n = len(pieces)
+
+    def basis(j, s, k):
+        """k-th derivative of the four bending solutions of stretch j at local s."""
+        x0, x1, c = pieces[j]
+        L, t = x1 - x0, thick[c]
+        beta = (3.0 * (1.0 - nu**2) / (R * t) ** 2) ** 0.25
+        lam = (-1.0 + 1.0j) * beta
+        a, b = lam**k * np.exp(lam * s), (-lam) ** k * np.exp(lam * (L - s))
+        return np.array([a.real, (-1j * a).real, b.real, (-1j * b).real])
+
+    def membrane(j, s, k):
+        x0, _, c = pieces[j]
+        zz = x0 + s
+        wet = zz < liquid_height
+        slope = -gamma * R**2 / (E * thick[c])
+        if k == 0:
+            return gamma * max(liquid_height - zz, 0.0) * R**2 / (E * thick[c])
+        return slope if (k == 1 and wet) else 0.0
+
+    def D(j):
+        return E * thick[pieces[j][2]] ** 3 / (12.0 * (1.0 - nu**2))
+
+    A = np.zeros((4 * n, 4 * n))
+    rhs = np.zeros(4 * n)
+    row = 0
+    for k in (0, 1):                            # clamped base
+        A[row, 0:4] = basis(0, 0.0, k)
+        rhs[row] = -membrane(0, 0.0, k)
+        row += 1
+    for j in range(n - 1):                      # joints
+        L = pieces[j][1] - pieces[j][0]
+        for k in range(4):
+            scale = D(j) if k >= 2 else 1.0
+            scale1 = D(j + 1) if k >= 2 else 1.0
+            A[row, 4 * j:4 * j + 4] = scale * basis(j, L, k)
+            A[row, 4 * j + 4:4 * j + 8] = -scale1 * basis(j + 1, 0.0, k)
+            rhs[row] = -scale * membrane(j, L, k) + scale1 * membrane(j + 1, 0.0, k)
+            row += 1
+    L = pieces[-1][1] - pieces[-1][0]
+    for k in (2, 3):                            # free top
+        A[row, 4 * n - 4:] = basis(n - 1, L, k)
+        rhs[row] = -membrane(n - 1, L, k)
+        row += 1
+    coef = np.linalg.solve(A, rhs)
+    z = np.atleast_1d(np.asarray(z, dtype=float))
+    w, M = np.empty_like(z), np.empty_like(z)
+    for i, zz in enumerate(z):
+        j = min(max(int(np.searchsorted([p[0] for p in pieces], zz, side="right")) - 1, 0),
+                n - 1)
+        s = zz - pieces[j][0]
+        c = coef[4 * j:4 * j + 4]
+        w[i] = c @ basis(j, s, 0) + membrane(j, s, 0)
+        M[i] = -D(j) * (c @ basis(j, s, 2) + membrane(j, s, 2))
+    return w, M
+
+
+def stepped_plate(a, zones, E, nu, q, clamped, r):
+    """A circular plate of radius a whose thickness is constant in ``zones`` [(outer radius,
+    thickness), ...] from the centre (the last outer radius is a), under a uniform downward
+    pressure q, clamped or simply supported at r = a: the deflection w (down positive), M_r
+    and M_theta (N m/m, sagging positive) at radii ``r``.
+
+    In each zone w = q r^4 / (64 D) + C1 + C2 r^2 + C3 ln r + C4 r^2 ln r (Timoshenko &
+    Woinowsky-Krieger 1959, Sec. 15; C3 = C4 = 0 in the zone holding the centre), with
+    M_r = -D (w'' + nu w'/r), M_theta = -D (w'/r + nu w''), Q_r = -D (w''' + w''/r - w'/r^2);
+    zones meet with w, w', M_r and Q_r continuous."""
+    outer = np.array([ro for ro, _ in zones], dtype=float)
+    thick = np.array([t for _, t in zones], dtype=float)
+    if not math.isclose(outer[-1], a):
+        raise ValueError("stepped_plate: the last zone must end at the plate's radius")
+    Ds = E * thick**3 / (12.0 * (1.0 - nu**2))
+    n = len(zones)
+
+    def derivs(rr, k):
+        """w and its first three derivatives of the four homogeneous solutions at rr."""
+        L = math.log(rr)
+        f = [[1.0, 0.0, 0.0, 0.0],
+             [rr**2, 2 * rr, 2.0, 0.0],
+             [L, 1 / rr, -1 / rr**2, 2 / rr**3],
+             [rr**2 * L, 2 * rr * L + rr, 2 * L + 3, 2 / rr]]
+        return np.array([row[k] for row in f])
+
+    def particular(j, rr, k):
+        c = q / (64.0 * Ds[j])
+        return c * [rr**4, 4 * rr**3, 12 * rr**2, 24 * rr][k]
+
+    def resultants(j, rr, vec):
+        """[w, w', M_r, Q_r] rows (vec: the derivatives w, w', w'', w''' of something)."""
+        w0, w1, w2, w3 = vec
+        return np.array([w0, w1, -Ds[j] * (w2 + nu * w1 / rr),
+                         -Ds[j] * (w3 + w2 / rr - w1 / rr**2)])
+
+    def rows(j, rr):
+        """The [w, w', M_r, Q_r] of zone j's four solutions (columns) and of its load."""
+        H = np.column_stack([resultants(j, rr, [derivs(rr, k)[m] for k in range(4)])
+                             for m in range(4)])
+        P = resultants(j, rr, [particular(j, rr, k) for k in range(4)])
+        return H, P
+
+    # unknowns: zone 0's C1, C2, then C1-C4 of each further zone
+    cols = [slice(0, 2)] + [slice(2 + 4 * (j - 1), 2 + 4 * j) for j in range(1, n)]
+    used = [[0, 1]] + [[0, 1, 2, 3]] * (n - 1)
+    size = 2 + 4 * (n - 1)
+    A, rhs = np.zeros((size, size)), np.zeros(size)
+    row = 0
+    for j in range(n - 1):
+        rr = outer[j]
+        Hi, Pi = rows(j, rr)
+        Ho, Po = rows(j + 1, rr)
+        A[row:row + 4, cols[j]] = Hi[:, used[j]]
+        A[row:row + 4, cols[j + 1]] = -Ho[:, used[j + 1]]
+        rhs[row:row + 4] = Po - Pi
+        row += 4
+    H, P = rows(n - 1, a)
+    keep = [0, 1] if clamped else [0, 2]            # w, w' or w, M_r at the edge
+    A[row:row + 2, cols[-1]] = H[np.ix_(keep, used[-1])]
+    rhs[row:row + 2] = -P[keep]
+    coef = np.linalg.solve(A, rhs)
+    r = np.atleast_1d(np.asarray(r, dtype=float))
+    w, Mr, Mt = np.empty_like(r), np.empty_like(r), np.empty_like(r)
+    for i, rr in enumerate(r):
+        j = min(int(np.searchsorted(outer, rr)), n - 1)
+        c = np.zeros(4)
+        c[used[j]] = coef[cols[j]]
+        if rr == 0.0:                   # the centre: w'/r -> w''
+            d = [c[0] + particular(j, 0.0, 0), 0.0, 2 * c[1], 0.0]
+            w[i], Mr[i] = d[0], -Ds[j] * (1 + nu) * d[2]
+            Mt[i] = Mr[i]
+            continue
+        d = [c @ derivs(rr, k) + particular(j, rr, k) for k in range(3)]
+        w[i] = d[0]
+        Mr[i] = -Ds[j] * (d[2] + nu * d[1] / rr)
+        Mt[i] = -Ds[j] * (d[1] / rr + nu * d[2])
+    return w, Mr, Mt

@@ -168,7 +168,9 @@ class StandaloneShell:
     """A plate or wall on its own, on rigid supports: for verification against plate and
     shell theory, and for benchmarks. ``supports`` maps a vertex predicate ``f(x) -> bool``
     to the constrained components among "u_r", "u_z", "beta"; ``load(v, x)`` returns the
-    work density of the applied load on the test displacement v (per unit meridian area)."""
+    work density of the applied load on the test displacement v (per unit meridian area).
+    ``thickness`` is a number, or a function of the cells' midpoints (n, 2) -> (n,) for a
+    member whose thickness steps (a wall's courses; put the steps on vertices)."""
 
     def __init__(self, points, E, nu, thickness, supports, load, comm=MPI.COMM_WORLD):
         from .solve import DirectSolver
@@ -177,7 +179,16 @@ class StandaloneShell:
         msh = self.mesh
         msh.topology.create_connectivity(0, 1)
         self.W = structure_space(msh)
-        self.E, self.nu, self.thickness = (fem.Constant(msh, float(v)) for v in (E, nu, thickness))
+        self.E, self.nu = (fem.Constant(msh, float(v)) for v in (E, nu))
+        if callable(thickness):
+            self.thickness = fem.Function(fem.functionspace(msh, ("DG", 0)), name="thickness")
+            n = msh.topology.index_map(1).size_local + msh.topology.index_map(1).num_ghosts
+            cells = np.arange(n, dtype=np.int32)
+            mids = dmesh.compute_midpoints(msh, 1, cells)[:, :2]
+            self.thickness.x.array[self.thickness.function_space.dofmap.list[:, 0]] = \
+                thickness(mids)
+        else:
+            self.thickness = fem.Constant(msh, float(thickness))
         x = ufl.SpatialCoordinate(msh)
         self.r, self.t = x[0], tangent(msh)
         dx = ufl.Measure("dx", domain=msh)
