@@ -61,6 +61,12 @@ class DomainGeometry:
     #: depths of the soil layers' tops (m below the ground): lines of the mesh, so that no
     #: cell straddles two layers
     layer_depths: tuple[float, ...] = ()
+    #: the joints of a wall's courses: (height above the wall's foot, element size there);
+    #: each is a mesh vertex with a bending boundary layer of its own
+    wall_joints: tuple[tuple[float, float], ...] = ()
+    #: radii on the foundation's underside where the plate's thickness steps (an annular
+    #: ring's inner edge): mesh vertices
+    plate_joints: tuple[float, ...] = ()
 
 
 def build_model(g: DomainGeometry, gmsh, name: str = "tankfx", order: int = 1) -> None:
@@ -101,7 +107,10 @@ def build_model(g: DomainGeometry, gmsh, name: str = "tankfx", order: int = 1) -
     singular = [(a, -D)] + ([(a, 0.0)] if D > 0.0 else [])
     if g.wall_radius is not None:
         singular.append((g.wall_radius, -D))
-    point_tags = [occ.addPoint(x, y, 0.0) for (x, y) in singular]
+    # where a member's thickness steps: vertices too, so that no element straddles a step
+    steps = [(g.wall_radius, -D + h) for h, _ in g.wall_joints] + \
+        [(r, -D) for r in g.plate_joints]
+    point_tags = [occ.addPoint(x, y, 0.0) for (x, y) in singular + steps]
     pieces += [(0, p) for p in point_tags]
     occ.fragment(pieces, [])
     occ.synchronize()
@@ -188,6 +197,15 @@ def _size_field(g: DomainGeometry, gmsh, singular) -> None:
         w = fields.add("MathEval")
         fields.setString(w, "F", f"{g.wall_size!r} + {min(g.growth, 0.1)!r}*F{d_foot}")
         ids.append(w)
+    for h, size in g.wall_joints:
+        # a course joint disturbs the wall's membrane state over its own decay length
+        joint = gmsh.model.occ.addPoint(g.wall_radius, -g.embedment + h, 0.0)
+        gmsh.model.occ.synchronize()
+        d_joint = fields.add("Distance")
+        fields.setNumbers(d_joint, "PointsList", [joint])
+        j = fields.add("MathEval")
+        fields.setString(j, "F", f"{size!r} + {min(g.growth, 0.1)!r}*F{d_joint}")
+        ids.append(j)
     if g.near_size is not None:
         # the near field, where soil stresses are reported, gets a uniform cap
         o = gmsh.model.occ.addPoint(0.0, -g.embedment, 0.0)

@@ -169,7 +169,7 @@ def describe(scene) -> list[str]:
     """What a scene resolves to and what an analysis of it builds and iterates, in lines."""
     from dataclasses import asdict
 
-    from .scene import stratum_constants
+    from .scene import member_text, stratum_constants
 
     s, a = scene.soil, scene.foundation_radius
     out = [f"scene: {scene.title}"]
@@ -184,16 +184,13 @@ def describe(scene) -> list[str]:
     if s.model == "duncan_chang" and s.water_table is not None:
         out.append(f"  water table {s.water_table:g} m down: the confinement below it is "
                    f"effective (gamma_w = {s.water_unit_weight:g} N/m^3)")
+    members = scene.to_dict()
     if scene.plate is not None:
-        pl = scene.plate
-        out.append(f"  plate: a = {pl.radius:g} m, t = {pl.thickness:.4g} m, Kp = "
-                   f"{scene.Kp:.4g}, embedment {pl.embedment:g} m")
+        out.append(f"  plate: {member_text('plate', members['plate'], scene.Kp)}")
     else:
         out.append(f"  flexible load on r <= {a:g} m (no structure)")
     if scene.wall is not None:
-        w = scene.wall
-        out.append(f"  wall: a_t = {w.radius:g} m, t = {w.thickness:.4g} m, H = {w.height:g} "
-                   f"m, Kt = {scene.Kt:.4g}")
+        out.append(f"  wall: {member_text('wall', members['wall'], scene.Kt)}")
     if scene.plate is not None:
         ifc = scene.interface
         law = ifc.condition + (f" (tan phi = {ifc.tan_phi:.4g}, c = {ifc.cohesion:g} Pa, "

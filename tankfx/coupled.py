@@ -29,7 +29,7 @@ from .analysis import SoilBlock
 from .mesh import FACET_TAGS, Domain
 from .mohr_coulomb import InterfaceIteration
 from .post import allsum, assemble_scalar, evaluate_at
-from .scene import Scene
+from .scene import Scene, vertical_load
 
 __all__ = ["TankModel", "POLLUTION_WARNING", "CONDITIONING_WARNING"]
 
@@ -91,11 +91,18 @@ class TankModel:
         wall_or = (lambda attr: getattr(wa, attr)) if wa is not None else (lambda attr: 0.0)
         self.E = cellwise(pl.E, wall_or("E"), "E")
         self.nu = cellwise(pl.nu, wall_or("nu"), "nu")
-        self.thickness = cellwise(pl.thickness, wall_or("thickness"), "thickness")
-        # the mesh lines are the faces in contact with the soil; the mid-surfaces lie half a
-        # thickness inside (face_offset=False puts them on the mesh lines, for comparison)
-        self.offset = cellwise(0.5 * pl.thickness if face_offset else 0.0,
-                               0.5 * wall_or("thickness") if face_offset else 0.0, "offset")
+        # thickness by position: an annular ring, a wall's courses (the mesh has vertices
+        # where it steps)
+        mid = dmesh.compute_midpoints(sub, 1, np.arange(n_sub, dtype=np.int32))
+        t_plate = pl.thickness_at(mid[self.plate_cells, 0])
+        t_wall = wa.thickness_at(mid[self.wall_cells, 1] + scene.embedment) \
+            if wa is not None else 0.0
+        self.thickness = cellwise(t_plate, t_wall, "thickness")
+        # the mesh lines are the faces in contact with the soil (outer faces flush where the
+        # wall's courses step); the mid-surfaces lie half a thickness inside
+        # (face_offset=False puts them on the mesh lines, for comparison)
+        self.offset = cellwise(0.5 * t_plate if face_offset else 0.0,
+                               0.5 * t_wall if face_offset else 0.0, "offset")
         # ---- where the interface states live (their "carrier"): one per element (DG0, the
         # paper's Eqs. 11-12), or one per node of the soil's trace (DG_k with its nodes at the
         # k + 1 Gauss-Lobatto points of each facet, integrated by that rule: each state then
@@ -278,14 +285,16 @@ class TankModel:
         c = self.load_constants = {k: fem.Constant(self.mesh, 0.0) for k in (
             "pressure", "liquid_unit_weight", "liquid_height", "plate_weight", "wall_weight")}
         self.set_loads(s.load)
-        load = -(c["pressure"] + c["plate_weight"]) * v_b[1] * w * dx_p
+        # self-weight: a unit weight times the cell's thickness (a ring, courses)
+        th = self.thickness
+        load = -(c["pressure"] + c["plate_weight"] * th) * v_b[1] * w * dx_p
         if s.wall is not None:
             inside = ufl.conditional(ufl.lt(r_b, s.wall.radius), 1.0, 0.0)
             gl, hl = c["liquid_unit_weight"], c["liquid_height"]
             load += -gl * hl * inside * v_b[1] * w * dx_p
             height = x[1] + s.embedment          # above the wall base
             load += gl * ufl.max_value(hl - height, 0.0) * v_b[0] * w * dx_w  # outward
-            load += -c["wall_weight"] * v_b[1] * w * dx_w
+            load += -c["wall_weight"] * th * v_b[1] * w * dx_w
         if s.interface.condition == "mohr_coulomb":
             # the cohesion carried by slipping elements, c_s (dj . t), dj = v_soil - v_face
             load -= interface.interface_load(v_f, self.t_b, self.c_s, r_b, self.dx_interface)
@@ -315,9 +324,9 @@ class TankModel:
         c["pressure"].value = load.pressure
         c["liquid_unit_weight"].value = load.liquid_unit_weight if s.wall is not None else 0.0
         c["liquid_height"].value = load.liquid_height
-        c["plate_weight"].value = s.plate.unit_weight * s.plate.thickness \
-            if load.self_weight else 0.0
-        c["wall_weight"].value = s.wall.unit_weight * s.wall.thickness \
+        # unit weights (N/m^3), times each cell's thickness in the load form
+        c["plate_weight"].value = s.plate.unit_weight if load.self_weight else 0.0
+        c["wall_weight"].value = s.wall.unit_weight \
             if (load.self_weight and s.wall is not None) else 0.0
 
     # ------------------------------------------------------------------ quantities
@@ -331,16 +340,7 @@ class TankModel:
     def applied_load(self) -> float:
         """Downward resultant of all applied loads, N (closed form)."""
         s = self.scene
-        ap = s.plate.radius
-        P = s.load.pressure * math.pi * ap**2
-        if s.wall is not None:
-            P += s.load.liquid_unit_weight * s.load.liquid_height * math.pi * s.wall.radius**2
-        if s.load.self_weight:
-            P += s.plate.unit_weight * s.plate.thickness * math.pi * ap**2
-            if s.wall is not None:
-                P += s.wall.unit_weight * s.wall.thickness * 2 * math.pi * s.wall.radius * \
-                    s.wall.height
-        return P
+        return vertical_load(s.load, s.plate, s.wall)
 
     def dofs(self) -> dict[str, int]:
         im = self.W.dofmap.index_map
@@ -560,11 +560,15 @@ class TankModel:
             pts = self._stations(cells)
             pts = pts[np.argsort(pts[:, 1])]
             u = evaluate_at(F["u"], pts, cells)
+            N_theta = evaluate_at(F["N_theta"], pts, cells)[:, 0]
+            # (at a course joint both come from the course below)
+            thickness = evaluate_at(self.thickness, pts, cells)[:, 0]
             wall = {"z": (pts[:, 1] + s.embedment).tolist(), "u_r": u[:, 0].tolist(),
                     "u_z": u[:, 1].tolist(),
                     "rotation": evaluate_at(F["beta"], pts, cells)[:, 0].tolist(),
                     "M_z": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist(),
-                    "N_theta": evaluate_at(F["N_theta"], pts, cells)[:, 0].tolist(),
+                    "N_theta": N_theta.tolist(), "thickness": thickness.tolist(),
+                    "hoop_stress": (N_theta / thickness).tolist(),
                     "Q": evaluate_at(F["Q"], pts, cells)[:, 0].tolist()}
             if s.embedment > 0.0:
                 sn, tau = self._contact(F, pts, cells)
@@ -582,7 +586,27 @@ class TankModel:
                "interface": self._interface_summary()}
         if s.wall is not None:
             out["junction"] = self._junction(F)
+            out["courses"] = self._courses(F)
         out["settlement_summary"] = self._settlement_summary(plate)
+        return out
+
+    def _courses(self, F) -> list[dict]:
+        """Per course of the wall (one for a uniform wall), heights above its foot: the
+        largest hoop stress N_theta / t (Pa; tension positive: what a tank code checks
+        against its allowable stress) and where, and the largest |M_z| (N m/m) and where."""
+        s = self.scene
+        height = dmesh.compute_midpoints(self.mesh, 1, self.wall_cells)[:, 1] + s.embedment
+        out = []
+        for bottom, top, t in s.wall.course_table:
+            cells = self.wall_cells[(height > bottom) & (height < top)]
+            pts = self._stations(cells)
+            hoop = evaluate_at(F["N_theta"], pts, cells)[:, 0] / t
+            M = evaluate_at(F["M_s"], pts, cells)[:, 0]
+            z = pts[:, 1] + s.embedment
+            i, j = int(np.argmax(hoop)), int(np.argmax(np.abs(M)))
+            out.append({"bottom": bottom, "top": top, "thickness": t,
+                        "max_hoop_stress": float(hoop[i]), "at": float(z[i]),
+                        "max_abs_M_z": float(abs(M[j])), "M_at": float(z[j])})
         return out
 
     def _settlement_summary(self, plate) -> dict:
@@ -655,7 +679,10 @@ class TankModel:
         mids = dmesh.compute_midpoints(self.mesh, 1, self.plate_cells)[:, 0]
         inner = self.plate_cells[mids < s.wall.radius]
         outer = self.plate_cells[mids > s.wall.radius]
-        e_p, e_w = 0.5 * s.plate.thickness, 0.5 * s.wall.thickness
+        # the plate's thickness on each side of the wall (an annular ring's, if it has one)
+        e_in, e_out = 0.5 * s.plate.thickness_at(s.wall.radius * np.array([1 - 1e-9,
+                                                                           1 + 1e-9]))
+        e_w = 0.5 * s.wall.thickness
 
         def about_corner(cells, e):
             if self.mesh.comm.allreduce(len(cells)) == 0:
@@ -663,8 +690,8 @@ class TankModel:
             M = evaluate_at(F["M_s"], corner, cells)[0, 0]
             return M, M - evaluate_at(F["N_s"], corner, cells)[0, 0] * e
 
-        M_in, Mc_in = about_corner(inner, e_p)
-        M_out, Mc_out = about_corner(outer, e_p)
+        M_in, Mc_in = about_corner(inner, e_in)
+        M_out, Mc_out = about_corner(outer, e_out)
         M_w, Mc_w = about_corner(self.wall_cells, e_w)
         return {"M_plate": M_in, "M_plate_outside": M_out, "M_wall": M_w,
                 "M_plate_about_corner": Mc_in - Mc_out, "M_wall_about_corner": Mc_w}

@@ -99,12 +99,19 @@ class Domain:
 
 def geometry_of(scene: Scene) -> DomainGeometry:
     """The meshed geometry a scene asks for."""
-    wall = scene.wall
-    wall_size = None
+    wall, plate = scene.wall, scene.plate
+    wall_size, joints = None, ()
+
+    def resolving(t):
+        """Element size that resolves a wall's bending boundary layer, decay length 1/beta."""
+        return min(scene.mesh.edge_size,
+                   WALL_ELEMENTS_PER_DECAY / wall_beta(wall.radius, t, wall.nu))
+
     if wall is not None:
-        # resolve the wall's bending boundary layer, decay length 1/beta
-        wall_size = min(scene.mesh.edge_size,
-                        WALL_ELEMENTS_PER_DECAY / wall_beta(wall.radius, wall.thickness, wall.nu))
+        wall_size = resolving(wall.thickness)
+        table = wall.course_table
+        joints = tuple((top, resolving(min(t, t_next)))
+                       for (_, top, t), (*_, t_next) in zip(table[:-1], table[1:]))
     return DomainGeometry(
         load_radius=scene.foundation_radius,
         domain_radius=scene.domain.radius,
@@ -118,6 +125,9 @@ def geometry_of(scene: Scene) -> DomainGeometry:
         near_size=scene.mesh.near_size,
         near_radius=NEAR_RADIUS * scene.foundation_radius,
         layer_depths=tuple(layer.depth for layer in scene.soil.layers),
+        wall_joints=joints,
+        plate_joints=(plate.ring_inner_radius,) if plate is not None and plate.annular_width
+        else (),
     )
 
 

@@ -14,7 +14,7 @@ from dolfinx import fem, geometry
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from .scene import stratum_constants
+from .scene import member_text, stratum_constants
 
 __all__ = ["allsum", "assemble_scalar", "evaluate_at", "nodal_values_on_facets",
            "soil_cell_fields", "write_fields", "FIELD_FILES", "STATUS_CODES", "summary_rows",
@@ -204,8 +204,8 @@ PROFILE_FILES = ("surface.csv", "axis.csv", "plate.csv", "wall.csv")
 #: The SI unit of each profile column (results.json's ``conventions`` say the signs).
 PROFILE_UNITS = {"r": "m", "z": "m", "w": "m", "u_r": "m", "u_z": "m", "rotation": "rad",
                  "M_r": "N m/m", "M_theta": "N m/m", "M_z": "N m/m", "Q_r": "N/m", "Q": "N/m",
-                 "N_theta": "N/m", "sigma_zz": "Pa", "contact_normal": "Pa",
-                 "contact_shear": "Pa", "contact_status": ""}
+                 "N_theta": "N/m", "thickness": "m", "hoop_stress": "Pa", "sigma_zz": "Pa",
+                 "contact_normal": "Pa", "contact_shear": "Pa", "contact_status": ""}
 
 
 def write_profiles(results: dict, directory) -> list[Path]:
@@ -308,6 +308,12 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
     wall = r["profiles"].get("wall")
     if wall:
         rows.append(("largest wall hoop force", f"{max(wall['N_theta']) / 1e3:.1f} kN/m", ""))
+    courses = r.get("courses", [])
+    for k, c in enumerate(courses, start=1):
+        # what a tank code checks against its allowable stress, course by course
+        which = f"course {k} ({1e3 * c['thickness']:.4g} mm)" if len(courses) > 1 else "wall"
+        rows.append((f"{which}: largest hoop stress", f"{c['max_hoop_stress'] / 1e6:.1f} MPa",
+                     f"at {c['at']:.2f} m; |M_z| up to {c['max_abs_M_z'] / 1e3:.2f} kN m/m"))
     ss = r.get("settlement_summary")
     if ss:
         rows += [("uniform settlement (mean)", f"{1e3 * ss['uniform_settlement']:.2f} mm", ""),
@@ -361,15 +367,9 @@ def write_report(results: dict, figures: list[Path], path) -> Path:
                                          f"{layer['E']:.4g} Pa, nu = {layer['nu']:g}, lambda = "
                                          f"{layer.get('E_gradient', 0.0):g} /m"
                                          f"{stratum_constants(model, layer)}"))
-    if "plate" in sc:
-        pl = sc["plate"]
-        scene_rows.append(("plate", f"a = {pl['radius']:g} m, t = {pl['thickness']:.4g} m, "
-                                    f"Kp = {r['nondim']['Kp']:.4g}, embedment "
-                                    f"{pl.get('embedment', 0.0):g} m"))
-    if "wall" in sc:
-        wa = sc["wall"]
-        scene_rows.append(("wall", f"a_t = {wa['radius']:g} m, t = {wa['thickness']:.4g} m, "
-                                   f"H = {wa['height']:g} m, Kt = {r['nondim']['Kt']:.4g}"))
+    for name, K in (("plate", "Kp"), ("wall", "Kt")):
+        if name in sc:
+            scene_rows.append((name, member_text(name, sc[name], r["nondim"][K])))
     if "interface" in sc:
         scene_rows.append(("interface", sc["interface"]["condition"]))
     path_note = f" (the last of {len(r['stages'])} stages)" if "stages" in r else ""

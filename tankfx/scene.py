@@ -105,6 +105,22 @@ def stratum_constants(model: str, st: Mapping[str, Any]) -> str:
     return ""
 
 
+def member_text(name: str, part: Mapping[str, Any], K: float) -> str:
+    """The plate's or wall's geometry in words, as `tankfx check` and the report write it
+    (``part``: its table of :meth:`Scene.to_dict`; ``K``: its Kp or Kt)."""
+    if name == "plate":
+        ring = (f" (annular ring {part['annular_width']:g} m wide, "
+                f"{part['annular_thickness']:.4g} m thick)" if part.get("annular_width") else "")
+        return (f"a = {part['radius']:g} m, t = {part['thickness']:.4g} m{ring}, Kp = {K:.4g}, "
+                f"embedment {part.get('embedment', 0.0):g} m")
+    courses = part.get("courses")
+    t = (f"{len(courses)} courses (height x thickness from the bottom: "
+         + ", ".join(f"{c['height']:g} m x {1e3 * c['thickness']:.4g} mm" for c in courses)
+         + ")") if courses else f"t = {part['thickness']:.4g} m"
+    return (f"a_t = {part['radius']:g} m, {t}, H = {part['height']:g} m, Kt = {K:.4g}"
+            + (" (bottom course)" if courses else ""))
+
+
 @dataclass(frozen=True)
 class Soil:
     E: float                 #: Young's modulus at the ground surface, Pa (1/a if hyperbolic)
@@ -186,21 +202,71 @@ class Soil:
 @dataclass(frozen=True)
 class Plate:
     radius: float            #: a_p, m
-    thickness: float         #: t_p, m (given, or derived from Kp by Eq. 21)
+    thickness: float         #: t_p, m (given, or derived from Kp by Eq. 21): the floor's
     E: float                 #: Pa
     nu: float
     embedment: float = 0.0   #: depth of the underside below the ground surface, m
     unit_weight: float = 0.0  #: N/m^3, used only when load.self_weight is true
+    #: a ring of another thickness along the edge, under the wall (an API 650 tank's
+    #: annular bottom plate, or a thickened edge): its width inward from the edge, m (0:
+    #: none), and its thickness, m. The underside stays flat; Kp is the floor's.
+    annular_width: float = 0.0
+    annular_thickness: float | None = None
+
+    @property
+    def ring_inner_radius(self) -> float:
+        """Where the annular ring begins, m (the plate's radius when there is none)."""
+        return self.radius - self.annular_width
+
+    def thickness_at(self, r):
+        """Thickness at radii ``r``, m (the ring's from its inner edge outward)."""
+        r = np.asarray(r, dtype=float)
+        if not self.annular_width:
+            return np.full(r.shape, self.thickness)
+        return np.where(r > self.ring_inner_radius, self.annular_thickness, self.thickness)
+
+    @property
+    def volume(self) -> float:
+        """m^3 (for its self-weight)."""
+        b = self.ring_inner_radius
+        ring = (self.annular_thickness or 0.0) * math.pi * (self.radius**2 - b**2)
+        return self.thickness * math.pi * b**2 + ring
 
 
 @dataclass(frozen=True)
 class Wall:
     radius: float            #: a_t, m (<= plate radius)
-    thickness: float         #: t_t, m (given, or derived from Kt by Eq. 22)
+    thickness: float         #: t_t, m (given, or derived from Kt by Eq. 22): the bottom course's
     height: float            #: H, m, measured from the plate
     E: float
     nu: float
     unit_weight: float = 0.0
+    #: the courses of a wall whose thickness steps, (height, thickness) in m from the bottom
+    #: up, their outer faces flush (empty: one course of ``thickness``, the paper's wall)
+    courses: tuple[tuple[float, float], ...] = ()
+
+    @property
+    def course_table(self) -> list[tuple[float, float, float]]:
+        """(bottom, top, thickness) of each course, heights above the wall's foot, m."""
+        if not self.courses:
+            return [(0.0, self.height, self.thickness)]
+        out, z = [], 0.0
+        for h, t in self.courses:
+            out.append((z, z + h, t))
+            z += h
+        return out
+
+    def thickness_at(self, height):
+        """Thickness at ``height`` above the foot, m (a joint belongs to the course below)."""
+        table = self.course_table
+        tops = np.array([top for _, top, _ in table[:-1]])
+        return np.array([t for *_, t in table])[np.searchsorted(tops, np.asarray(height))]
+
+    @property
+    def volume(self) -> float:
+        """m^3 (for its self-weight)."""
+        return 2 * math.pi * self.radius * sum((top - bottom) * t
+                                               for bottom, top, t in self.course_table)
 
 
 @dataclass(frozen=True)
@@ -329,6 +395,15 @@ class Scene:
             out["soil"]["layers"] = [_plain(layer) for layer in self.soil.layers]
         else:
             out["soil"].pop("layers", None)
+        if self.plate is not None and not self.plate.annular_width:
+            out["plate"].pop("annular_width")
+        if self.wall is not None:
+            if self.wall.courses:       # the courses replace the one thickness
+                del out["wall"]["thickness"]
+                out["wall"]["courses"] = [{"height": h, "thickness": t}
+                                          for h, t in self.wall.courses]
+            else:
+                del out["wall"]["courses"]
         if self.plate is None:
             del out["interface"]
         elif self.interface.condition != "mohr_coulomb":
@@ -376,9 +451,9 @@ def vertical_load(load: Load, plate: Plate | None, wall: Wall | None) -> float:
     if wall is not None:
         net += load.liquid_unit_weight * load.liquid_height * math.pi * wall.radius**2
     if load.self_weight and plate is not None:
-        net += plate.unit_weight * plate.thickness * math.pi * a**2
+        net += plate.unit_weight * plate.volume
         if wall is not None:
-            net += wall.unit_weight * wall.thickness * 2 * math.pi * wall.radius * wall.height
+            net += wall.unit_weight * wall.volume
     return net
 
 
@@ -393,7 +468,12 @@ def plate_thickness_from_Kp(K: float, a: float, E: float, E_s: float, nu_s: floa
 
 
 def _toml_value(v) -> str:
-    """A scalar as TOML writes it (the scene's values are finite: checked on reading)."""
+    """A value as TOML writes it (the scene's values are finite: checked on reading); a list
+    of tables (a wall's courses) as inline tables."""
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{" + ", ".join(f"{k} = {_toml_value(x)}" for k, x in v.items()) + "}"
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, str):
@@ -421,10 +501,11 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
              "water_unit_weight": (float, False)},
     "plate": {"radius": (float, True), "thickness": (float, False), "Kp": (float, False),
               "E": (float, True), "nu": (float, True), "embedment": (float, False),
-              "unit_weight": (float, False)},
+              "unit_weight": (float, False), "annular_width": (float, False),
+              "annular_thickness": (float, False)},
     "wall": {"radius": (float, True), "thickness": (float, False), "Kt": (float, False),
-             "height": (float, True), "E": (float, True), "nu": (float, True),
-             "unit_weight": (float, False)},
+             "height": (float, False), "E": (float, True), "nu": (float, True),
+             "unit_weight": (float, False), "courses": (list, False)},
     "interface": {"condition": (str, False), "cohesion": (float, False),
                   "tan_phi": (float, False), "friction_angle": (float, False),
                   "normal_stiffness": (float, False), "shear_stiffness": (float, False),
@@ -498,6 +579,8 @@ class _Reader:
         return out
 
     def _typed(self, where: str, value, typ):
+        if typ is list:
+            return value                # checked by its section's own rules
         if typ is float:
             if isinstance(value, bool) or not isinstance(value, (int, float)):
                 self.bad(f"{where}: expected a number, got {value!r}")
@@ -571,7 +654,7 @@ def _parse(data: dict[str, Any]) -> Scene:
 
     plate = secs["plate"]
     if plate is not None:
-        for key in ("radius", "E", "thickness", "Kp"):
+        for key in ("radius", "E", "thickness", "Kp", "annular_width", "annular_thickness"):
             rd.positive(plate, "plate", key)
         rd.positive(plate, "plate", "embedment", allow_zero=True)
         rd.positive(plate, "plate", "unit_weight", allow_zero=True)
@@ -581,6 +664,7 @@ def _parse(data: dict[str, Any]) -> Scene:
                    "(Kp fixes the thickness through Eq. 21)")
         elif "thickness" not in plate and "Kp" not in plate:
             rd.bad("plate.thickness: missing; give 'thickness = ...' (m) or 'Kp = ...'")
+        _check_annular_ring(rd, plate, secs["wall"])
 
     wall = secs["wall"]
     if wall is not None:
@@ -588,11 +672,30 @@ def _parse(data: dict[str, Any]) -> Scene:
             rd.positive(wall, "wall", key)
         rd.positive(wall, "wall", "unit_weight", allow_zero=True)
         rd.poisson(wall, "wall")
-        if "thickness" in wall and "Kt" in wall:
+        courses = _courses(rd, wall)
+        if courses is not None:
+            for key in ("thickness", "Kt"):
+                if key in wall:
+                    rd.bad(f"wall.{key} and wall.courses: give one of them, not both (the "
+                           f"courses give the wall's thickness, the bottom one its Kt)")
+            total = sum(h for h, _ in courses)
+            whole = courses and len(courses) == len(wall["courses"])   # every one sane
+            if "height" not in wall and whole:
+                wall["height"] = total           # the courses' sum
+            elif whole and "height" in wall \
+                    and not math.isclose(wall["height"], total, rel_tol=1e-9):
+                rd.bad(f"wall.courses: their heights add up to {total!r} m, but wall.height "
+                       f"= {wall['height']!r} m; make them equal, or omit wall.height (it "
+                       f"is then the courses' sum)")
+        elif "thickness" in wall and "Kt" in wall:
             rd.bad("wall.thickness and wall.Kt: give one of them, not both "
                    "(Kt fixes the thickness through Eq. 22)")
         elif "thickness" not in wall and "Kt" not in wall:
-            rd.bad("wall.thickness: missing; give 'thickness = ...' (m) or 'Kt = ...'")
+            rd.bad("wall.thickness: missing; give 'thickness = ...' (m), 'Kt = ...' or "
+                   "'courses = [{height = ..., thickness = ...}, ...]'")
+        if "height" not in wall and courses is None:   # (bad courses are reported)
+            rd.bad("wall.height: missing; add 'height = ...' under [wall] (m, from the "
+                   "plate up)")
         if "plate" not in data:
             rd.bad("[wall]: a wall needs a foundation plate to stand on; add a [plate] table")
         elif plate is not None and "radius" in wall and "radius" in plate \
@@ -659,7 +762,7 @@ def _parse(data: dict[str, Any]) -> Scene:
         if load.get("liquid_height", 0.0) > 0 and "wall" not in data:
             rd.bad("load.liquid_height: a liquid needs a [wall] to hold it; add a [wall] table")
         if wall is not None and "height" in wall \
-                and load.get("liquid_height", 0.0) > wall["height"]:
+                and load.get("liquid_height", 0.0) > wall["height"] * (1 + 1e-9):
             rd.bad(f"load.liquid_height = {load['liquid_height']!r} is higher than wall.height = "
                    f"{wall['height']!r}: the tank would overflow; lower the liquid")
         if load.get("pressure", 0.0) < 0.0 and "plate" not in data:
@@ -774,13 +877,17 @@ def _parse(data: dict[str, Any]) -> Scene:
             plate["Kp"], plate["radius"], plate["E"], soil_dc.E, soil_dc.nu)
         plate_dc = Plate(radius=plate["radius"], thickness=t, E=plate["E"], nu=plate["nu"],
                          embedment=plate.get("embedment", 0.0),
-                         unit_weight=plate.get("unit_weight", 0.0))
+                         unit_weight=plate.get("unit_weight", 0.0),
+                         annular_width=plate.get("annular_width", 0.0),
+                         annular_thickness=plate.get("annular_thickness"))
     wall_dc = None
     if wall is not None:
-        t = wall.get("thickness") or plate_thickness_from_Kp(
+        courses = tuple(_courses(_Reader({}), wall) or ())
+        t = courses[0][1] if courses else wall.get("thickness") or plate_thickness_from_Kp(
             wall["Kt"], wall["radius"], wall["E"], soil_dc.E, soil_dc.nu)
         wall_dc = Wall(radius=wall["radius"], thickness=t, height=wall["height"], E=wall["E"],
-                       nu=wall["nu"], unit_weight=wall.get("unit_weight", 0.0))
+                       nu=wall["nu"], unit_weight=wall.get("unit_weight", 0.0),
+                       courses=courses)
     tan_phi = interface.get("tan_phi")
     if "friction_angle" in interface:
         tan_phi = math.tan(math.radians(interface["friction_angle"]))
@@ -817,6 +924,60 @@ def _parse(data: dict[str, Any]) -> Scene:
     return Scene(soil=soil_dc, load=load_dc, domain=domain_dc, mesh=mesh_dc, plate=plate_dc,
                  wall=wall_dc, interface=interface_dc, solver=solver_dc,
                  title=data.get("title", "tankfx scene"))
+
+
+def _courses(rd: _Reader, wall: dict) -> list[tuple[float, float]] | None:
+    """The wall's courses as (height, thickness) pairs from the bottom, checked; None if the
+    wall has none."""
+    raw = wall.get("courses")
+    if raw is None:
+        return None
+    how = ("a list of tables from the bottom course up, e.g. courses = [{height = 2.4, "
+           "thickness = 0.012}, {height = 2.4, thickness = 0.010}] (m)")
+    if not isinstance(raw, list) or not raw or not all(isinstance(c, dict) for c in raw):
+        rd.bad(f"wall.courses: {how}")
+        return []
+    out = []
+    for k, course in enumerate(raw, start=1):
+        name = f"wall.courses[{k}]"
+        values = {}
+        for key, value in course.items():
+            if key not in ("height", "thickness"):
+                rd.bad(f"{name}.{key}: unknown key{_suggest(key, ('height', 'thickness'))}")
+                continue
+            checked = rd._typed(f"{name}.{key}", value, float)
+            if checked is not None:
+                values[key] = checked
+        for key in ("height", "thickness"):
+            if key not in course:
+                rd.bad(f"{name}.{key}: missing; each course needs its height and thickness "
+                       f"(m)")
+            rd.positive(values, name, key)
+        if len(values) == 2 and min(values.values()) > 0:
+            out.append((values["height"], values["thickness"]))
+    return out
+
+
+def _check_annular_ring(rd: _Reader, plate: dict, wall: dict | None) -> None:
+    """An annular ring needs both its width and thickness, must lie within the plate, and
+    must carry the wall (it is the ring the wall stands on)."""
+    width, thick = plate.get("annular_width"), plate.get("annular_thickness")
+    if (width is None) != (thick is None):
+        missing = "annular_thickness" if thick is None else "annular_width"
+        rd.bad(f"plate.{missing}: missing; an annular ring needs both annular_width (m, "
+               f"inward from the plate's edge) and annular_thickness (m)")
+        return
+    a = plate.get("radius")
+    if width is None or a is None or not width > 0:
+        return
+    if width >= a:
+        rd.bad(f"plate.annular_width = {width!r} m: the ring must be narrower than the "
+               f"plate's radius ({a!r} m); for a plate of one thickness give only thickness")
+    elif wall is not None and isinstance(wall.get("radius"), float) \
+            and wall["radius"] <= a - width:
+        rd.bad(f"plate.annular_width = {width!r} m: the ring (r > {a - width:g} m) does not "
+               f"reach the wall (r = {wall['radius']:g} m); widen it beyond "
+               f"{a - wall['radius']:g} m so that the wall stands on it")
 
 
 def _check_soil(rd: _Reader, soil: dict | None, raw_layers) -> list[dict[str, Any]]:
