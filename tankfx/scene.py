@@ -372,13 +372,16 @@ class Scene:
 
     def with_changes(self, **sections: dict[str, Any]) -> "Scene":
         """A new scene with some keys of some sections changed, e.g.
-        ``scene.with_changes(mesh={"degree": 1})``; the result is validated again."""
+        ``scene.with_changes(mesh={"degree": 1})``; a key changed to None is removed (back
+        to its default, e.g. ``plate={"annular_width": None, "annular_thickness": None}``);
+        the result is validated again."""
         d = self.to_dict()
         for sec, changes in sections.items():
             if isinstance(changes, dict):
                 if sec == "soil" and "E" not in changes and set(E_FROM_KEYS) & set(changes):
                     d["soil"].pop("E", None)      # 1/a or K p_a: the new one's
                 d.setdefault(sec, {}).update(changes)
+                d[sec] = {k: v for k, v in d[sec].items() if v is not None}
             else:
                 d[sec] = changes
         return Scene.from_dict(d)
