@@ -54,7 +54,8 @@ for k, (bottom, _, t) in enumerate(courses, start=1):
 # ## The analysis: the whole tank on its sand pad
 # Shell, floor and annular plate are thin shells joined at the shell's foot; the floor rests
 # on the sand through a Mohr-Coulomb interface (30 degrees: it may slip, and lift where
-# nothing holds it down); the steel's own weight is included.
+# nothing holds it down); the steel's own weight is included, and the roof's (500 kN) on
+# the shell's top.
 
 r = analyse(scene, comm).results
 say(f"\nsettlement: centre {1e3 * r['w0']:.1f} mm, at the shell "

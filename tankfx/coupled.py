@@ -283,7 +283,8 @@ class TankModel:
         dx_w = self.dx_b((st.WALL, st.WALL_EMBEDDED))
         # load values are Constants: a load path changes them without recompiling
         c = self.load_constants = {k: fem.Constant(self.mesh, 0.0) for k in (
-            "pressure", "liquid_unit_weight", "liquid_height", "plate_weight", "wall_weight")}
+            "pressure", "liquid_unit_weight", "liquid_height", "plate_weight", "wall_weight",
+            "roof_line_load")}
         self.set_loads(s.load)
         # self-weight: a unit weight times the cell's thickness (a ring, courses)
         th = self.thickness
@@ -295,6 +296,14 @@ class TankModel:
             height = x[1] + s.embedment          # above the wall base
             load += gl * ufl.max_value(hl - height, 0.0) * v_b[0] * w * dx_w  # outward
             load += -c["wall_weight"] * th * v_b[1] * w * dx_w
+        if s.wall is not None and any(ld.roof_weight for ld in (s.load, *s.stages)):
+            # the roof on the wall's top edge (a vertex of the structure mesh: its ds)
+            top = dmesh.locate_entities_boundary(
+                self.mesh, 0, lambda x: np.isclose(x[1], s.wall.height - s.embedment)
+                & np.isclose(x[0], s.wall.radius))
+            tags = dmesh.meshtags(self.mesh, 0, top, np.full(len(top), 1, dtype=np.int32))
+            ds_top = ufl.Measure("ds", domain=self.mesh, subdomain_data=tags)(1)
+            load += -c["roof_line_load"] * v_b[1] * w * ds_top
         if s.interface.condition == "mohr_coulomb":
             # the cohesion carried by slipping elements, c_s (dj . t), dj = v_soil - v_face
             load -= interface.interface_load(v_f, self.t_b, self.c_s, r_b, self.dx_interface)
@@ -328,6 +337,8 @@ class TankModel:
         c["plate_weight"].value = s.plate.unit_weight if load.self_weight else 0.0
         c["wall_weight"].value = s.wall.unit_weight \
             if (load.self_weight and s.wall is not None) else 0.0
+        c["roof_line_load"].value = load.roof_weight / (2 * math.pi * s.wall.radius) \
+            if s.wall is not None else 0.0
 
     # ------------------------------------------------------------------ quantities
     @property
@@ -567,6 +578,7 @@ class TankModel:
                     "u_z": u[:, 1].tolist(),
                     "rotation": evaluate_at(F["beta"], pts, cells)[:, 0].tolist(),
                     "M_z": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist(),
+                    "N_z": evaluate_at(F["N_s"], pts, cells)[:, 0].tolist(),
                     "N_theta": N_theta.tolist(), "thickness": thickness.tolist(),
                     "hoop_stress": (N_theta / thickness).tolist(),
                     "Q": evaluate_at(F["Q"], pts, cells)[:, 0].tolist()}

@@ -204,8 +204,9 @@ PROFILE_FILES = ("surface.csv", "axis.csv", "plate.csv", "wall.csv")
 #: The SI unit of each profile column (results.json's ``conventions`` say the signs).
 PROFILE_UNITS = {"r": "m", "z": "m", "w": "m", "u_r": "m", "u_z": "m", "rotation": "rad",
                  "M_r": "N m/m", "M_theta": "N m/m", "M_z": "N m/m", "Q_r": "N/m", "Q": "N/m",
-                 "N_theta": "N/m", "thickness": "m", "hoop_stress": "Pa", "sigma_zz": "Pa",
-                 "contact_normal": "Pa", "contact_shear": "Pa", "contact_status": ""}
+                 "N_z": "N/m", "N_theta": "N/m", "thickness": "m", "hoop_stress": "Pa",
+                 "sigma_zz": "Pa", "contact_normal": "Pa", "contact_shear": "Pa",
+                 "contact_status": ""}
 
 
 def write_profiles(results: dict, directory) -> list[Path]:

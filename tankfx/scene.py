@@ -292,6 +292,9 @@ class Load:
     liquid_unit_weight: float = 0.0  #: N/m^3
     liquid_height: float = 0.0       #: m
     self_weight: bool = False
+    #: N: the roof's weight and what it carries (snow, equipment), borne by the wall's top
+    #: edge (a ring load of roof_weight / (2 pi a_t) N/m)
+    roof_weight: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -448,11 +451,13 @@ class Scene:
 # --------------------------------------------------------------------------- relations
 def vertical_load(load: Load, plate: Plate | None, wall: Wall | None) -> float:
     """The load's resultant, N, downward positive: the pressure on the plate (or the loaded
-    circle), the liquid on the floor, and the structure's weight when asked for."""
+    circle), the liquid on the floor, the roof's weight on the wall, and the structure's
+    weight when asked for."""
     a = plate.radius if plate is not None else load.load_radius
     net = load.pressure * math.pi * a**2
     if wall is not None:
         net += load.liquid_unit_weight * load.liquid_height * math.pi * wall.radius**2
+        net += load.roof_weight
     if load.self_weight and plate is not None:
         net += plate.unit_weight * plate.volume
         if wall is not None:
@@ -515,7 +520,7 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
                   "on_cycle": (str, False), "states": (str, False)},
     "load": {"pressure": (float, False), "load_radius": (float, False),
              "liquid_unit_weight": (float, False), "liquid_height": (float, False),
-             "self_weight": (bool, False)},
+             "self_weight": (bool, False), "roof_weight": (float, False)},
     "domain": {"radius": (float, False), "depth": (float, False)},
     "mesh": {"degree": (int, False), "edge_size": (float, False), "growth": (float, False),
              "near_size": (float, False)},
@@ -746,6 +751,10 @@ def _parse(data: dict[str, Any]) -> Scene:
         rd.positive(load, "load", "load_radius")
         rd.positive(load, "load", "liquid_unit_weight", allow_zero=True)
         rd.positive(load, "load", "liquid_height", allow_zero=True)
+        rd.positive(load, "load", "roof_weight", allow_zero=True)
+        if load.get("roof_weight", 0.0) > 0 and "wall" not in data:
+            rd.bad("load.roof_weight: a roof needs a [wall] to stand on; add a [wall] table or "
+                   "give the roof's weight as a pressure on the plate")
         if "plate" not in data:
             if "load_radius" not in load:
                 rd.bad("load.load_radius: missing; without a [plate] the load is a flexible "
@@ -772,9 +781,10 @@ def _parse(data: dict[str, Any]) -> Scene:
             rd.bad(f"load.pressure = {load['pressure']!r}: a flexible load must press "
                    f"(>= 0); an upward pressure needs a [plate] to pull on")
         if load.get("pressure", 0.0) == 0.0 and load.get("liquid_height", 0.0) * \
-                load.get("liquid_unit_weight", 0.0) == 0.0 and not load.get("self_weight", False):
-            rd.bad("[load]: no load is applied; give load.pressure > 0 (Pa), a liquid, or "
-                   "self_weight = true")
+                load.get("liquid_unit_weight", 0.0) == 0.0 and not load.get("self_weight", False) \
+                and not load.get("roof_weight", 0.0):
+            rd.bad("[load]: no load is applied; give load.pressure > 0 (Pa), a liquid, "
+                   "self_weight = true or a roof_weight")
 
     mesh = secs["mesh"] or {}
     # a flexible load (no plate) defaults to P3 on a mesh twice as coarse: the soil alone
@@ -903,7 +913,8 @@ def _parse(data: dict[str, Any]) -> Scene:
     load_dc = Load(pressure=load.get("pressure", 0.0), load_radius=a,
                    liquid_unit_weight=load.get("liquid_unit_weight", 0.0),
                    liquid_height=load.get("liquid_height", 0.0),
-                   self_weight=load.get("self_weight", False))
+                   self_weight=load.get("self_weight", False),
+                   roof_weight=load.get("roof_weight", 0.0))
     D = plate_dc.embedment if plate_dc is not None else 0.0
     size = DEFAULT_DOMAIN_FACTOR * a
     domain_dc = DomainSize(radius=domain.get("radius", size), depth=domain.get("depth", size))

@@ -22,7 +22,8 @@ TANK = {
               "unit_weight": STEEL, "annular_width": 1.0, "annular_thickness": 0.012},
     "wall": {"radius": 10.0, "E": 200e9, "nu": 0.3, "unit_weight": STEEL,
              "courses": [{"height": h, "thickness": t} for h, t in COURSES]},
-    "load": {"liquid_unit_weight": GAMMA_W, "liquid_height": 11.0, "self_weight": True}}
+    "load": {"liquid_unit_weight": GAMMA_W, "liquid_height": 11.0, "self_weight": True,
+             "roof_weight": 400e3}}
 
 
 def changed(**sections):
@@ -63,6 +64,9 @@ def test_courses_and_ring_are_read_resolved_and_written_back(tmp_path):
     (changed(plate={"annular_width": 11.0}), "plate.annular_width", "narrower"),
     (changed(plate={"annular_thickness": -0.012}), "plate.annular_thickness", "> 0"),
     (changed(load={"liquid_height": 12.5}), "load.liquid_height", "higher than wall.height"),
+    (changed(load={"roof_weight": -1.0}), "load.roof_weight", ">= 0"),
+    ({"soil": TANK["soil"], "plate": TANK["plate"] | {"annular_width": None},
+      "load": {"roof_weight": 1e5}}, "load.roof_weight", "needs a [wall]"),
 ])
 def test_bad_courses_and_rings_are_refused_with_key_and_fix(data, key, fix):
     with pytest.raises(SceneError) as info:
@@ -98,17 +102,25 @@ def test_wall_of_courses_on_a_rigid_foundation_is_the_clamped_stepped_shell():
 
 @pytest.mark.mpi
 def test_steel_tank_balances_its_weight_and_carries_the_water_by_hoop_tension():
-    """The steel tank on soil, coarse mesh, self-weight on: the soil carries the water and
-    the steel, each course and the ring weighed here by hand, and away from the base each
-    course carries the water by hoop tension, sigma = gamma_w (H_l - z) R / t."""
+    """The steel tank on soil with a roof, coarse mesh, self-weight on: the soil carries the
+    water, the roof and the steel, each course and the ring weighed here by hand; away from
+    the base each course carries the water by hoop tension, sigma = gamma_w (H_l - z) R / t,
+    and the roof and the courses above by axial compression."""
     res = analyse(Scene.from_dict(TANK).with_coarse_mesh()).results
     a, b, R = 10.5, 9.5, 10.0
     steel = STEEL * (0.008 * math.pi * b**2 + 0.012 * math.pi * (a**2 - b**2)
                      + 2 * math.pi * R * sum(h * t for h, t in COURSES))
-    water = GAMMA_W * 11.0 * math.pi * R**2
-    assert res["equilibrium"]["contact_resultant"] == pytest.approx(steel + water, rel=1e-8)
+    water, roof = GAMMA_W * 11.0 * math.pi * R**2, 400e3
+    assert res["equilibrium"]["contact_resultant"] == pytest.approx(steel + water + roof,
+                                                                    rel=1e-8)
     wall = res["profiles"]["wall"]
     z, hoop = np.array(wall["z"]), np.array(wall["hoop_stress"])
+    N_z = np.array(wall["N_z"])
+    for k in range(1, len(COURSES)):
+        i = int(np.argmin(np.abs(z - 2.4 * (k + 0.5))))
+        above = roof / (2 * math.pi * R) + STEEL * (
+            sum(t for _, t in COURSES[k + 1:]) * 2.4 + COURSES[k][1] * (2.4 * (k + 1) - z[i]))
+        assert N_z[i] == pytest.approx(-above, rel=1e-3)     # measured <= 1.3e-4
     for k, (t, mid) in enumerate([(0.013, 3.6), (0.010, 6.0), (0.008, 8.4)], start=1):
         i = int(np.argmin(np.abs(z - mid)))
         assert wall["thickness"][i] == t
