@@ -188,24 +188,17 @@ def _size_field(g: DomainGeometry, gmsh, singular) -> None:
     fields.setString(f, "F", f"{g.edge_size!r} + {g.growth!r}*F{dist}")
     ids = [f]
     if g.wall_radius is not None and g.wall_size is not None:
-        # the wall's bending boundary layer (decay length 1/beta) needs its own resolution,
-        # growing slowly from the wall foot
-        foot = gmsh.model.occ.addPoint(g.wall_radius, -g.embedment, 0.0)
-        gmsh.model.occ.synchronize()
-        d_foot = fields.add("Distance")
-        fields.setNumbers(d_foot, "PointsList", [foot])
-        w = fields.add("MathEval")
-        fields.setString(w, "F", f"{g.wall_size!r} + {min(g.growth, 0.1)!r}*F{d_foot}")
-        ids.append(w)
-    for h, size in g.wall_joints:
-        # a course joint disturbs the wall's membrane state over its own decay length
-        joint = gmsh.model.occ.addPoint(g.wall_radius, -g.embedment + h, 0.0)
-        gmsh.model.occ.synchronize()
-        d_joint = fields.add("Distance")
-        fields.setNumbers(d_joint, "PointsList", [joint])
-        j = fields.add("MathEval")
-        fields.setString(j, "F", f"{size!r} + {min(g.growth, 0.1)!r}*F{d_joint}")
-        ids.append(j)
+        # the wall's bending boundary layers (decay length 1/beta) need their own
+        # resolution, growing slowly: from the wall's foot and from each course joint,
+        # where the thickness steps
+        for h, size in ((0.0, g.wall_size), *g.wall_joints):
+            at = gmsh.model.occ.addPoint(g.wall_radius, -g.embedment + h, 0.0)
+            gmsh.model.occ.synchronize()
+            d = fields.add("Distance")
+            fields.setNumbers(d, "PointsList", [at])
+            w = fields.add("MathEval")
+            fields.setString(w, "F", f"{size!r} + {min(g.growth, 0.1)!r}*F{d}")
+            ids.append(w)
     if g.near_size is not None:
         # the near field, where soil stresses are reported, gets a uniform cap
         o = gmsh.model.occ.addPoint(0.0, -g.embedment, 0.0)
