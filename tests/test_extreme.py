@@ -123,6 +123,27 @@ def test_modulus_rising_from_almost_zero_at_the_surface():
     assert w0[1e3] / w0[1e4] == pytest.approx(10.0, rel=2e-2)
 
 
+def test_incompressible_gibson_soil_settles_like_winkler_springs():
+    """Gibson (1967, Geotechnique 17, 58-67): an incompressible half-space whose shear
+    modulus grows from zero as m z settles under a uniform load by exactly p / (2 m) where
+    loaded and not at all beside it. E = E_s (1 + lambda h) at nu = 0.5 (mixed form) is
+    that soil with m = E_s lambda / 3, plus a surface modulus E_s whose share falls as
+    1 / (lambda a): measured w0 -1.8e-3 at lambda a = 1e3, -1.7e-5 at 1e4; the step at the
+    load's edge is half-way (0.48 p / 2m)."""
+    p, a = 1e3, 1.0
+    for lam, tol in ((1e3, 3e-3), (1e4, 1e-4)):
+        r = analyse(Scene.from_dict({
+            "soil": {"E": 1e4, "nu": 0.5, "E_gradient": lam},
+            "load": {"pressure": p, "load_radius": a}, "mesh": COARSE})).results
+        w_gibson = p / (2 * 1e4 * lam / 3)
+        assert r["w0"] == pytest.approx(w_gibson, rel=tol)
+        surface = r["profiles"]["surface"]
+        w = np.interp([0.5 * a, 1.5 * a, 3 * a], surface["r"], surface["w"]) / w_gibson
+        assert w[0] == pytest.approx(1.0, abs=3 * tol)
+        assert abs(w[1]) < 1e-3 and abs(w[2]) < 1e-4
+        assert r["linear_solver"]["last_relative_residual"] < 1e-9
+
+
 @pytest.fixture(scope="module")
 def bonded():
     return analyse(plate()).results
