@@ -40,6 +40,7 @@ FACET_TAGS = {
     "void_axis": 9,       # r = 0 in the void
     "void_boundary": 10,  # the rest of the void's outline (its lid, the open pit top)
     "layer_top": 11,      # a soil layer's top, z = -layer depth, inside the soil
+    "ringwall": 12,       # a ringwall's outline inside the soil (its top under the plate: contact)
 }
 
 
@@ -67,6 +68,9 @@ class DomainGeometry:
     #: radii on the foundation's underside where the plate's thickness steps (an annular
     #: ring's inner edge): mesh vertices
     plate_joints: tuple[float, ...] = ()
+    #: a ringwall under the wall: (inner radius, outer radius, depth below the plate's
+    #: underside); its outline is made of mesh lines, so that no cell straddles it
+    ringwall: tuple[float, float, float] | None = None
 
 
 def build_model(g: DomainGeometry, gmsh, name: str = "tankfx", order: int = 1) -> None:
@@ -99,6 +103,9 @@ def build_model(g: DomainGeometry, gmsh, name: str = "tankfx", order: int = 1) -
         p1 = occ.addPoint(at, -D + H, 0.0)
         wall_line = occ.addLine(p0, p1)
         pieces.append((1, wall_line))
+    if g.ringwall is not None:
+        inner, outer, depth = g.ringwall
+        pieces.append((2, occ.addRectangle(inner, -D - depth, 0.0, outer - inner, depth)))
     for d in g.layer_depths:
         # across the soil only: inside the pit there is none
         x0 = a if d <= D else 0.0
@@ -107,6 +114,11 @@ def build_model(g: DomainGeometry, gmsh, name: str = "tankfx", order: int = 1) -
     singular = [(a, -D)] + ([(a, 0.0)] if D > 0.0 else [])
     if g.wall_radius is not None:
         singular.append((g.wall_radius, -D))
+    if g.ringwall is not None:
+        # a stiff inclusion's corners concentrate the soil's stress as a foundation's edge
+        inner, outer, depth = g.ringwall
+        singular += [(x, y) for x in (inner, outer) for y in (-D, -D - depth)
+                     if (x, y) not in singular and x > 0.0]
     # where a member's thickness steps: vertices too, so that no element straddles a step
     steps = [(g.wall_radius, -D + h) for h, _ in g.wall_joints] + \
         [(r, -D) for r in g.plate_joints]
@@ -163,6 +175,8 @@ def _tag_entities(g: DomainGeometry, gmsh) -> None:
             facets["wall_embedded" if touches_soil else "wall"].append(c)
         elif D > 0 and near(x0, a) and near(x1, a) and -D - eps <= ym <= eps:
             facets["embedded_face"].append(c)
+        elif g.ringwall is not None and _on_ringwall(g, x0, x1, y0, y1, eps):
+            facets["ringwall"].append(c)
         elif near(y0, y1) and any(near(y0, -d) for d in g.layer_depths) and x0 >= -eps \
                 and (y0 < -D - eps or x0 >= a - eps):
             facets["layer_top"].append(c)
@@ -175,6 +189,17 @@ def _tag_entities(g: DomainGeometry, gmsh) -> None:
     for name, ents in facets.items():
         if ents:
             gmsh.model.addPhysicalGroup(1, ents, FACET_TAGS[name], name=name)
+
+
+def _on_ringwall(g: DomainGeometry, x0, x1, y0, y1, eps) -> bool:
+    """Whether the curve from (x0, y0) to (x1, y1) lies on the ringwall's outline."""
+    inner, outer, depth = g.ringwall
+    top, bottom = -g.embedment, -g.embedment - depth
+    vertical = abs(x0 - x1) <= eps and (abs(x0 - inner) <= eps or abs(x0 - outer) <= eps) \
+        and bottom - eps <= y0 and y1 <= top + eps
+    horizontal = abs(y0 - y1) <= eps and (abs(y0 - top) <= eps or abs(y0 - bottom) <= eps) \
+        and inner - eps <= x0 and x1 <= outer + eps
+    return vertical or horizontal
 
 
 def _size_field(g: DomainGeometry, gmsh, singular) -> None:

@@ -127,13 +127,22 @@ class SoilBlock:
         #: per local cell, its stratum's constants (Soil.at_depth; layered ground and
         #: Duncan & Chang's soil, else None)
         self.cell_strata = None
-        if s.layers or dc:
+        #: a ringwall's cells are a material of their own: the last "stratum" (linear, in
+        #: the displacement form), after the ground's
+        self.n_materials = len(strata) + (scene.ringwall is not None)
+        if s.layers or dc or scene.ringwall is not None:
             # per cell, its stratum's values (the layers' tops are lines of the mesh, so
             # no cell straddles two): E = E_top (1 + lambda (h - top)) within each; and a
             # Poisson's ratio per cell, which a failed Duncan-Chang cell changes
             depth = -domain.cell_midpoints[:, 1]
             self.stratum = s.stratum_of(depth).astype(np.int32)
             values = self.cell_strata = s.at_depth(depth)
+            if scene.ringwall is not None:
+                ring = self.ringwall_cells = self._ringwall_mask()
+                self.stratum[ring] = len(strata)
+                for key, value in (("E_top", scene.ringwall.E), ("E_gradient", 0.0),
+                                   ("top", 0.0), ("nu", scene.ringwall.nu)):
+                    values[key][ring] = value
             self.E_s, self.gradient, top, self.nu = (
                 _cell_field(msh, values[key], key) for key in ("E_top", "E_gradient", "top",
                                                                "nu"))
@@ -160,11 +169,11 @@ class SoilBlock:
                 modulus.interpolate(fem.Expression(self.E, Q0.element.interpolation_points))
             self.E = modulus
         self.trial, self.test = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
-        self._cell_measures(len(strata))
+        self._cell_measures(self.n_materials)
         self.unknowns = [self.u]
         #: per mixed stratum: (its pressure, (a_up, a_pu, a_pp), its zero load)
         self.pressures = []
-        displacement_form = [i for i in range(len(strata)) if i not in self.mixed_strata]
+        displacement_form = [i for i in range(self.n_materials) if i not in self.mixed_strata]
         self.a = 0
         if displacement_form:
             self.a = soil_forms.stiffness_form(self.trial, self.test, self.E, self.nu, self.r,
@@ -192,6 +201,14 @@ class SoilBlock:
             self.a += fem.Constant(msh, 0.0) * ufl.inner(self.trial, self.test) * self.dx_void
         self.bcs = self._supports()
         self.supported_facets = domain.facets("far_side", "bottom")
+
+    def _ringwall_mask(self) -> np.ndarray:
+        """Which local cells lie in the ringwall (its outline is made of mesh lines, so a
+        cell's midpoint decides)."""
+        ring, D = self.scene.ringwall, self.scene.embedment
+        r, z = self.domain.cell_midpoints.T
+        return (r > ring.inner_radius) & (r < ring.outer_radius) & (z < -D) \
+            & (z > -D - ring.depth)
 
     def _cell_measures(self, n_strata: int) -> None:
         """The soil's ``dx`` and the void's ``dx_void``, and per stratum those of

@@ -169,7 +169,7 @@ def describe(scene) -> list[str]:
     """What a scene resolves to and what an analysis of it builds and iterates, in lines."""
     from dataclasses import asdict
 
-    from .scene import member_text, stratum_constants
+    from .scene import member_text, ringwall_text, stratum_constants
 
     s, a = scene.soil, scene.foundation_radius
     out = [f"scene: {scene.title}"]
@@ -191,6 +191,8 @@ def describe(scene) -> list[str]:
         out.append(f"  flexible load on r <= {a:g} m (no structure)")
     if scene.wall is not None:
         out.append(f"  wall: {member_text('wall', members['wall'], scene.Kt)}")
+    if scene.ringwall is not None:
+        out.append(f"  ringwall: {ringwall_text(members['ringwall'])}")
     if scene.plate is not None:
         ifc = scene.interface
         law = ifc.condition + (f" (tan phi = {ifc.tan_phi:.4g}, c = {ifc.cohesion:g} Pa, "
@@ -212,7 +214,8 @@ def describe(scene) -> list[str]:
                           f"{s.max_iterations})")
     if scene.plate is not None and scene.interface.condition == "mohr_coulomb":
         iterations.append("the Mohr-Coulomb active set")
-    parts = ["soil"] + [p for p in ("plate", "wall") if getattr(scene, p) is not None]
+    parts = ["soil"] + [p for p in ("ringwall", "plate", "wall")
+                        if getattr(scene, p) is not None]
     if scene.plate is not None:
         parts.append(f"{scene.interface.condition} interface")
     out.append(f"  builds: {', '.join(parts)}; iterates: "

@@ -128,6 +128,8 @@ def geometry_of(scene: Scene) -> DomainGeometry:
         wall_joints=joints,
         plate_joints=(plate.ring_inner_radius,) if plate is not None and plate.annular_width
         else (),
+        ringwall=None if scene.ringwall is None else (
+            scene.ringwall.inner_radius, scene.ringwall.outer_radius, scene.ringwall.depth),
     )
 
 

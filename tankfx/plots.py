@@ -80,14 +80,26 @@ def gather_grid(fields: dict[str, fem.Function], cells: np.ndarray | None = None
     return grids[0].merge(grids[1:]) if len(grids) > 1 else grids[0]
 
 
+def _ringwall_outline(scene) -> list[np.ndarray]:
+    """The ringwall's outline in the section, as one closed polyline (none without)."""
+    ring = scene.ringwall
+    if ring is None:
+        return []
+    top, bottom = -scene.embedment, -scene.embedment - ring.depth
+    return [np.array([[ring.inner_radius, top], [ring.inner_radius, bottom],
+                      [ring.outer_radius, bottom], [ring.outer_radius, top],
+                      [ring.inner_radius, top]])]
+
+
 def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, extent: float,
                  depth_offset: float = 0.0, label: str = "sigma_zz [kPa]",
                  scalar_scale: float = 1e-3, title: str = "", soil_cells=None,
-                 structure: dict | None = None, layer_depths=()) -> Path | None:
+                 structure: dict | None = None, layer_depths=(), outlines=()) -> Path | None:
     """The (r, z) section within ``extent`` of the foundation centre, deformed (the scale is
     printed on the figure) and coloured by ``scalar``; ``structure`` (a gathered
     results dict) adds the plate and wall as thick lines, ``layer_depths`` the soil layers'
-    tops as white lines, deformed with the soil. Returns the PNG path on rank 0."""
+    tops and ``outlines`` other lines in the soil (polylines of (r, z) vertices, e.g. a
+    ringwall's) as white lines, deformed with the soil. Returns the PNG path on rank 0."""
     grid = gather_grid({"u": u, "s": scalar}, soil_cells)
     if grid is None:
         return None
@@ -110,10 +122,14 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
                                              z0 + np.asarray(wa["z"])]),
                             np.column_stack([wa["u_r"], wa["u_z"]])))
     tops = []
-    for d in layer_depths:
-        # sampled from the undeformed section: the soil's displacement along the top
-        pts = np.column_stack([np.linspace(0.0, extent, 400), np.full(400, -d),
-                               np.zeros(400)])
+    polylines = [np.array([[0.0, -d], [extent, -d]]) for d in layer_depths] + \
+        [np.asarray(o, dtype=float) for o in outlines]
+    for vertices in polylines:
+        # sampled from the undeformed section: the soil's displacement along the line
+        t = np.linspace(0.0, 1.0, 400 // (len(vertices) - 1))
+        pts = np.concatenate([a + t[:, None] * (b - a)
+                              for a, b in zip(vertices[:-1], vertices[1:])])
+        pts = np.column_stack([pts, np.zeros(len(pts))])
         line = pv.PolyData(pts).sample(near)
         valid = line.point_data["vtkValidPointMask"].astype(bool)
         if valid.sum() > 1:
@@ -472,7 +488,8 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
     section = {"extent": (1.6 if scene.plate is not None else 3.0) * scene.foundation_radius,
                "depth_offset": scene.embedment, "title": title,
                "soil_cells": solution.domain.cells("soil"), "structure": r,
-               "layer_depths": [layer.depth for layer in scene.soil.layers]}
+               "layer_depths": [layer.depth for layer in scene.soil.layers],
+               "outlines": _ringwall_outline(scene)}
     figures = [(plot_section, (solution.u, solution.sigma_zz, directory / "section.png"),
                 section)]
     if scene.soil.nonlinear:

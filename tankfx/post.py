@@ -14,7 +14,7 @@ from dolfinx import fem, geometry
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from .scene import member_text, stratum_constants
+from .scene import member_text, ringwall_text, stratum_constants
 
 __all__ = ["allsum", "assemble_scalar", "evaluate_at", "nodal_values_on_facets",
            "soil_cell_fields", "write_fields", "FIELD_FILES", "STATUS_CODES", "summary_rows",
@@ -152,7 +152,8 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
     ``stress_level``: the deviator Kondner's law gives the cell's strain (Eq. 17) over the
     ultimate 1/b, 1 at failure (converged, it equals deviator x b to the Eq. 18 tolerance);
     ``soil``: 1 on soil cells, 0 where the foundation took the soil's place; on layered
-    ground ``stratum``: 0 in the surface soil, k in the k-th layer."""
+    ground ``stratum``: 0 in the surface soil, k in the k-th layer; with a ringwall
+    ``ringwall``: 1 in its cells (which the other fields cover too: its stresses, its E)."""
     from . import hyperbolic
     from . import soil as soil_forms
 
@@ -179,6 +180,8 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
     if s.layers:
         # which stratum each cell is in (0: the surface soil, k: the k-th layer)
         values["stratum"] = block.stratum.astype(float)
+    if model.scene.ringwall is not None:
+        values["ringwall"] = block.ringwall_cells.astype(float)
     is_soil = np.zeros(len(Q0.dofmap.list))
     is_soil[model.domain.cells("soil")] = 1.0
     # the other cells (the foundation's excavation, the tank's inside) carry no soil
@@ -371,6 +374,8 @@ def write_report(results: dict, figures: list[Path], path) -> Path:
     for name, K in (("plate", "Kp"), ("wall", "Kt")):
         if name in sc:
             scene_rows.append((name, member_text(name, sc[name], r["nondim"][K])))
+    if "ringwall" in sc:
+        scene_rows.append(("ringwall", ringwall_text(sc["ringwall"])))
     if "interface" in sc:
         scene_rows.append(("interface", sc["interface"]["condition"]))
     path_note = f" (the last of {len(r['stages'])} stages)" if "stages" in r else ""

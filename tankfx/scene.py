@@ -19,7 +19,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["SceneError", "Soil", "Layer", "Plate", "Wall", "Interface", "Load", "DomainSize",
+__all__ = ["SceneError", "Soil", "Layer", "Plate", "Wall", "Ringwall", "Interface", "Load",
+           "DomainSize",
            "MeshOptions", "Scene", "load_scene", "plate_thickness_from_Kp", "Kp_from_thickness",
            "vertical_load"]
 
@@ -103,6 +104,13 @@ def stratum_constants(model: str, st: Mapping[str, Any]) -> str:
                 f"{st['friction_angle']:g} deg, gamma = {st['unit_weight']:g} N/m^3, K0 = "
                 f"{st['K0']:.3g} (E = K p_a)")
     return ""
+
+
+def ringwall_text(ring: Mapping[str, Any]) -> str:
+    """A ringwall in words, as `tankfx check` and the report write it (``ring``: its table
+    of :meth:`Scene.to_dict`)."""
+    return (f"r = {ring['inner_radius']:g} to {ring['outer_radius']:g} m, {ring['depth']:g} m "
+            f"deep, E = {ring['E']:.4g} Pa, nu = {ring.get('nu', 0.2):g} (linear)")
 
 
 def member_text(name: str, part: Mapping[str, Any], K: float) -> str:
@@ -270,6 +278,20 @@ class Wall:
 
 
 @dataclass(frozen=True)
+class Ringwall:
+    """A concrete ringwall under the wall: an annulus of another, linear elastic material
+    in the ground, from the plate's underside down ``depth`` and from ``inner_radius`` to
+    ``outer_radius`` (m), bonded to the soil around it; the plate rests on it and on the
+    soil (or fill) inside it, through the same interface."""
+
+    inner_radius: float
+    outer_radius: float
+    depth: float
+    E: float                 #: Pa
+    nu: float = 0.2
+
+
+@dataclass(frozen=True)
 class Interface:
     condition: str = "bonded"   #: "bonded" | "smooth" | "mohr_coulomb"
     cohesion: float = 0.0       #: Pa
@@ -327,6 +349,7 @@ class Scene:
     plate: Plate | None = None
     wall: Wall | None = None
     interface: Interface = field(default_factory=Interface)
+    ringwall: Ringwall | None = None
     solver: SolverOptions = field(default_factory=SolverOptions)
     title: str = "tankfx scene"
     #: a load path: the total loads analysed in order on one mesh, the interface's states
@@ -392,8 +415,8 @@ class Scene:
     def to_dict(self) -> dict[str, Any]:
         """The scene as a plain dict, re-readable by :meth:`from_dict` (resolved values)."""
         out: dict[str, Any] = {"title": self.title}
-        for name in ("soil", "plate", "wall", "interface", "load", "domain", "mesh",
-                     "solver"):
+        for name in ("soil", "plate", "wall", "ringwall", "interface", "load", "domain",
+                     "mesh", "solver"):
             part = getattr(self, name)
             if part is not None:
                 out[name] = _plain(part)
@@ -514,6 +537,8 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
     "wall": {"radius": (float, True), "thickness": (float, False), "Kt": (float, False),
              "height": (float, False), "E": (float, True), "nu": (float, True),
              "unit_weight": (float, False), "courses": (list, False)},
+    "ringwall": {"inner_radius": (float, True), "outer_radius": (float, True),
+                 "depth": (float, True), "E": (float, True), "nu": (float, False)},
     "interface": {"condition": (str, False), "cohesion": (float, False),
                   "tan_phi": (float, False), "friction_angle": (float, False),
                   "normal_stiffness": (float, False), "shear_stiffness": (float, False),
@@ -859,6 +884,9 @@ def _parse(data: dict[str, Any]) -> Scene:
             rd.bad(f"mesh.edge_size = {mesh['edge_size']!r} m: larger than half the foundation "
                    f"radius ({0.5 * a!r} m); the foundation would not be resolved")
 
+    if secs["ringwall"] is not None:
+        _check_ringwall(rd, secs["ringwall"], plate, wall, soil or {}, domain, a)
+
     if rd.problems:
         raise SceneError(rd.problems)
 
@@ -937,6 +965,7 @@ def _parse(data: dict[str, Any]) -> Scene:
                               max_iterations=solver.get("max_iterations", 1000))
     return Scene(soil=soil_dc, load=load_dc, domain=domain_dc, mesh=mesh_dc, plate=plate_dc,
                  wall=wall_dc, interface=interface_dc, solver=solver_dc,
+                 ringwall=None if secs["ringwall"] is None else Ringwall(**secs["ringwall"]),
                  title=data.get("title", "tankfx scene"))
 
 
@@ -970,6 +999,48 @@ def _courses(rd: _Reader, wall: dict) -> list[tuple[float, float]] | None:
         if len(values) == 2 and min(values.values()) > 0:
             out.append((values["height"], values["thickness"]))
     return out
+
+
+def _check_ringwall(rd: _Reader, ring: dict, plate: dict | None, wall: dict | None,
+                    soil: dict, domain: dict, a: float | None) -> None:
+    """A ringwall lies under the wall, within the ground, of a material that stays linear
+    (on a linear soil, in this version) and compressible enough for the displacement
+    form."""
+    for key in ("outer_radius", "depth", "E"):
+        rd.positive(ring, "ringwall", key)
+    rd.positive(ring, "ringwall", "inner_radius", allow_zero=True)
+    nu = ring.get("nu")
+    if nu is not None and not -1.0 < nu <= MIXED_FROM_NU:
+        rd.bad(f"ringwall.nu = {nu!r}: must lie in (-1, {MIXED_FROM_NU}] (concrete's is "
+               f"about 0.2)")
+    if plate is None:
+        rd.bad("[ringwall]: a ringwall carries a foundation plate and its wall; add a "
+               "[plate] and a [wall]")
+        return
+    if (soil or {}).get("model", "linear") != "linear":
+        rd.bad(f"[ringwall]: only on a linear soil in this version (soil.model = "
+               f"{soil.get('model')!r}: its secant iteration would take the ringwall's cells "
+               f"for soil); use model = \"linear\" or remove the ringwall")
+    inner, outer = ring.get("inner_radius"), ring.get("outer_radius")
+    if isinstance(inner, float) and isinstance(outer, float):
+        if inner >= outer:
+            rd.bad(f"ringwall.inner_radius = {inner!r} m is not inside ringwall.outer_radius "
+                   f"= {outer!r} m; give inner_radius < outer_radius")
+        elif wall is not None and isinstance(wall.get("radius"), float) \
+                and not inner < wall["radius"] <= outer:
+            rd.bad(f"ringwall: the wall (r = {wall['radius']:g} m) must stand on it; give "
+                   f"inner_radius < {wall['radius']:g} <= outer_radius (now {inner:g} and "
+                   f"{outer:g} m)")
+        if a is not None and outer >= 0.5 * domain.get("radius", DEFAULT_DOMAIN_FACTOR * a):
+            rd.bad(f"ringwall.outer_radius = {outer!r} m: must lie within half the domain's "
+                   f"radius; widen the domain")
+    depth = ring.get("depth")
+    if a is not None and isinstance(depth, float):
+        base = domain.get("depth", DEFAULT_DOMAIN_FACTOR * a)
+        D = plate.get("embedment", 0.0)
+        if D + depth >= base:
+            rd.bad(f"ringwall.depth = {depth!r} m: reaches the rigid base ({base:g} m below "
+                   f"the ground, the plate {D:g} m); make it shallower")
 
 
 def _check_annular_ring(rd: _Reader, plate: dict, wall: dict | None) -> None:

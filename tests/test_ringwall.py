@@ -1,0 +1,97 @@
+"""A concrete ringwall under the wall (the usual foundation of a large steel tank: a ring
+beam under the shell, the floor on compacted fill inside): an annulus of another material
+in the ground. Checked against the layered ground it becomes when it spans everything, the
+soil it replaces when it is made of that soil, and the trend a stiffer ring must give."""
+import copy
+import tomllib
+
+import pytest
+
+from tankfx import Scene, SceneError
+from tankfx.analysis import analyse
+
+TANK = {
+    "soil": {"E": 30e6, "nu": 0.3},
+    "plate": {"radius": 10.5, "thickness": 0.008, "E": 200e9, "nu": 0.3},
+    "wall": {"radius": 10.0, "thickness": 0.016, "height": 12.0, "E": 200e9, "nu": 0.3},
+    "load": {"liquid_unit_weight": 9810.0, "liquid_height": 11.0, "roof_weight": 500e3}}
+RING = {"inner_radius": 9.5, "outer_radius": 10.8, "depth": 1.5, "E": 30e9}
+
+
+def tank(ring=None, **sections):
+    data = copy.deepcopy(TANK)
+    for name, values in sections.items():
+        data.setdefault(name, {}).update(values)
+    if ring is not None:
+        data["ringwall"] = ring
+    return Scene.from_dict(data)
+
+
+def test_a_ringwall_over_the_whole_ground_is_a_layer():
+    """A ringwall from the axis to far beyond the tank, 1 m deep, 10 times stiffer than the
+    soil, is a 1 m crust: the same settlements and wall moment as [[soil.layers]] with that
+    crust (itself checked against Burmister's layered solution, test_layers.py)."""
+    ring = tank({"inner_radius": 0.0, "outer_radius": 40e3, "depth": 1.0, "E": 300e6,
+                 "nu": 0.25})
+    crust = tank(soil={"E": 300e6, "nu": 0.25,
+                       "layers": [{"depth": 1.0, "E": 30e6, "nu": 0.3}]})
+    a, b = analyse(ring).results, analyse(crust).results
+    # measured on the default meshes (which differ: the ringwall's far corners): w0 5e-5,
+    # wd 7e-5, w_edge 4e-5, wall base moment 0.15 %
+    for key in ("w0", "wd", "w_edge"):
+        assert a[key] == pytest.approx(b[key], rel=5e-4), key
+    assert a["junction"]["M_wall"] == pytest.approx(b["junction"]["M_wall"], rel=5e-3)
+
+
+@pytest.mark.mpi
+def test_a_stiffer_ringwall_carries_the_shell_and_lets_the_floor_dish():
+    """Coarse meshes: a ringwall of the soil itself changes nothing; a stiffer one settles
+    less under the shell while the centre, carried by the soil, settles about as before, so
+    the floor dishes more, and the wall's foot, held by the ring, bends more. Every case
+    balances its load. (Serial = 2 ranks: this test runs under mpiexec too.)"""
+    bare = analyse(tank().with_coarse_mesh()).results
+    same = analyse(tank(RING | {"E": 30e6, "nu": 0.3}).with_coarse_mesh()).results
+    assert same["w0"] == pytest.approx(bare["w0"], rel=1e-4)
+    assert same["wd"] == pytest.approx(bare["wd"], rel=1e-3)
+    runs = [same] + [analyse(tank(RING | {"E": E}).with_coarse_mesh()).results
+                     for E in (300e6, 30e9)]
+    shell = [r["settlement_summary"]["shell_settlement"] for r in runs]
+    dish = [r["settlement_summary"]["dish"] for r in runs]
+    M_wall = [abs(r["junction"]["M_wall"]) for r in runs]
+    assert shell[0] > shell[1] > shell[2], shell
+    assert dish[0] < dish[1] < dish[2], dish
+    assert M_wall[0] < M_wall[1] < M_wall[2], M_wall
+    assert all(abs(r["w0"] / bare["w0"] - 1) < 0.03 for r in runs)
+    for r in (bare, *runs):
+        assert r["equilibrium"]["relative_error"] < 1e-8
+
+
+def test_ringwall_is_read_and_written_back(tmp_path):
+    s = tank(RING)
+    assert s.ringwall.nu == 0.2 and s.ringwall.E == 30e9
+    path = tmp_path / "tank.toml"
+    path.write_text(s.to_toml())
+    assert Scene.from_dict(tomllib.loads(path.read_text())) == s
+
+
+@pytest.mark.parametrize("ring, sections, key, fix", [
+    (RING | {"inner_radius": 10.2}, {}, "ringwall", "must stand on it"),
+    (RING | {"outer_radius": 9.0}, {}, "ringwall.inner_radius", "inner_radius < outer_radius"),
+    (RING | {"depth": -1.0}, {}, "ringwall.depth", "> 0"),
+    (RING | {"nu": 0.49}, {}, "ringwall.nu", "0.45"),
+    (RING | {"E": float("nan")}, {}, "ringwall.E", "finite"),
+    (RING | {"widht": 1.0}, {}, "ringwall.widht", "valid"),
+    ({k: v for k, v in RING.items() if k != "depth"}, {}, "ringwall.depth", "missing"),
+    (RING | {"depth": 200e3}, {}, "ringwall.depth", "rigid base"),
+    (RING, {"soil": {"model": "hyperbolic", "hyperbolic_a": 1 / 30e6, "hyperbolic_b": 1e-5,
+                     "E": None}}, "[ringwall]", "linear soil"),
+])
+def test_bad_ringwalls_are_refused_with_key_and_fix(ring, sections, key, fix):
+    data = copy.deepcopy(TANK)
+    data["ringwall"] = ring
+    for name, values in sections.items():
+        data[name] = {k: v for k, v in {**data[name], **values}.items() if v is not None}
+    with pytest.raises(SceneError) as info:
+        Scene.from_dict(data)
+    msg = "\n".join(info.value.problems)
+    assert key in msg and fix in msg, msg
