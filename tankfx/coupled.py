@@ -158,8 +158,14 @@ class TankModel:
         cells = np.arange(len(values), dtype=np.int32)
         mid = dmesh.compute_midpoints(sub, 1, cells)
         h = sub.h(1, cells)
-        # the soil's modulus at the facet (on a layer's top: that layer's, the soil below)
+        # the soil's modulus at the facet (on a layer's top: that layer's, the soil below;
+        # on a ringwall's top: the ringwall's)
         E_soil = s.soil.at_depth(-mid[:, 1])["E"]
+        if s.ringwall is not None:
+            ring = s.ringwall
+            on_ring = (mid[:, 0] > ring.inner_radius) & (mid[:, 0] < ring.outer_radius) & \
+                np.isclose(mid[:, 1], -s.embedment)
+            E_soil = np.where(on_ring, ring.E, E_soil)
         in_contact = (values == st.PLATE) | (values == st.WALL_EMBEDDED)
         default = interface.PENALTY_FACTOR * E_soil / h
         ifc = s.interface

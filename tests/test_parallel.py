@@ -33,6 +33,10 @@ def _assert_same_numbers(parallel, serial):
     p, s = _numbers(parallel), _numbers(serial)
     for key in s:
         scale = np.max(np.abs(s[key]))
+        if key == "wall.N_z":
+            # without an axial load N_z is the residue of the cancellation E t (eps_s +
+            # nu eps_theta): judged on the scale of the wall's membrane forces
+            scale = max(scale, np.max(np.abs(s["wall.N_theta"])))
         np.testing.assert_allclose(p[key], s[key], rtol=1e-8, atol=1e-8 * scale + 1e-14,
                                    err_msg=key)
 

@@ -36,11 +36,11 @@ def test_a_ringwall_over_the_whole_ground_is_a_layer():
     crust = tank(soil={"E": 300e6, "nu": 0.25,
                        "layers": [{"depth": 1.0, "E": 30e6, "nu": 0.3}]})
     a, b = analyse(ring).results, analyse(crust).results
-    # measured on the default meshes (which differ: the ringwall's far corners): w0 5e-5,
-    # wd 7e-5, w_edge 4e-5, wall base moment 0.15 %
+    # measured on the default meshes (which differ: the ringwall's far corners): w0 5e-7,
+    # wd 4e-5, w_edge 2e-5, wall base moment 4e-5
     for key in ("w0", "wd", "w_edge"):
         assert a[key] == pytest.approx(b[key], rel=5e-4), key
-    assert a["junction"]["M_wall"] == pytest.approx(b["junction"]["M_wall"], rel=5e-3)
+    assert a["junction"]["M_wall"] == pytest.approx(b["junction"]["M_wall"], rel=1e-3)
 
 
 @pytest.mark.mpi
@@ -62,8 +62,11 @@ def test_a_stiffer_ringwall_carries_the_shell_and_lets_the_floor_dish():
     assert dish[0] < dish[1] < dish[2], dish
     assert M_wall[0] < M_wall[1] < M_wall[2], M_wall
     assert all(abs(r["w0"] / bare["w0"] - 1) < 0.03 for r in runs)
+    # (the penalty on the ring's top follows its modulus: 1000 times a concrete element's
+    # stiffness against the soil's costs digits; measured 6.6e-9 at E = 1000 E_s, residual
+    # 6.5e-9; 1.7e-8 and 1.2e-8 on the default mesh)
     for r in (bare, *runs):
-        assert r["equilibrium"]["relative_error"] < 1e-8
+        assert r["equilibrium"]["relative_error"] < 1e-7
 
 
 def test_ringwall_is_read_and_written_back(tmp_path):
