@@ -127,6 +127,9 @@ class SoilBlock:
         #: per local cell, its stratum's constants (Soil.at_depth; layered ground and
         #: Duncan & Chang's soil, else None)
         self.cell_strata = None
+        #: which local cells are a ringwall's (none without one); the secant iteration
+        #: leaves them at their own modulus
+        self.ringwall_cells = np.zeros(len(domain.cell_midpoints), dtype=bool)
         #: a ringwall's cells are a material of their own: the last "stratum" (linear, in
         #: the displacement form), after the ground's
         self.n_materials = len(strata) + (scene.ringwall is not None)
@@ -161,8 +164,10 @@ class SoilBlock:
             if dc:      # at the geostatic confinement (depth: the cells', above)
                 from .hyperbolic import initial_modulus
 
-                modulus = _cell_field(msh, initial_modulus(s, depth, values),
-                                      "secant_modulus")
+                initial = initial_modulus(s, depth, values)
+                if scene.ringwall is not None:     # the ringwall is no soil: its own E
+                    initial[self.ringwall_cells] = scene.ringwall.E
+                modulus = _cell_field(msh, initial, "secant_modulus")
             else:
                 Q0 = fem.functionspace(msh, ("DG", 0))
                 modulus = fem.Function(Q0, name="secant_modulus")

@@ -281,6 +281,8 @@ class HyperbolicIteration:
         self.E_initial = 1.0 / self.a
         self.is_soil = np.zeros(n_cells, dtype=bool)
         self.is_soil[model.domain.cells("soil")] = True
+        # a ringwall's cells are concrete, not soil: they keep their modulus
+        self.is_soil[soil.ringwall_cells] = False
         T = fem.functionspace(msh, ("DG", 0, (4,)))
         self.dof_T = T.dofmap.list[:, 0]
         self.strain = fem.Function(T)

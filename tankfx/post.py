@@ -176,7 +176,9 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
             s, _cellwise(soil_forms.depth(msh), Q0)[:, 0])
         eps_min, eps_max = hyperbolic.principal_strains(eps[:, 0], eps[:, 1], eps[:, 2],
                                                         eps[:, 3])
-        values["stress_level"] = hyperbolic.stress_level(eps_min, eps_max, nu, a, b)
+        # (Kondner's law is the soil's: nothing to say of a ringwall's concrete)
+        level = hyperbolic.stress_level(eps_min, eps_max, nu, a, b)
+        values["stress_level"] = np.where(block.ringwall_cells, 0.0, level)
     if s.layers:
         # which stratum each cell is in (0: the surface soil, k: the k-th layer)
         values["stratum"] = block.stratum.astype(float)

@@ -885,7 +885,7 @@ def _parse(data: dict[str, Any]) -> Scene:
                    f"radius ({0.5 * a!r} m); the foundation would not be resolved")
 
     if secs["ringwall"] is not None:
-        _check_ringwall(rd, secs["ringwall"], plate, wall, soil or {}, domain, a)
+        _check_ringwall(rd, secs["ringwall"], plate, wall, domain, a)
 
     if rd.problems:
         raise SceneError(rd.problems)
@@ -1002,10 +1002,9 @@ def _courses(rd: _Reader, wall: dict) -> list[tuple[float, float]] | None:
 
 
 def _check_ringwall(rd: _Reader, ring: dict, plate: dict | None, wall: dict | None,
-                    soil: dict, domain: dict, a: float | None) -> None:
-    """A ringwall lies under the wall, within the ground, of a material that stays linear
-    (on a linear soil, in this version) and compressible enough for the displacement
-    form."""
+                    domain: dict, a: float | None) -> None:
+    """A ringwall lies under the wall, within the ground, of a material compressible
+    enough for the displacement form."""
     for key in ("outer_radius", "depth", "E"):
         rd.positive(ring, "ringwall", key)
     rd.positive(ring, "ringwall", "inner_radius", allow_zero=True)
@@ -1017,10 +1016,6 @@ def _check_ringwall(rd: _Reader, ring: dict, plate: dict | None, wall: dict | No
         rd.bad("[ringwall]: a ringwall carries a foundation plate and its wall; add a "
                "[plate] and a [wall]")
         return
-    if (soil or {}).get("model", "linear") != "linear":
-        rd.bad(f"[ringwall]: only on a linear soil in this version (soil.model = "
-               f"{soil.get('model')!r}: its secant iteration would take the ringwall's cells "
-               f"for soil); use model = \"linear\" or remove the ringwall")
     inner, outer = ring.get("inner_radius"), ring.get("outer_radius")
     if isinstance(inner, float) and isinstance(outer, float):
         if inner >= outer:

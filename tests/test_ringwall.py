@@ -5,8 +5,10 @@ soil it replaces when it is made of that soil, and the trend a stiffer ring must
 import copy
 import tomllib
 
+import numpy as np
 import pytest
 
+from conftest import small_tank
 from tankfx import Scene, SceneError
 from tankfx.analysis import analyse
 
@@ -69,6 +71,34 @@ def test_a_stiffer_ringwall_carries_the_shell_and_lets_the_floor_dish():
         assert r["equilibrium"]["relative_error"] < 1e-7
 
 
+def _ring_moduli(solution):
+    block = solution.model.soil
+    E = block.E.x.array[block.E.function_space.dofmap.list[:, 0]]
+    return E[block.ringwall_cells]
+
+
+def test_ringwall_on_nonlinear_soil_keeps_its_own_modulus():
+    """On Kondner's and Duncan & Chang's soils the secant iteration leaves the ringwall's
+    cells at its modulus: a Kondner soil of a strength too large to matter (1/b = 1e12 Pa)
+    is the linear soil of E = 1/a, ringwall included (measured 1e-8); Duncan & Chang's
+    sand converges with the ringwall's cells at E to the last digit (the 1 m test tank on a
+    ring 0.3 m wide and 0.4 m deep: w0 10.2 against 19.1 mm without, 14 solves)."""
+    ring = {"inner_radius": 0.85, "outer_radius": 1.15, "depth": 0.4, "E": 30e9}
+    linear = analyse(Scene.from_dict(small_tank(ringwall=ring))).results
+    kondner = analyse(Scene.from_dict(small_tank(ringwall=ring, soil={
+        "model": "hyperbolic", "hyperbolic_a": 1e-7, "hyperbolic_b": 1e-12, "nu": 0.3})))
+    assert kondner.results["w0"] == pytest.approx(linear["w0"], rel=1e-6)
+    assert np.all(_ring_moduli(kondner) == 30e9)
+    sand = {"model": "duncan_chang", "nu": 0.3, "modulus_number": 400.0,
+            "modulus_exponent": 0.5, "cohesion": 5e3, "friction_angle": 35.0,
+            "unit_weight": 18e3}
+    dc = analyse(Scene.from_dict(small_tank(ringwall=ring, soil=sand,
+                                            load={"pressure": 100e3})))
+    assert dc.results["soil"]["converged"]
+    assert np.all(_ring_moduli(dc) == 30e9)
+    assert dc.results["equilibrium"]["relative_error"] < 1e-7
+
+
 def test_ringwall_is_read_and_written_back(tmp_path):
     s = tank(RING)
     assert s.ringwall.nu == 0.2 and s.ringwall.E == 30e9
@@ -86,8 +116,6 @@ def test_ringwall_is_read_and_written_back(tmp_path):
     (RING | {"widht": 1.0}, {}, "ringwall.widht", "valid"),
     ({k: v for k, v in RING.items() if k != "depth"}, {}, "ringwall.depth", "missing"),
     (RING | {"depth": 200e3}, {}, "ringwall.depth", "rigid base"),
-    (RING, {"soil": {"model": "hyperbolic", "hyperbolic_a": 1 / 30e6, "hyperbolic_b": 1e-5,
-                     "E": None}}, "[ringwall]", "linear soil"),
 ])
 def test_bad_ringwalls_are_refused_with_key_and_fix(ring, sections, key, fix):
     data = copy.deepcopy(TANK)
