@@ -294,7 +294,8 @@ def plot_moment_diagrams(results: dict, path: str | Path, title: str = "") -> Pa
 
 def plot_structure_profiles(results: dict, path: str | Path, title: str = "") -> Path | None:
     """Line charts: plate moments (M_r, M_theta), contact stresses under the plate, and the
-    wall's moment M_z and hoop force N_theta, against position. Rank 0 writes the PNG."""
+    wall's moment M_z and hoop force N_theta (for a wall of courses its hoop stress
+    N_theta / t), against position. Rank 0 writes the PNG."""
     from mpi4py import MPI
 
     if MPI.COMM_WORLD.rank != 0:
@@ -323,10 +324,16 @@ def plot_structure_profiles(results: dict, path: str | Path, title: str = "") ->
     if wall:
         z = np.asarray(wall["z"])
         c3 = pv.Chart2D(x_label="value", y_label="height above the base z [m]")
-        c3.title = "wall: M_z [kN m/m], N_theta / 10 [kN/m]"
         c3.line(np.asarray(wall["M_z"]) / 1e3, z, color="tab:blue", width=3, label="M_z")
-        c3.line(np.asarray(wall["N_theta"]) / 1e4, z, color="tab:red", width=3,
-                label="N_theta / 10")
+        if len(results.get("courses", [])) > 1:
+            # a wall of courses: its hoop stress, which a tank code checks course by course
+            c3.title = "wall: M_z [kN m/m], hoop stress N_theta / t [MPa]"
+            c3.line(np.asarray(wall["hoop_stress"]) / 1e6, z, color="tab:red", width=3,
+                    label="N_theta / t")
+        else:
+            c3.title = "wall: M_z [kN m/m], N_theta / 10 [kN/m]"
+            c3.line(np.asarray(wall["N_theta"]) / 1e4, z, color="tab:red", width=3,
+                    label="N_theta / 10")
         p.subplot(0, 2)
         p.add_chart(c3)
     return _save(p, path)
