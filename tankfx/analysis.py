@@ -141,7 +141,8 @@ class SoilBlock:
             self.stratum = s.stratum_of(depth).astype(np.int32)
             values = self.cell_strata = s.at_depth(depth)
             if scene.ringwall is not None:
-                ring = self.ringwall_cells = self._ringwall_mask()
+                ring = self.ringwall_cells = scene.ringwall.holds(
+                    *domain.cell_midpoints.T, scene.embedment)
                 self.stratum[ring] = len(strata)
                 for key, value in (("E_top", scene.ringwall.E), ("E_gradient", 0.0),
                                    ("top", 0.0), ("nu", scene.ringwall.nu)):
@@ -206,14 +207,6 @@ class SoilBlock:
             self.a += fem.Constant(msh, 0.0) * ufl.inner(self.trial, self.test) * self.dx_void
         self.bcs = self._supports()
         self.supported_facets = domain.facets("far_side", "bottom")
-
-    def _ringwall_mask(self) -> np.ndarray:
-        """Which local cells lie in the ringwall (its outline is made of mesh lines, so a
-        cell's midpoint decides)."""
-        ring, D = self.scene.ringwall, self.scene.embedment
-        r, z = self.domain.cell_midpoints.T
-        return (r > ring.inner_radius) & (r < ring.outer_radius) & (z < -D) \
-            & (z > -D - ring.depth)
 
     def _cell_measures(self, n_strata: int) -> None:
         """The soil's ``dx`` and the void's ``dx_void``, and per stratum those of

@@ -162,10 +162,10 @@ class TankModel:
         # on a ringwall's top: the ringwall's)
         E_soil = s.soil.at_depth(-mid[:, 1])["E"]
         if s.ringwall is not None:
-            ring = s.ringwall
-            on_ring = (mid[:, 0] > ring.inner_radius) & (mid[:, 0] < ring.outer_radius) & \
-                np.isclose(mid[:, 1], -s.embedment)
-            E_soil = np.where(on_ring, ring.E, E_soil)
+            # (the structure's facets lie on the soil's boundary: those inside the ring's
+            # outline are on its top)
+            on_ring = s.ringwall.holds(mid[:, 0], mid[:, 1], s.embedment)
+            E_soil = np.where(on_ring, s.ringwall.E, E_soil)
         in_contact = (values == st.PLATE) | (values == st.WALL_EMBEDDED)
         default = interface.PENALTY_FACTOR * E_soil / h
         ifc = s.interface

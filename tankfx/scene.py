@@ -290,6 +290,14 @@ class Ringwall:
     E: float                 #: Pa
     nu: float = 0.2
 
+    def holds(self, r, z, embedment: float):
+        """Whether points (r, z) (m; z up from the ground surface) lie inside the ringwall
+        or on its top (the plate's underside at -embedment)."""
+        r, z = np.asarray(r), np.asarray(z)
+        top = -embedment
+        return (r > self.inner_radius) & (r < self.outer_radius) & \
+            (z < top + 1e-9 * self.outer_radius) & (z > top - self.depth)
+
 
 @dataclass(frozen=True)
 class Interface:
