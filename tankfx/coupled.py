@@ -282,8 +282,15 @@ class TankModel:
         # same as on the face; it matters for the wall's self-weight)
         v_b = st.mid_surface_displacement(v_f, gamma, self.t_b, self.offset)
         x = ufl.SpatialCoordinate(self.mesh)
-        zero_soil = ufl.inner(fem.Constant(self.domain.mesh, (0.0, 0.0)), self.soil.test) * \
+        soil_load = ufl.inner(fem.Constant(self.domain.mesh, (0.0, 0.0)), self.soil.test) * \
             self.soil.dx
+        ring, self.ringwall_weight = s.ringwall, None
+        if ring is not None and ring.unit_weight and any(ld.self_weight
+                                                           for ld in (s.load, *s.stages)):
+            # its weight in excess of the soil's, on its own cells (the last material)
+            self.ringwall_weight = fem.Constant(self.domain.mesh, 0.0)
+            soil_load += -self.ringwall_weight * self.soil.test[1] * 2.0 * math.pi * \
+                self.soil.r * self.soil.dx_strata([self.soil.n_materials - 1])
         w = 2.0 * math.pi * r_b
         dx_p = self.dx_b(st.PLATE)
         dx_w = self.dx_b((st.WALL, st.WALL_EMBEDDED))
@@ -315,9 +322,9 @@ class TankModel:
             load -= interface.interface_load(v_f, self.t_b, self.c_s, r_b, self.dx_interface)
             for _, n, t, pieces in self._interface_measures():
                 for measure, R in pieces:
-                    zero_soil += interface.interface_load(R(self.soil.test), t, R(self.c_s),
+                    soil_load += interface.interface_load(R(self.soil.test), t, R(self.c_s),
                                                           self.soil.r, measure)
-        return self.soil.load_rows(zero_soil) + [load]
+        return self.soil.load_rows(soil_load) + [load]
 
     def _symmetry(self):
         """u_r = 0 and beta = 0 at the plate centre."""
@@ -345,6 +352,8 @@ class TankModel:
             if (load.self_weight and s.wall is not None) else 0.0
         c["roof_line_load"].value = load.roof_weight / (2 * math.pi * s.wall.radius) \
             if s.wall is not None else 0.0
+        if self.ringwall_weight is not None:
+            self.ringwall_weight.value = s.ringwall.unit_weight if load.self_weight else 0.0
 
     # ------------------------------------------------------------------ quantities
     @property
@@ -355,9 +364,10 @@ class TankModel:
 
     @property
     def applied_load(self) -> float:
-        """Downward resultant of all applied loads, N (closed form)."""
+        """Downward resultant of all applied loads, N (closed form): those on the structure
+        and a ringwall's net weight."""
         s = self.scene
-        return vertical_load(s.load, s.plate, s.wall)
+        return vertical_load(s.load, s.plate, s.wall, s.ringwall)
 
     def dofs(self) -> dict[str, int]:
         im = self.W.dofmap.index_map
@@ -596,7 +606,9 @@ class TankModel:
                 wall["contact_status"] = [st_ if b else "none" for st_, b in
                                           zip(self._status_at(F, pts, cells), below)]
             profiles["wall"] = wall
-        applied = self.applied_load
+        # what the interface carries: every load but a ringwall's weight, which its own
+        # cells carry to the soil
+        applied = vertical_load(s.load, s.plate, s.wall)
         contact = self.contact_resultant()
         out = {"profiles": profiles,
                "equilibrium": {"contact_resultant": contact,

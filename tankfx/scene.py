@@ -109,8 +109,10 @@ def stratum_constants(model: str, st: Mapping[str, Any]) -> str:
 def ringwall_text(ring: Mapping[str, Any]) -> str:
     """A ringwall in words, as `tankfx check` and the report write it (``ring``: its table
     of :meth:`Scene.to_dict`)."""
+    weight = (f", net unit weight {ring['unit_weight']:g} N/m^3" if ring.get("unit_weight")
+              else "")
     return (f"r = {ring['inner_radius']:g} to {ring['outer_radius']:g} m, {ring['depth']:g} m "
-            f"deep, E = {ring['E']:.4g} Pa, nu = {ring.get('nu', 0.2):g} (linear)")
+            f"deep, E = {ring['E']:.4g} Pa, nu = {ring.get('nu', 0.2):g} (linear){weight}")
 
 
 def member_text(name: str, part: Mapping[str, Any], K: float) -> str:
@@ -289,6 +291,14 @@ class Ringwall:
     depth: float
     E: float                 #: Pa
     nu: float = 0.2
+    #: N/m^3, used only when load.self_weight is true: its weight in excess of the soil it
+    #: replaces (the soil's own weight is the ground's initial state, not a load here)
+    unit_weight: float = 0.0
+
+    @property
+    def volume(self) -> float:
+        """m^3."""
+        return math.pi * (self.outer_radius**2 - self.inner_radius**2) * self.depth
 
     def holds(self, r, z, embedment: float):
         """Whether points (r, z) (m; z up from the ground surface) lie inside the ringwall
@@ -393,7 +403,8 @@ class Scene:
     def unloading_stages(self) -> list[int]:
         """The load stages (counted from 1) whose vertical load is less than the largest of
         the stages before them: unloading."""
-        loads = [vertical_load(ld, self.plate, self.wall) for ld in self.stages]
+        loads = [vertical_load(ld, self.plate, self.wall, self.ringwall)
+                 for ld in self.stages]
         return [k + 1 for k in range(1, len(loads)) if loads[k] < max(loads[:k]) * (1 - 1e-12)]
 
     def with_coarse_mesh(self) -> "Scene":
@@ -480,10 +491,11 @@ class Scene:
 
 
 # --------------------------------------------------------------------------- relations
-def vertical_load(load: Load, plate: Plate | None, wall: Wall | None) -> float:
+def vertical_load(load: Load, plate: Plate | None, wall: Wall | None,
+                  ringwall: "Ringwall | None" = None) -> float:
     """The load's resultant, N, downward positive: the pressure on the plate (or the loaded
     circle), the liquid on the floor, the roof's weight on the wall, and the structure's
-    weight when asked for."""
+    (and a ringwall's net) weight when asked for."""
     a = plate.radius if plate is not None else load.load_radius
     net = load.pressure * math.pi * a**2
     if wall is not None:
@@ -493,6 +505,8 @@ def vertical_load(load: Load, plate: Plate | None, wall: Wall | None) -> float:
         net += plate.unit_weight * plate.volume
         if wall is not None:
             net += wall.unit_weight * wall.volume
+        if ringwall is not None:
+            net += ringwall.unit_weight * ringwall.volume
     return net
 
 
@@ -546,7 +560,8 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
              "height": (float, False), "E": (float, True), "nu": (float, True),
              "unit_weight": (float, False), "courses": (list, False)},
     "ringwall": {"inner_radius": (float, True), "outer_radius": (float, True),
-                 "depth": (float, True), "E": (float, True), "nu": (float, False)},
+                 "depth": (float, True), "E": (float, True), "nu": (float, False),
+                 "unit_weight": (float, False)},
     "interface": {"condition": (str, False), "cohesion": (float, False),
                   "tan_phi": (float, False), "friction_angle": (float, False),
                   "normal_stiffness": (float, False), "shear_stiffness": (float, False),
@@ -1016,6 +1031,7 @@ def _check_ringwall(rd: _Reader, ring: dict, plate: dict | None, wall: dict | No
     for key in ("outer_radius", "depth", "E"):
         rd.positive(ring, "ringwall", key)
     rd.positive(ring, "ringwall", "inner_radius", allow_zero=True)
+    rd.positive(ring, "ringwall", "unit_weight", allow_zero=True)
     nu = ring.get("nu")
     if nu is not None and not -1.0 < nu <= MIXED_FROM_NU:
         rd.bad(f"ringwall.nu = {nu!r}: must lie in (-1, {MIXED_FROM_NU}] (concrete's is "

@@ -3,6 +3,7 @@ beam under the shell, the floor on compacted fill inside): an annulus of another
 in the ground. Checked against the layered ground it becomes when it spans everything, the
 soil it replaces when it is made of that soil, and the trend a stiffer ring must give."""
 import copy
+import math
 import tomllib
 
 import numpy as np
@@ -97,6 +98,22 @@ def test_ringwall_on_nonlinear_soil_keeps_its_own_modulus():
     assert dc.results["soil"]["converged"]
     assert np.all(_ring_moduli(dc) == 30e9)
     assert dc.results["equilibrium"]["relative_error"] < 1e-7
+
+
+def test_ringwall_weight_goes_to_the_soil_not_the_interface():
+    """With self_weight, a ringwall's net unit weight (concrete less the soil it replaces)
+    loads the ground: the supports carry it with the water, the roof and the steel, the
+    interface only what stands on the plate. Weighed here by hand."""
+    ring = RING | {"unit_weight": 6e3}
+    res = analyse(tank(ring, plate={"unit_weight": 77e3}, wall={"unit_weight": 77e3},
+                       load={"self_weight": True}).with_coarse_mesh()).results
+    water = 9810.0 * 11.0 * math.pi * 10.0**2
+    steel = 77e3 * (0.008 * math.pi * 10.5**2 + 0.016 * 2 * math.pi * 10.0 * 12.0)
+    concrete = 6e3 * math.pi * (10.8**2 - 9.5**2) * 1.5
+    eq = res["equilibrium"]
+    assert eq["contact_resultant"] == pytest.approx(water + 500e3 + steel, rel=1e-7)
+    assert eq["reaction"] == pytest.approx(water + 500e3 + steel + concrete, rel=1e-7)
+    assert eq["applied_load"] == pytest.approx(water + 500e3 + steel + concrete, rel=1e-12)
 
 
 def test_ringwall_is_read_and_written_back(tmp_path):
