@@ -71,6 +71,8 @@ class DomainGeometry:
     #: a ringwall under the wall: (inner radius, outer radius, depth below the plate's
     #: underside); its outline is made of mesh lines, so that no cell straddles it
     ringwall: tuple[float, float, float] | None = None
+    #: whether the inside of the ringwall is a fill of its own (its bottom a mesh line too)
+    ringwall_fill: bool = False
 
 
 def build_model(g: DomainGeometry, gmsh, name: str = "tankfx", order: int = 1) -> None:
@@ -106,6 +108,8 @@ def build_model(g: DomainGeometry, gmsh, name: str = "tankfx", order: int = 1) -
     if g.ringwall is not None:
         inner, outer, depth = g.ringwall
         pieces.append((2, occ.addRectangle(inner, -D - depth, 0.0, outer - inner, depth)))
+        if g.ringwall_fill:
+            pieces.append((2, occ.addRectangle(0.0, -D - depth, 0.0, inner, depth)))
     for d in g.layer_depths:
         # across the soil only: inside the pit there is none
         x0 = a if d <= D else 0.0
@@ -197,8 +201,9 @@ def _on_ringwall(g: DomainGeometry, x0, x1, y0, y1, eps) -> bool:
     top, bottom = -g.embedment, -g.embedment - depth
     vertical = abs(x0 - x1) <= eps and (abs(x0 - inner) <= eps or abs(x0 - outer) <= eps) \
         and bottom - eps <= y0 and y1 <= top + eps
+    left = 0.0 if g.ringwall_fill else inner          # a fill's bottom too
     horizontal = abs(y0 - y1) <= eps and (abs(y0 - top) <= eps or abs(y0 - bottom) <= eps) \
-        and inner - eps <= x0 and x1 <= outer + eps
+        and left - eps <= x0 and x1 <= outer + eps
     return vertical or horizontal
 
 

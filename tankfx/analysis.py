@@ -127,26 +127,32 @@ class SoilBlock:
         #: per local cell, its stratum's constants (Soil.at_depth; layered ground and
         #: Duncan & Chang's soil, else None)
         self.cell_strata = None
-        #: which local cells are a ringwall's (none without one); the secant iteration
-        #: leaves them at their own modulus
+        #: which local cells are a ringwall's, and its fill's (none without); the secant
+        #: iteration leaves both (``linear_cells``) at their own modulus
+        ring = scene.ringwall
         self.ringwall_cells = np.zeros(len(domain.cell_midpoints), dtype=bool)
-        #: a ringwall's cells are a material of their own: the last "stratum" (linear, in
-        #: the displacement form), after the ground's
-        self.n_materials = len(strata) + (scene.ringwall is not None)
-        if s.layers or dc or scene.ringwall is not None:
+        self.fill_cells = self.ringwall_cells.copy()
+        #: a ringwall's cells (and its fill's) are materials of their own: the last
+        #: "strata" (linear, in the displacement form), after the ground's
+        self.n_materials = len(strata) + (ring is not None) + \
+            (ring is not None and ring.fill_E is not None)
+        if s.layers or dc or ring is not None:
             # per cell, its stratum's values (the layers' tops are lines of the mesh, so
             # no cell straddles two): E = E_top (1 + lambda (h - top)) within each; and a
             # Poisson's ratio per cell, which a failed Duncan-Chang cell changes
             depth = -domain.cell_midpoints[:, 1]
             self.stratum = s.stratum_of(depth).astype(np.int32)
             values = self.cell_strata = s.at_depth(depth)
-            if scene.ringwall is not None:
-                ring = self.ringwall_cells = scene.ringwall.holds(
-                    *domain.cell_midpoints.T, scene.embedment)
-                self.stratum[ring] = len(strata)
-                for key, value in (("E_top", scene.ringwall.E), ("E_gradient", 0.0),
-                                   ("top", 0.0), ("nu", scene.ringwall.nu)):
-                    values[key][ring] = value
+            if ring is not None:
+                self.ringwall_cells = ring.holds(*domain.cell_midpoints.T, scene.embedment)
+                self.fill_cells = ring.fill_holds(*domain.cell_midpoints.T, scene.embedment)
+                for k, (cells, E, nu) in enumerate(((self.ringwall_cells, ring.E, ring.nu),
+                                                    (self.fill_cells, ring.fill_E,
+                                                     ring.fill_nu))):
+                    self.stratum[cells] = len(strata) + k
+                    for key, value in (("E_top", E), ("E_gradient", 0.0), ("top", 0.0),
+                                       ("nu", nu)):
+                        values[key][cells] = value
             self.E_s, self.gradient, top, self.nu = (
                 _cell_field(msh, values[key], key) for key in ("E_top", "E_gradient", "top",
                                                                "nu"))
@@ -166,8 +172,8 @@ class SoilBlock:
                 from .hyperbolic import initial_modulus
 
                 initial = initial_modulus(s, depth, values)
-                if scene.ringwall is not None:     # the ringwall is no soil: its own E
-                    initial[self.ringwall_cells] = scene.ringwall.E
+                # a ringwall and its fill are no soil of this law: their own E
+                initial[self.linear_cells] = values["E_top"][self.linear_cells]
                 modulus = _cell_field(msh, initial, "secant_modulus")
             else:
                 Q0 = fem.functionspace(msh, ("DG", 0))
@@ -207,6 +213,12 @@ class SoilBlock:
             self.a += fem.Constant(msh, 0.0) * ufl.inner(self.trial, self.test) * self.dx_void
         self.bcs = self._supports()
         self.supported_facets = domain.facets("far_side", "bottom")
+
+    @property
+    def linear_cells(self) -> np.ndarray:
+        """The local cells a nonlinear soil's secant iteration leaves at their modulus: a
+        ringwall's and its fill's."""
+        return self.ringwall_cells | self.fill_cells
 
     def _cell_measures(self, n_strata: int) -> None:
         """The soil's ``dx`` and the void's ``dx_void``, and per stratum those of

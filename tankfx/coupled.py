@@ -164,8 +164,10 @@ class TankModel:
         if s.ringwall is not None:
             # (the structure's facets lie on the soil's boundary: those inside the ring's
             # outline are on its top)
-            on_ring = s.ringwall.holds(mid[:, 0], mid[:, 1], s.embedment)
-            E_soil = np.where(on_ring, s.ringwall.E, E_soil)
+            ring = s.ringwall
+            E_soil = np.where(ring.holds(mid[:, 0], mid[:, 1], s.embedment), ring.E, E_soil)
+            E_soil = np.where(ring.fill_holds(mid[:, 0], mid[:, 1], s.embedment),
+                              ring.fill_E or 0.0, E_soil)
         in_contact = (values == st.PLATE) | (values == st.WALL_EMBEDDED)
         default = interface.PENALTY_FACTOR * E_soil / h
         ifc = s.interface
@@ -287,10 +289,11 @@ class TankModel:
         ring, self.ringwall_weight = s.ringwall, None
         if ring is not None and ring.unit_weight and any(ld.self_weight
                                                            for ld in (s.load, *s.stages)):
-            # its weight in excess of the soil's, on its own cells (the last material)
+            # its weight in excess of the soil's, on its own cells (the material after the
+            # ground's strata)
             self.ringwall_weight = fem.Constant(self.domain.mesh, 0.0)
             soil_load += -self.ringwall_weight * self.soil.test[1] * 2.0 * math.pi * \
-                self.soil.r * self.soil.dx_strata([self.soil.n_materials - 1])
+                self.soil.r * self.soil.dx_strata([len(s.soil.strata)])
         w = 2.0 * math.pi * r_b
         dx_p = self.dx_b(st.PLATE)
         dx_w = self.dx_b((st.WALL, st.WALL_EMBEDDED))

@@ -281,8 +281,9 @@ class HyperbolicIteration:
         self.E_initial = 1.0 / self.a
         self.is_soil = np.zeros(n_cells, dtype=bool)
         self.is_soil[model.domain.cells("soil")] = True
-        # a ringwall's cells are concrete, not soil: they keep their modulus
-        self.is_soil[soil.ringwall_cells] = False
+        # a ringwall's cells (and its fill's) are no soil of this law: they keep their
+        # modulus
+        self.is_soil[soil.linear_cells] = False
         T = fem.functionspace(msh, ("DG", 0, (4,)))
         self.dof_T = T.dofmap.list[:, 0]
         self.strain = fem.Function(T)

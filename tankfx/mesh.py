@@ -130,6 +130,7 @@ def geometry_of(scene: Scene) -> DomainGeometry:
         else (),
         ringwall=None if scene.ringwall is None else (
             scene.ringwall.inner_radius, scene.ringwall.outer_radius, scene.ringwall.depth),
+        ringwall_fill=scene.ringwall is not None and scene.ringwall.fill_E is not None,
     )
 
 

@@ -81,14 +81,18 @@ def gather_grid(fields: dict[str, fem.Function], cells: np.ndarray | None = None
 
 
 def _ringwall_outline(scene) -> list[np.ndarray]:
-    """The ringwall's outline in the section, as one closed polyline (none without)."""
+    """The ringwall's outline in the section, as a closed polyline, and its fill's bottom
+    (none without)."""
     ring = scene.ringwall
     if ring is None:
         return []
     top, bottom = -scene.embedment, -scene.embedment - ring.depth
-    return [np.array([[ring.inner_radius, top], [ring.inner_radius, bottom],
-                      [ring.outer_radius, bottom], [ring.outer_radius, top],
-                      [ring.inner_radius, top]])]
+    lines = [np.array([[ring.inner_radius, top], [ring.inner_radius, bottom],
+                       [ring.outer_radius, bottom], [ring.outer_radius, top],
+                       [ring.inner_radius, top]])]
+    if ring.fill_E is not None:          # the fill's bottom
+        lines.append(np.array([[0.0, bottom], [ring.inner_radius, bottom]]))
+    return lines
 
 
 def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, extent: float,

@@ -153,7 +153,8 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
     ultimate 1/b, 1 at failure (converged, it equals deviator x b to the Eq. 18 tolerance);
     ``soil``: 1 on soil cells, 0 where the foundation took the soil's place; on layered
     ground ``stratum``: 0 in the surface soil, k in the k-th layer; with a ringwall
-    ``ringwall``: 1 in its cells (which the other fields cover too: its stresses, its E)."""
+    ``ringwall``: 1 in its cells, 2 in its fill's (which the other fields cover too: their
+    stresses, their E)."""
     from . import hyperbolic
     from . import soil as soil_forms
 
@@ -178,12 +179,13 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
                                                         eps[:, 3])
         # (Kondner's law is the soil's: nothing to say of a ringwall's concrete)
         level = hyperbolic.stress_level(eps_min, eps_max, nu, a, b)
-        values["stress_level"] = np.where(block.ringwall_cells, 0.0, level)
+        values["stress_level"] = np.where(block.linear_cells, 0.0, level)
     if s.layers:
         # which stratum each cell is in (0: the surface soil, k: the k-th layer)
         values["stratum"] = block.stratum.astype(float)
     if model.scene.ringwall is not None:
-        values["ringwall"] = block.ringwall_cells.astype(float)
+        # 1 in the ringwall, 2 in its fill
+        values["ringwall"] = block.ringwall_cells + 2.0 * block.fill_cells
     is_soil = np.zeros(len(Q0.dofmap.list))
     is_soil[model.domain.cells("soil")] = 1.0
     # the other cells (the foundation's excavation, the tank's inside) carry no soil

@@ -111,6 +111,9 @@ def ringwall_text(ring: Mapping[str, Any]) -> str:
     of :meth:`Scene.to_dict`)."""
     weight = (f", net unit weight {ring['unit_weight']:g} N/m^3" if ring.get("unit_weight")
               else "")
+    if ring.get("fill_E") is not None:
+        weight += (f"; a fill inside it, E = {ring['fill_E']:.4g} Pa, nu = "
+                   f"{ring.get('fill_nu', 0.3):g} (linear)")
     return (f"r = {ring['inner_radius']:g} to {ring['outer_radius']:g} m, {ring['depth']:g} m "
             f"deep, E = {ring['E']:.4g} Pa, nu = {ring.get('nu', 0.2):g} (linear){weight}")
 
@@ -284,7 +287,8 @@ class Ringwall:
     """A concrete ringwall under the wall: an annulus of another, linear elastic material
     in the ground, from the plate's underside down ``depth`` and from ``inner_radius`` to
     ``outer_radius`` (m), bonded to the soil around it; the plate rests on it and on the
-    soil (or fill) inside it, through the same interface."""
+    soil (or a compacted fill of its own, ``fill_E``) inside it, through the same
+    interface."""
 
     inner_radius: float
     outer_radius: float
@@ -294,6 +298,10 @@ class Ringwall:
     #: N/m^3, used only when load.self_weight is true: its weight in excess of the soil it
     #: replaces (the soil's own weight is the ground's initial state, not a load here)
     unit_weight: float = 0.0
+    #: Pa and -: a compacted fill inside the ring, from the plate's underside to the ring's
+    #: depth (linear elastic; None: the soil itself)
+    fill_E: float | None = None
+    fill_nu: float = 0.3
 
     @property
     def volume(self) -> float:
@@ -306,6 +314,14 @@ class Ringwall:
         r, z = np.asarray(r), np.asarray(z)
         top = -embedment
         return (r > self.inner_radius) & (r < self.outer_radius) & \
+            (z < top + 1e-9 * self.outer_radius) & (z > top - self.depth)
+
+    def fill_holds(self, r, z, embedment: float):
+        """Whether points (r, z) lie in the fill inside the ring or on its top (never
+        without a fill)."""
+        r, z = np.asarray(r), np.asarray(z)
+        top = -embedment
+        return (self.fill_E is not None) & (r < self.inner_radius) & \
             (z < top + 1e-9 * self.outer_radius) & (z > top - self.depth)
 
 
@@ -445,6 +461,8 @@ class Scene:
             out["soil"].pop("layers", None)
         if self.plate is not None and not self.plate.annular_width:
             out["plate"].pop("annular_width")
+        if self.ringwall is not None and self.ringwall.fill_E is None:
+            out["ringwall"].pop("fill_nu")          # no fill
         if self.wall is not None:
             if self.wall.courses:       # the courses replace the one thickness
                 del out["wall"]["thickness"]
@@ -561,7 +579,8 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
              "unit_weight": (float, False), "courses": (list, False)},
     "ringwall": {"inner_radius": (float, True), "outer_radius": (float, True),
                  "depth": (float, True), "E": (float, True), "nu": (float, False),
-                 "unit_weight": (float, False)},
+                 "unit_weight": (float, False), "fill_E": (float, False),
+                 "fill_nu": (float, False)},
     "interface": {"condition": (str, False), "cohesion": (float, False),
                   "tan_phi": (float, False), "friction_angle": (float, False),
                   "normal_stiffness": (float, False), "shear_stiffness": (float, False),
@@ -1028,14 +1047,20 @@ def _check_ringwall(rd: _Reader, ring: dict, plate: dict | None, wall: dict | No
                     domain: dict, a: float | None) -> None:
     """A ringwall lies under the wall, within the ground, of a material compressible
     enough for the displacement form."""
-    for key in ("outer_radius", "depth", "E"):
+    for key in ("outer_radius", "depth", "E", "fill_E"):
         rd.positive(ring, "ringwall", key)
     rd.positive(ring, "ringwall", "inner_radius", allow_zero=True)
     rd.positive(ring, "ringwall", "unit_weight", allow_zero=True)
-    nu = ring.get("nu")
-    if nu is not None and not -1.0 < nu <= MIXED_FROM_NU:
-        rd.bad(f"ringwall.nu = {nu!r}: must lie in (-1, {MIXED_FROM_NU}] (concrete's is "
-               f"about 0.2)")
+    for key, typical in (("nu", "concrete's is about 0.2"), ("fill_nu", "e.g. 0.3")):
+        nu = ring.get(key)
+        if nu is not None and not -1.0 < nu <= MIXED_FROM_NU:
+            rd.bad(f"ringwall.{key} = {nu!r}: must lie in (-1, {MIXED_FROM_NU}] ({typical})")
+    if "fill_nu" in ring and "fill_E" not in ring:
+        rd.bad("ringwall.fill_nu: a fill needs its modulus; add ringwall.fill_E (Pa) or "
+               "remove fill_nu")
+    if "fill_E" in ring and not ring.get("inner_radius", 1.0) > 0:
+        rd.bad("ringwall.fill_E: a ring from the axis (inner_radius = 0) has no inside to "
+               "fill; remove fill_E or give inner_radius > 0")
     if plate is None:
         rd.bad("[ringwall]: a ringwall carries a foundation plate and its wall; add a "
                "[plate] and a [wall]")
