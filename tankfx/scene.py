@@ -308,21 +308,24 @@ class Ringwall:
         """m^3."""
         return math.pi * (self.outer_radius**2 - self.inner_radius**2) * self.depth
 
+    def _band(self, r, z, embedment: float, r_min: float, r_max: float):
+        """Points (r, z) strictly between the radii, from the ring's top (included: the
+        plate's underside at -embedment) to its depth."""
+        r, z = np.asarray(r), np.asarray(z)
+        top = -embedment
+        return (r > r_min) & (r < r_max) & (z < top + 1e-9 * self.outer_radius) & \
+            (z > top - self.depth)
+
     def holds(self, r, z, embedment: float):
         """Whether points (r, z) (m; z up from the ground surface) lie inside the ringwall
         or on its top (the plate's underside at -embedment)."""
-        r, z = np.asarray(r), np.asarray(z)
-        top = -embedment
-        return (r > self.inner_radius) & (r < self.outer_radius) & \
-            (z < top + 1e-9 * self.outer_radius) & (z > top - self.depth)
+        return self._band(r, z, embedment, self.inner_radius, self.outer_radius)
 
     def fill_holds(self, r, z, embedment: float):
         """Whether points (r, z) lie in the fill inside the ring or on its top (never
         without a fill)."""
-        r, z = np.asarray(r), np.asarray(z)
-        top = -embedment
-        return (self.fill_E is not None) & (r < self.inner_radius) & \
-            (z < top + 1e-9 * self.outer_radius) & (z > top - self.depth)
+        return (self.fill_E is not None) & self._band(r, z, embedment, -np.inf,
+                                                      self.inner_radius)
 
 
 @dataclass(frozen=True)
