@@ -73,6 +73,11 @@ class DomainGeometry:
     ringwall: tuple[float, float, float] | None = None
     #: whether the inside of the ringwall is a fill of its own (its bottom a mesh line too)
     ringwall_fill: bool = False
+    #: a soil whose modulus grows steeply from the surface, E_s (1 + lambda h): element
+    #: sizes graded as (size at the surface, growth) x (1 / lambda + h), h the depth, out to
+    #: ``surface_grading_radius`` (None: no such grading)
+    surface_grading: tuple[float, float] | None = None
+    surface_grading_radius: float = 0.0
 
 
 def build_model(g: DomainGeometry, gmsh, name: str = "tankfx", order: int = 1) -> None:
@@ -238,6 +243,17 @@ def _size_field(g: DomainGeometry, gmsh, singular) -> None:
         n = fields.add("MathEval")
         fields.setString(n, "F", f"{g.near_size!r} + {g.growth!r}*max(0, F{d0}-{g.near_radius!r})")
         ids.append(n)
+    if g.surface_grading is not None:
+        # a modulus that doubles over 1/lambda near the surface: the strain is largest
+        # there and falls as 1 / (1/lambda + h), so the elements grow in proportion
+        inv_lam, rate = g.surface_grading
+        grading = fields.add("MathEval")
+        # (no finer than the foundation's edge: a modulus rising from almost nothing would
+        # otherwise ask for millions of elements)
+        fields.setString(grading, "F", f"max({g.edge_size!r}, {rate!r}*({inv_lam!r} + "
+                                       f"max(0, -y))) + "
+                                       f"1e3*max(0, x - {g.surface_grading_radius!r})")
+        ids.append(grading)
     if g.near_size is not None:
         # a stratum thinner than the near field's elements (a layer, or the soil above a
         # shallow rigid base) gets elements no larger than its thickness there, not

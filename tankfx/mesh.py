@@ -32,6 +32,12 @@ from .structure import wall_beta
 #: from the foundation centre.
 NEAR_RADIUS = 6.0
 
+#: A soil whose modulus doubles within a depth 1/lambda shorter than the near field's
+#: elements gets elements of SURFACE_GRADING x (1/lambda + h) at depth h, out to
+#: SURFACE_GRADING_RADIUS foundation radii (README "Mesh defaults").
+SURFACE_GRADING = 0.25
+SURFACE_GRADING_RADIUS = 2.0
+
 #: Element size at the wall foot, as a fraction of the bending decay length 1/beta.
 WALL_ELEMENTS_PER_DECAY = 0.25
 
@@ -112,6 +118,9 @@ def geometry_of(scene: Scene) -> DomainGeometry:
         table = wall.course_table
         joints = tuple((top, resolving(min(t, t_next)))
                        for (_, top, t), (*_, t_next) in zip(table[:-1], table[1:]))
+    lam, grading = scene.soil.E_gradient, None
+    if lam > 0 and SURFACE_GRADING / lam < scene.mesh.near_size:
+        grading = (1.0 / lam, SURFACE_GRADING)
     return DomainGeometry(
         load_radius=scene.foundation_radius,
         domain_radius=scene.domain.radius,
@@ -131,6 +140,8 @@ def geometry_of(scene: Scene) -> DomainGeometry:
         ringwall=None if scene.ringwall is None else (
             scene.ringwall.inner_radius, scene.ringwall.outer_radius, scene.ringwall.depth),
         ringwall_fill=scene.ringwall is not None and scene.ringwall.fill_E is not None,
+        surface_grading=grading,
+        surface_grading_radius=SURFACE_GRADING_RADIUS * scene.foundation_radius,
     )
 
 
