@@ -169,6 +169,8 @@ def describe(scene) -> list[str]:
     """What a scene resolves to and what an analysis of it builds and iterates, in lines."""
     from dataclasses import asdict
 
+    from .analysis import mesh_grading_warning
+    from .mesh import geometry_of
     from .scene import member_text, ringwall_text, stratum_constants
 
     s, a = scene.soil, scene.foundation_radius
@@ -208,6 +210,15 @@ def describe(scene) -> list[str]:
     out.append(f"  mesh: soil P{m.degree}, edge {m.edge_size:.4g} m ({m.edge_size / a:.3g} a), "
                f"near field {m.near_size:.4g} m, growth {m.growth:g}; domain {d.radius:g} x "
                f"{d.depth:g} m; solver {scene.solver.method}")
+    grading = geometry_of(scene).surface_grading
+    if grading is not None:
+        inv_lam, rate = grading
+        out.append(f"  mesh graded near the surface as {rate:g} (1/lambda + h), from "
+                   f"{max(rate * inv_lam, m.edge_size):.3g} m (the modulus doubles within "
+                   f"{inv_lam:.3g} m)")
+    warning = mesh_grading_warning(scene)
+    if warning:
+        out.append(f"  warning: {warning}")
     iterations = []
     if s.nonlinear:
         iterations.append(f"Picard on the secant modulus (tolerance {s.tolerance:g}, at most "
