@@ -1,5 +1,6 @@
 """Plate and wall elements: locking, accuracy against element count, the cost of ignoring the
-plate's face offset, and the coupled raft (Brown 1969) against mesh size and run time.
+plate's face offset, the coupled raft (Brown 1969) against mesh size and run time, and a
+wall of courses against the stepped-shell solution.
 
     python benchmarks/structure.py [--out results/benchmarks]
 """
@@ -85,6 +86,7 @@ def offset_cost(rows):
             out = []
             for offset in (True, False):
                 m = TankModel(sc, build_domain(sc), face_offset=offset)
+                m.begin_stage()          # (as an analysis does: its interface states)
                 DirectSolver(m.a, m.L, m.bcs, m.unknowns, entity_maps=m.entity_maps).solve()
                 out.append(m.foundation_results())
             ch = {k: out[1][k] / out[0][k] - 1 for k in ("w0", "wd", "M0")}
@@ -116,6 +118,41 @@ def brown_raft(rows):
             f"{e[1]:+8.2%} {e[2]:+8.2%}")
 
 
+def wall_of_courses(rows):
+    say("\n5. Wall of three courses (20, 12, 8 mm), clamped, full of water: the stepped-shell "
+        "solution (tankfx.reference)")
+    say(f"{'el./course':>10s} {'err M (of M0)':>14s} {'err w (of max)':>15s} {'time s':>7s}")
+    from tankfx.reference import stepped_wall_under_liquid
+
+    courses, R, g, nu = [(2.0, 0.020), (3.0, 0.012), (3.0, 0.008)], 10.0, 9810.0, 0.3
+    H = sum(h for h, _ in courses)
+    tops = np.cumsum([h for h, _ in courses])
+    zq = np.linspace(0.0, H, 161)
+    w_ref, M_ref = stepped_wall_under_liquid(R, courses, 200e9, nu, g, H, zq)
+    for n in (5, 10, 20, 40):
+        t0 = time.perf_counter()
+        z, base = [0.0], 0.0
+        s = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, n + 1))[1:]
+        for h, _ in courses:
+            z += list(base + h * s)
+            base += h
+        shell = StandaloneShell(
+            np.column_stack([np.full(len(z), R), z]), 200e9, nu,
+            lambda mid: np.array([t for _, t in courses])[np.searchsorted(tops, mid[:, 1])],
+            {lambda x: np.isclose(x[1], 0.0): {"u_r", "u_z", "beta"}},
+            lambda v, x: g * (H - x[1]) * v[0])
+        F = shell.resultants()
+        pts = np.column_stack([np.full(len(zq), R), zq])
+        M = evaluate_at(F["M_s"], pts)[:, 0]
+        w = evaluate_at(F["u"], pts)[:, 0]
+        dt = time.perf_counter() - t0
+        eM = np.max(np.abs(M - M_ref)) / np.max(np.abs(M_ref))
+        ew = np.max(np.abs(w - w_ref)) / np.max(np.abs(w_ref))
+        rows.append({"case": "wall of courses", "elements_per_course": n, "err_M": eM,
+                     "err_w": ew, "time_s": dt})
+        say(f"{n:10d} {eM:14.2e} {ew:15.2e} {dt:7.2f}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", default="results/benchmarks")
@@ -125,6 +162,7 @@ def main():
     wall_base(rows)
     offset_cost(rows)
     brown_raft(rows)
+    wall_of_courses(rows)
     if MPI.COMM_WORLD.rank == 0:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
