@@ -42,7 +42,8 @@ CONVENTIONS = {
     "sigma_zz": "vertical soil stress, positive in compression",
     "nondim": "Eqs. 21-23 of Zaman & Mahmood: w = p a w_bar / E_s, M = p a^2 M_bar, "
               "E_s = soil modulus at the ground surface, a = plate (or load) radius, "
-              "p = reference_pressure = load.pressure + liquid pressure on the plate floor",
+              "p = reference_pressure = load.pressure + liquid (and gas) pressure on the plate "
+              "floor",
     "M_r, M_theta, M_z": "bending moments per unit length, positive when the plate's "
                          "underside (the wall's outer face) is in tension: sagging plate "
                          "moment positive",
@@ -407,6 +408,11 @@ class FlexibleLoad:
     def reference_pressure(self) -> float:
         return self.scene.load.pressure
 
+    @property
+    def load_scale(self) -> float:
+        """The size of the vertical loads, N, for the relative equilibrium error."""
+        return abs(self.applied_load)
+
     def dofs(self) -> dict[str, int]:
         return self.soil.dofs()
 
@@ -620,7 +626,7 @@ def _results(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
         "profiles": {"surface": surface,
                      "axis": {"z": z_axis.tolist(), "sigma_zz": sz.tolist()}},
         "equilibrium": {"applied_load": applied, "reaction": reaction,
-                        "relative_error": abs(reaction - applied) / abs(applied)},
+                        "relative_error": abs(reaction - applied) / model.load_scale},
         "conventions": CONVENTIONS,
         "scene": scene.to_dict(),
     }

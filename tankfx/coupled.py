@@ -29,7 +29,7 @@ from .analysis import SoilBlock
 from .mesh import FACET_TAGS, Domain
 from .mohr_coulomb import InterfaceIteration
 from .post import allsum, assemble_scalar, evaluate_at
-from .scene import Scene, vertical_load
+from .scene import Scene, vertical_load, vertical_load_scale
 
 __all__ = ["TankModel", "POLLUTION_WARNING", "CONDITIONING_WARNING"]
 
@@ -300,7 +300,7 @@ class TankModel:
         # load values are Constants: a load path changes them without recompiling
         c = self.load_constants = {k: fem.Constant(self.mesh, 0.0) for k in (
             "pressure", "liquid_unit_weight", "liquid_height", "plate_weight", "wall_weight",
-            "roof_line_load")}
+            "roof_line_load", "gas_pressure")}
         self.set_loads(s.load)
         # self-weight: a unit weight times the cell's thickness (a ring, courses)
         th = self.thickness
@@ -312,14 +312,20 @@ class TankModel:
             height = x[1] + s.embedment          # above the wall base
             load += gl * ufl.max_value(hl - height, 0.0) * v_b[0] * w * dx_w  # outward
             load += -c["wall_weight"] * th * v_b[1] * w * dx_w
-        if s.wall is not None and any(ld.roof_weight for ld in (s.load, *s.stages)):
-            # the roof on the wall's top edge (a vertex of the structure mesh: its ds)
+            # a gas pressure: on the floor inside the wall and on the whole wall, outward
+            load += -c["gas_pressure"] * inside * v_b[1] * w * dx_p
+            load += c["gas_pressure"] * v_b[0] * w * dx_w
+        if s.wall is not None and any(ld.roof_weight or ld.gas_pressure
+                                      for ld in (s.load, *s.stages)):
+            # the roof on the wall's top edge (a vertex of the structure mesh: its ds): its
+            # weight down, the gas's push on it (p pi a_t^2) up
             top = dmesh.locate_entities_boundary(
                 self.mesh, 0, lambda x: np.isclose(x[1], s.wall.height - s.embedment)
                 & np.isclose(x[0], s.wall.radius))
             tags = dmesh.meshtags(self.mesh, 0, top, np.full(len(top), 1, dtype=np.int32))
             ds_top = ufl.Measure("ds", domain=self.mesh, subdomain_data=tags)(1)
-            load += -c["roof_line_load"] * v_b[1] * w * ds_top
+            load += -(c["roof_line_load"] - 0.5 * s.wall.radius * c["gas_pressure"]) * \
+                v_b[1] * w * ds_top
         if s.interface.condition == "mohr_coulomb":
             # the cohesion carried by slipping elements, c_s (dj . t), dj = v_soil - v_face
             load -= interface.interface_load(v_f, self.t_b, self.c_s, r_b, self.dx_interface)
@@ -355,15 +361,18 @@ class TankModel:
             if (load.self_weight and s.wall is not None) else 0.0
         c["roof_line_load"].value = load.roof_weight / (2 * math.pi * s.wall.radius) \
             if s.wall is not None else 0.0
+        c["gas_pressure"].value = load.gas_pressure if s.wall is not None else 0.0
         if self.ringwall_weight is not None:
             self.ringwall_weight.value = s.ringwall.unit_weight if load.self_weight else 0.0
 
     # ------------------------------------------------------------------ quantities
     @property
     def reference_pressure(self) -> float:
-        """p of Eq. 23: the uniform pressure on the plate, plus the liquid's on its floor."""
+        """p of Eq. 23: the uniform pressure on the plate, plus the liquid's and a gas's on
+        its floor."""
         ld = self.scene.load
-        return ld.pressure + ld.liquid_unit_weight * ld.liquid_height
+        gas = ld.gas_pressure if self.scene.wall is not None else 0.0
+        return ld.pressure + ld.liquid_unit_weight * ld.liquid_height + gas
 
     @property
     def applied_load(self) -> float:
@@ -371,6 +380,12 @@ class TankModel:
         and a ringwall's net weight."""
         s = self.scene
         return vertical_load(s.load, s.plate, s.wall, s.ringwall)
+
+    @property
+    def load_scale(self) -> float:
+        """The size of the vertical loads, N, for the relative equilibrium error."""
+        s = self.scene
+        return vertical_load_scale(s.load, s.plate, s.wall, s.ringwall)
 
     def dofs(self) -> dict[str, int]:
         im = self.W.dofmap.index_map
@@ -612,10 +627,11 @@ class TankModel:
         # what the interface carries: every load but a ringwall's weight, which its own
         # cells carry to the soil
         applied = vertical_load(s.load, s.plate, s.wall)
+        scale = vertical_load_scale(s.load, s.plate, s.wall)
         contact = self.contact_resultant()
         out = {"profiles": profiles,
                "equilibrium": {"contact_resultant": contact,
-                               "contact_relative_error": abs(contact - applied) / applied},
+                               "contact_relative_error": abs(contact - applied) / scale},
                "interface": self._interface_summary()}
         if s.wall is not None:
             out["junction"] = self._junction(F)

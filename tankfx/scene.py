@@ -354,6 +354,10 @@ class Load:
     #: N: the roof's weight and what it carries (snow, equipment), borne by the wall's top
     #: edge (a ring load of roof_weight / (2 pi a_t) N/m)
     roof_weight: float = 0.0
+    #: Pa: a gas (vapour) pressure in the closed tank, above the liquid: on the floor (down),
+    #: the wall (outward) and the roof, which carries it to the wall's top (up); no net
+    #: vertical load on the foundation. Negative: a vacuum
+    gas_pressure: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -516,7 +520,8 @@ def vertical_load(load: Load, plate: Plate | None, wall: Wall | None,
                   ringwall: "Ringwall | None" = None) -> float:
     """The load's resultant, N, downward positive: the pressure on the plate (or the loaded
     circle), the liquid on the floor, the roof's weight on the wall, and the structure's
-    (and a ringwall's net) weight when asked for."""
+    (and a ringwall's net) weight when asked for. A gas pressure adds nothing: it presses
+    the floor down as hard as it lifts the roof."""
     a = plate.radius if plate is not None else load.load_radius
     net = load.pressure * math.pi * a**2
     if wall is not None:
@@ -529,6 +534,14 @@ def vertical_load(load: Load, plate: Plate | None, wall: Wall | None,
         if ringwall is not None:
             net += ringwall.unit_weight * ringwall.volume
     return net
+
+
+def vertical_load_scale(load: Load, plate: Plate | None, wall: Wall | None,
+                        ringwall: "Ringwall | None" = None) -> float:
+    """The size of the vertical loads, N, for relative equilibrium errors: the resultant's,
+    and a gas pressure's force on the floor, which the roof's cancels in the resultant."""
+    gas = abs(load.gas_pressure) * math.pi * wall.radius**2 if wall is not None else 0.0
+    return abs(vertical_load(load, plate, wall, ringwall)) + gas
 
 
 def Kp_from_thickness(t: float, a: float, E: float, E_s: float, nu_s: float) -> float:
@@ -590,7 +603,8 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
                   "on_cycle": (str, False), "states": (str, False)},
     "load": {"pressure": (float, False), "load_radius": (float, False),
              "liquid_unit_weight": (float, False), "liquid_height": (float, False),
-             "self_weight": (bool, False), "roof_weight": (float, False)},
+             "self_weight": (bool, False), "roof_weight": (float, False),
+             "gas_pressure": (float, False)},
     "domain": {"radius": (float, False), "depth": (float, False)},
     "mesh": {"degree": (int, False), "edge_size": (float, False), "growth": (float, False),
              "near_size": (float, False)},
@@ -825,6 +839,9 @@ def _parse(data: dict[str, Any]) -> Scene:
         if load.get("roof_weight", 0.0) > 0 and "wall" not in data:
             rd.bad("load.roof_weight: a roof needs a [wall] to stand on; add a [wall] table or "
                    "give the roof's weight as a pressure on the plate")
+        if load.get("gas_pressure", 0.0) != 0 and "wall" not in data:
+            rd.bad("load.gas_pressure: a gas pressure needs a closed tank, a [wall] with its "
+                   "roof; add a [wall] table or give a pressure on the plate instead")
         if "plate" not in data:
             if "load_radius" not in load:
                 rd.bad("load.load_radius: missing; without a [plate] the load is a flexible "
@@ -852,9 +869,9 @@ def _parse(data: dict[str, Any]) -> Scene:
                    f"(>= 0); an upward pressure needs a [plate] to pull on")
         if load.get("pressure", 0.0) == 0.0 and load.get("liquid_height", 0.0) * \
                 load.get("liquid_unit_weight", 0.0) == 0.0 and not load.get("self_weight", False) \
-                and not load.get("roof_weight", 0.0):
+                and not load.get("roof_weight", 0.0) and not load.get("gas_pressure", 0.0):
             rd.bad("[load]: no load is applied; give load.pressure > 0 (Pa), a liquid, "
-                   "self_weight = true or a roof_weight")
+                   "self_weight = true, a roof_weight or a gas_pressure")
 
     mesh = secs["mesh"] or {}
     # a flexible load (no plate) defaults to P3 on a mesh twice as coarse: the soil alone
@@ -987,7 +1004,8 @@ def _parse(data: dict[str, Any]) -> Scene:
                    liquid_unit_weight=load.get("liquid_unit_weight", 0.0),
                    liquid_height=load.get("liquid_height", 0.0),
                    self_weight=load.get("self_weight", False),
-                   roof_weight=load.get("roof_weight", 0.0))
+                   roof_weight=load.get("roof_weight", 0.0),
+                   gas_pressure=load.get("gas_pressure", 0.0))
     D = plate_dc.embedment if plate_dc is not None else 0.0
     size = DEFAULT_DOMAIN_FACTOR * a
     domain_dc = DomainSize(radius=domain.get("radius", size), depth=domain.get("depth", size))

@@ -66,6 +66,8 @@ def test_courses_and_ring_are_read_resolved_and_written_back(tmp_path):
     (changed(load={"liquid_height": 12.5}), "load.liquid_height", "higher than wall.height"),
     (changed(load={"roof_weight": -1.0}), "load.roof_weight", ">= 0"),
     ({"soil": TANK["soil"], "plate": TANK["plate"] | {"annular_width": None},
+      "load": {"pressure": 1e4, "gas_pressure": 1e4}}, "load.gas_pressure", "closed tank"),
+    ({"soil": TANK["soil"], "plate": TANK["plate"] | {"annular_width": None},
       "load": {"roof_weight": 1e5}}, "load.roof_weight", "needs a [wall]"),
 ])
 def test_bad_courses_and_rings_are_refused_with_key_and_fix(data, key, fix):
@@ -132,3 +134,37 @@ def test_steel_tank_balances_its_weight_and_carries_the_water_by_hoop_tension():
         assert course["max_hoop_stress"] >= hoop[i]
         assert course["at"] < mid
     assert len(res["courses"]) == len(COURSES)
+
+
+def test_gas_pressure_loads_a_closed_tank_like_a_pressure_vessel():
+    """A gas pressure p in the closed tank (liquid below it) on a rigid foundation: in
+    mid-course the wall carries p R in hoop tension besides the liquid's, and the roof's
+    push, p R / 2, in axial tension (a closed cylinder's membrane state); the floor's push
+    and the roof's pull cancel: the soil carries the liquid alone."""
+    courses = COURSES[:3]
+    p = 20e3
+    scene = Scene.from_dict({
+        "soil": {"E": 1e11, "nu": 0.3},
+        "plate": {"radius": 10.0, "thickness": 1.0, "E": 200e9, "nu": 0.3},
+        "wall": {"radius": 10.0, "E": 200e9, "nu": 0.3,
+                 "courses": [{"height": h, "thickness": t} for h, t in courses]},
+        "load": {"liquid_unit_weight": GAMMA_W, "liquid_height": 5.0, "gas_pressure": p}})
+    res = analyse(scene.with_coarse_mesh()).results
+    R = 10.0
+    assert res["equilibrium"]["contact_resultant"] == pytest.approx(
+        GAMMA_W * 5.0 * math.pi * R**2, rel=1e-8)
+    assert res["reference_pressure"] == pytest.approx(GAMMA_W * 5.0 + p)
+    wall = res["profiles"]["wall"]
+    z = np.array(wall["z"])
+    # (in mid-course, and in the third 1.6 m above the liquid: its surface's kink in the
+    # load bends the wall within a few decay lengths)
+    for t, mid in ((0.013, 3.6), (0.010, 6.6)):
+        i = int(np.argmin(np.abs(z - mid)))
+        hoop = (GAMMA_W * max(5.0 - z[i], 0.0) + p) * R / t
+        assert wall["hoop_stress"][i] == pytest.approx(hoop, rel=2e-3)
+        assert wall["N_z"][i] == pytest.approx(p * R / 2, rel=2e-3)
+    # the gas alone: nothing net on the soil, the equilibrium judged on the floor's force
+    gas = analyse(scene.with_changes(load={"liquid_height": 0.0, "liquid_unit_weight": 0.0})
+                  .with_coarse_mesh()).results
+    assert gas["equilibrium"]["relative_error"] < 1e-8
+    assert abs(gas["equilibrium"]["contact_resultant"]) < 1e-8 * p * math.pi * R**2
