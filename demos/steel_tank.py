@@ -83,8 +83,8 @@ for k, c in enumerate(r["courses"], start=1):
 j = r["junction"]
 t1 = courses[0][2]
 t_ring = scene.plate.thickness_at(scene.wall.radius)
-sigma_shell = 6 * abs(j["M_wall"]) / t1**2 / 1e6
-sigma_floor = 6 * abs(j["M_plate"]) / t_ring**2 / 1e6
+sigma_shell = j["wall_bending_stress"] / 1e6        # 6 M / t^2
+sigma_floor = j["plate_bending_stress"] / 1e6
 say(f"\nat the shell's foot: shell moment {j['M_wall'] / 1e3:.2f} kN m/m (bending stress "
     f"6 M / t^2 = {sigma_shell:.0f} MPa in the {1e3 * t1:g} mm course), annular plate "
     f"{j['M_plate'] / 1e3:.2f} kN m/m ({sigma_floor:.0f} MPa in {1e3 * t_ring:g} mm)")
@@ -100,7 +100,7 @@ say(f"\nat the shell's foot: shell moment {j['M_wall'] / 1e3:.2f} kN m/m (bendin
 plain = scene.with_changes(plate={"annular_width": None, "annular_thickness": None})
 rp = analyse(plain, comm).results
 jp = rp["junction"]
-sigma_plain = 6 * abs(jp["M_plate"]) / scene.plate.thickness**2 / 1e6
+sigma_plain = jp["plate_bending_stress"] / 1e6
 say(f"without it: floor moment at the shell {jp['M_plate'] / 1e3:.2f} kN m/m, bending "
     f"stress {sigma_plain:.0f} MPa in {1e3 * scene.plate.thickness:g} mm (with it: "
     f"{sigma_floor:.0f} MPa); shell's foot {jp['M_wall'] / 1e3:.2f} kN m/m")
@@ -119,7 +119,7 @@ say(f"\n{'':22s} {'shell mm':>9s} {'dish mm':>8s} {'shell foot kN m/m':>18s} "
 for label, res in (("on the sand pad", r), ("on a ringwall", rr)):
     ss, jj = res["settlement_summary"], res["junction"]
     say(f"{label:22s} {1e3 * ss['shell_settlement']:9.1f} {1e3 * ss['dish']:8.1f} "
-        f"{jj['M_wall'] / 1e3:18.2f} {6 * abs(jj['M_plate']) / t_ring**2 / 1e6:19.0f}")
+        f"{jj['M_wall'] / 1e3:18.2f} {jj['plate_bending_stress'] / 1e6:19.0f}")
 
 # ## Figures and results
 # The wall's hoop stress against height, with the membrane stress gamma (H - z) R / t of

@@ -742,5 +742,9 @@ class TankModel:
         M_in, Mc_in = about_corner(inner, e_in)
         M_out, Mc_out = about_corner(outer, e_out)
         M_w, Mc_w = about_corner(self.wall_cells, e_w)
+        # the surface bending stresses 6 M / t^2 at the joint (Pa; what a steel tank's
+        # corner is checked for), in the wall's bottom course and the plate inside it
         return {"M_plate": M_in, "M_plate_outside": M_out, "M_wall": M_w,
-                "M_plate_about_corner": Mc_in - Mc_out, "M_wall_about_corner": Mc_w}
+                "M_plate_about_corner": Mc_in - Mc_out, "M_wall_about_corner": Mc_w,
+                "wall_bending_stress": 6.0 * abs(M_w) / (2 * e_w) ** 2,
+                "plate_bending_stress": 6.0 * abs(M_in) / (2 * e_in) ** 2}

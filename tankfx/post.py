@@ -311,8 +311,10 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
         rows.append(("centre moment M0", f"{r['M0'] / 1e3:.2f} kN m/m", bar("M0", 5)))
     if "junction" in r:
         j = r["junction"]
-        rows += [("plate moment at the joint", f"{j['M_plate'] / 1e3:.2f} kN m/m", ""),
-                 ("wall base moment", f"{j['M_wall'] / 1e3:.2f} kN m/m", "")]
+        rows += [("plate moment at the joint", f"{j['M_plate'] / 1e3:.2f} kN m/m",
+                  f"6 M / t^2 = {j['plate_bending_stress'] / 1e6:.1f} MPa"),
+                 ("wall base moment", f"{j['M_wall'] / 1e3:.2f} kN m/m",
+                  f"6 M / t^2 = {j['wall_bending_stress'] / 1e6:.1f} MPa")]
     wall = r["profiles"].get("wall")
     if wall:
         rows.append(("largest wall hoop force", f"{max(wall['N_theta']) / 1e3:.1f} kN/m", ""))

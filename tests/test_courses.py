@@ -134,6 +134,10 @@ def test_steel_tank_balances_its_weight_and_carries_the_water_by_hoop_tension():
         assert course["max_hoop_stress"] >= hoop[i]
         assert course["at"] < mid
     assert len(res["courses"]) == len(COURSES)
+    # the joint's bending stresses: in the bottom course and in the annular ring
+    j = res["junction"]
+    assert j["wall_bending_stress"] == pytest.approx(6 * abs(j["M_wall"]) / 0.016**2)
+    assert j["plate_bending_stress"] == pytest.approx(6 * abs(j["M_plate"]) / 0.012**2)
 
 
 def test_gas_pressure_loads_a_closed_tank_like_a_pressure_vessel():
