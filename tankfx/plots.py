@@ -98,21 +98,25 @@ def _ringwall_outline(scene) -> list[np.ndarray]:
 def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, extent: float,
                  depth_offset: float = 0.0, label: str = "sigma_zz [kPa]",
                  scalar_scale: float = 1e-3, title: str = "", soil_cells=None,
-                 structure: dict | None = None, layer_depths=(), outlines=()) -> Path | None:
+                 structure: dict | None = None, layer_depths=(), outlines=(),
+                 r_min: float = 0.0) -> Path | None:
     """The (r, z) section within ``extent`` of the foundation centre, deformed (the scale is
     printed on the figure) and coloured by ``scalar``; ``structure`` (a gathered
     results dict) adds the plate and wall as thick lines, ``layer_depths`` the soil layers'
     tops and ``outlines`` other lines in the soil (polylines of (r, z) vertices, e.g. a
-    ringwall's) as white lines, deformed with the soil. Returns the PNG path on rank 0."""
+    ringwall's) as white lines, deformed with the soil; ``r_min`` > 0 shows the window
+    r_min <= r <= extent, as deep as it is wide, instead (e.g. around a wall's foot).
+    Returns the PNG path on rank 0."""
     grid = gather_grid({"u": u, "s": scalar}, soil_cells)
     if grid is None:
         return None
     pv = _pyvista()
-    near = grid.clip_box([0.0, extent, -depth_offset - extent, 1e9, -1.0, 1.0], invert=False)
+    near = grid.clip_box([r_min, extent, -depth_offset - (extent - r_min), 1e9, -1.0, 1.0],
+                         invert=False)
     disp = np.zeros((near.n_points, 3))
     disp[:, :2] = near.point_data["u"]
     umax = float(np.abs(disp).max()) or 1.0
-    scale = 0.1 * extent / umax
+    scale = 0.1 * (extent - r_min) / umax
     members = []
     if structure is not None and "plate" in structure["profiles"]:
         # (undeformed points, displacements) of the plate and the wall
@@ -126,7 +130,7 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
                                              z0 + np.asarray(wa["z"])]),
                             np.column_stack([wa["u_r"], wa["u_z"]])))
     tops = []
-    polylines = [np.array([[0.0, -d], [extent, -d]]) for d in layer_depths] + \
+    polylines = [np.array([[r_min, -d], [extent, -d]]) for d in layer_depths] + \
         [np.asarray(o, dtype=float) for o in outlines]
     for vertices in polylines:
         # sampled from the undeformed section: the soil's displacement along the line
@@ -149,8 +153,15 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
                line_width=0.3, clim=clim, above_color="yellow",
                scalar_bar_args={"title": label, "vertical": True})
     for line in members:
-        # the plate and wall, displaced with the same scale
-        pts = np.column_stack([line[0] + scale * line[1], np.zeros(len(line[0]))])
+        # the plate and wall, displaced with the same scale (within a window: its part)
+        x, d = line
+        if r_min > 0.0:
+            z0, half = -depth_offset, extent - r_min
+            keep = (x[:, 0] >= r_min) & (x[:, 0] <= extent) & (x[:, 1] <= z0 + half)
+            x, d = x[keep], d[keep]
+            if len(x) < 2:
+                continue
+        pts = np.column_stack([x + scale * d, np.zeros(len(x))])
         p.add_mesh(pv.lines_from_points(pts), color="black", line_width=6)
     for pts in tops:
         p.add_mesh(pv.lines_from_points(pts), color="white", line_width=3)
@@ -503,6 +514,15 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
                "outlines": _ringwall_outline(scene)}
     figures = [(plot_section, (solution.u, solution.sigma_zz, directory / "section.png"),
                 section)]
+    ring = scene.ringwall
+    if ring is not None:
+        # the ringwall is small beside the tank: a window around it too
+        half = max(2.0 * (ring.outer_radius - ring.inner_radius), 1.5 * ring.depth)
+        centre = 0.5 * (ring.inner_radius + ring.outer_radius)
+        figures.append((plot_section, (solution.u, solution.sigma_zz,
+                                       directory / "ringwall_section.png"),
+                        {**section, "r_min": max(centre - half, 0.0), "extent": centre + half,
+                         "title": f"{title}: the ringwall"}))
     if scene.soil.nonlinear:
         level = soil_cell_fields(solution.model)["stress_level"]
         figures.append((plot_section, (solution.u, level, directory / "stress_level.png"),
