@@ -25,7 +25,8 @@ from mpi4py import MPI
 
 from tankfx import analyse, load_scene
 from tankfx.cli import write_json
-from tankfx.plots import plot_curves, plot_structure_profiles
+from tankfx.plots import (plot_curves, plot_section, plot_structure_profiles,
+                          ringwall_outline)
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)
@@ -113,7 +114,8 @@ say(f"without it: floor moment at the shell {jp['M_plate'] / 1e3:.2f} kN m/m, be
 
 ringwall = scene.with_changes(ringwall={"inner_radius": 14.7, "outer_radius": 15.3,
                                         "depth": 1.2, "E": 30e9})
-rr = analyse(ringwall, comm).results
+on_ring = analyse(ringwall, comm)
+rr = on_ring.results
 say(f"\n{'':22s} {'shell mm':>9s} {'dish mm':>8s} {'shell foot kN m/m':>18s} "
     f"{'floor at shell MPa':>19s}")
 for label, res in (("on the sand pad", r), ("on a ringwall", rr)):
@@ -123,7 +125,8 @@ for label, res in (("on the sand pad", r), ("on a ringwall", rr)):
 
 # ## Figures and results
 # The wall's hoop stress against height, with the membrane stress gamma (H - z) R / t of
-# each course and the design stress, and its moment; then tankfx's standard profiles.
+# each course and the design stress, and its moment; tankfx's standard profiles; and the
+# section around the ringwall.
 
 wall = r["profiles"]["wall"]
 z = np.asarray(wall["z"])
@@ -134,7 +137,12 @@ figs = [plot_curves(z, {"hoop stress [MPa]": {
                         "design stress S_d": [S_d]},
                         "wall moment M_z [kN m/m]": {"M_z": np.asarray(wall["M_z"]) / 1e3}},
                     out / "wall.png", "height above the shell's foot z [m]", title=scene.title),
-        plot_structure_profiles(r, out / "profiles.png", title=scene.title)]
+        plot_structure_profiles(r, out / "profiles.png", title=scene.title),
+        # the ringwall in its window: the vertical stress it gathers under the shell
+        plot_section(on_ring.u, on_ring.sigma_zz, out / "ringwall.png", r_min=12.0,
+                     extent=18.0, depth_offset=0.0, soil_cells=on_ring.domain.cells("soil"),
+                     structure=rr, outlines=ringwall_outline(ringwall),
+                     title=f"{scene.title} on a ringwall")]
 if comm.rank == 0:
     write_json(out / "results.json", r)
 say(f"figures: {', '.join(str(f) for f in figs if f is not None)}; results: "

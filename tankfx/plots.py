@@ -14,7 +14,7 @@ from dolfinx import fem, plot
 
 __all__ = ["gather_grid", "plot_section", "plot_surface_settlement", "plot_moment_diagrams",
            "plot_structure_profiles", "plot_contact", "plot_cutaway", "plot_sweep",
-           "FIGURES", "write_figures"]
+           "FIGURES", "write_figures", "ringwall_outline"]
 
 #: The figures ``write_figures`` may write (which ones depends on the scene).
 FIGURES = ("section.png", "stress_level.png", "settlement.png", "moments.png", "profiles.png",
@@ -80,7 +80,7 @@ def gather_grid(fields: dict[str, fem.Function], cells: np.ndarray | None = None
     return grids[0].merge(grids[1:]) if len(grids) > 1 else grids[0]
 
 
-def _ringwall_outline(scene) -> list[np.ndarray]:
+def ringwall_outline(scene) -> list[np.ndarray]:
     """The ringwall's outline in the section, as a closed polyline, and its fill's bottom
     (none without)."""
     ring = scene.ringwall
@@ -511,7 +511,7 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
                "depth_offset": scene.embedment, "title": title,
                "soil_cells": solution.domain.cells("soil"), "structure": r,
                "layer_depths": [layer.depth for layer in scene.soil.layers],
-               "outlines": _ringwall_outline(scene)}
+               "outlines": ringwall_outline(scene)}
     figures = [(plot_section, (solution.u, solution.sigma_zz, directory / "section.png"),
                 section)]
     ring = scene.ringwall
