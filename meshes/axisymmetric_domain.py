@@ -212,6 +212,15 @@ def _on_ringwall(g: DomainGeometry, x0, x1, y0, y1, eps) -> bool:
     return vertical or horizontal
 
 
+def _distance_from(gmsh, x: float, y: float) -> int:
+    """A size field of the distance from the point (x, y) (not part of the geometry)."""
+    at = gmsh.model.occ.addPoint(x, y, 0.0)
+    gmsh.model.occ.synchronize()
+    d = gmsh.model.mesh.field.add("Distance")
+    gmsh.model.mesh.field.setNumbers(d, "PointsList", [at])
+    return d
+
+
 def _size_field(g: DomainGeometry, gmsh, singular) -> None:
     """size = edge_size + growth * (distance to the nearest singular point)."""
     fields = gmsh.model.mesh.field
@@ -227,19 +236,13 @@ def _size_field(g: DomainGeometry, gmsh, singular) -> None:
         # resolution, growing slowly: from the wall's foot and from each course joint,
         # where the thickness steps
         for h, size in ((0.0, g.wall_size), *g.wall_joints):
-            at = gmsh.model.occ.addPoint(g.wall_radius, -g.embedment + h, 0.0)
-            gmsh.model.occ.synchronize()
-            d = fields.add("Distance")
-            fields.setNumbers(d, "PointsList", [at])
+            d = _distance_from(gmsh, g.wall_radius, -g.embedment + h)
             w = fields.add("MathEval")
             fields.setString(w, "F", f"{size!r} + {min(g.growth, 0.1)!r}*F{d}")
             ids.append(w)
     if g.near_size is not None:
         # the near field, where soil stresses are reported, gets a uniform cap
-        o = gmsh.model.occ.addPoint(0.0, -g.embedment, 0.0)
-        gmsh.model.occ.synchronize()
-        d0 = fields.add("Distance")
-        fields.setNumbers(d0, "PointsList", [o])
+        d0 = _distance_from(gmsh, 0.0, -g.embedment)
         n = fields.add("MathEval")
         fields.setString(n, "F", f"{g.near_size!r} + {g.growth!r}*max(0, F{d0}-{g.near_radius!r})")
         ids.append(n)

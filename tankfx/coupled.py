@@ -93,7 +93,9 @@ class TankModel:
         self.nu = cellwise(pl.nu, wall_or("nu"), "nu")
         # thickness by position: an annular ring, a wall's courses (the mesh has vertices
         # where it steps)
-        mid = dmesh.compute_midpoints(sub, 1, np.arange(n_sub, dtype=np.int32))
+        #: (r, z) of every local structure cell's midpoint, in cell order
+        self.cell_midpoints = mid = dmesh.compute_midpoints(
+            sub, 1, np.arange(n_sub, dtype=np.int32))[:, :2]
         t_plate = pl.thickness_at(mid[self.plate_cells, 0])
         t_wall = wa.thickness_at(mid[self.wall_cells, 1] + scene.embedment) \
             if wa is not None else 0.0
@@ -156,7 +158,7 @@ class TankModel:
         coefficients (k_n, k_s, mu, c_s of :mod:`tankfx.interface`) of their current state."""
         s, sub = self.scene, self.mesh
         cells = np.arange(len(values), dtype=np.int32)
-        mid = dmesh.compute_midpoints(sub, 1, cells)
+        mid = self.cell_midpoints
         h = sub.h(1, cells)
         # the soil's modulus at the facet (on a layer's top: that layer's, the soil below;
         # on a ringwall's top: the ringwall's)
@@ -644,7 +646,7 @@ class TankModel:
         largest hoop stress N_theta / t (Pa; tension positive: what a tank code checks
         against its allowable stress) and where, and the largest |M_z| (N m/m) and where."""
         s = self.scene
-        height = dmesh.compute_midpoints(self.mesh, 1, self.wall_cells)[:, 1] + s.embedment
+        height = self.cell_midpoints[self.wall_cells, 1] + s.embedment
         out = []
         for bottom, top, t in s.wall.course_table:
             cells = self.wall_cells[(height > bottom) & (height < top)]
@@ -725,7 +727,7 @@ class TankModel:
         sum over plate sides of +-(M_r - N_r t_p / 2) = M_z - N_z t_t / 2."""
         s = self.scene
         corner = np.array([[s.wall.radius, -s.embedment]])
-        mids = dmesh.compute_midpoints(self.mesh, 1, self.plate_cells)[:, 0]
+        mids = self.cell_midpoints[self.plate_cells, 0]
         inner = self.plate_cells[mids < s.wall.radius]
         outer = self.plate_cells[mids > s.wall.radius]
         # the plate's thickness on each side of the wall (an annular ring's, if it has one)

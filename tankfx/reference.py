@@ -219,16 +219,26 @@ def layered_surface_settlement(p, a, r, layers, base=None, panels_per_period=2,
     layer's material is Boussinesq's (:func:`flexible_surface_settlement`); the rest decays
     like exp(-2 k h_1) and is integrated by Gauss-Legendre panels, graded near k = 0 (the
     deep layers' scale) and a few per period of the Bessel functions' oscillation."""
-    r = np.atleast_1d(np.asarray(r, dtype=float))
     _, E1, nu1 = layers[0] if layers else (None, *base)
+    if not layers:
+        return flexible_surface_settlement(p, a, E1, nu1, np.atleast_1d(r).astype(float))
+    depth = sum(h for h, _, _ in layers)
+    return _hankel_settlement(p, a, r, E1, nu1,
+                              lambda k: layered_surface_compliance(k, layers, base),
+                              k_min=1e-4 / max(depth, a), k_max=40.0 / layers[0][0],
+                              graded=400, panels_per_period=panels_per_period, points=points)
+
+
+def _hankel_settlement(p, a, r, E1, nu1, compliance, k_min, k_max, graded,
+                       panels_per_period, points) -> np.ndarray:
+    """w(r) = p a int_0^inf J1(k a) J0(k r) W(k) dk with W = ``compliance(k)``: Boussinesq's
+    part for (E1, nu1) in closed form, the rest by Gauss-Legendre panels to k_max, ``graded``
+    of them geometric from k_min and ``panels_per_period`` per period of the Bessel
+    functions' oscillation."""
+    r = np.atleast_1d(np.asarray(r, dtype=float))
     G1 = E1 / (2.0 * (1.0 + nu1))
     w = flexible_surface_settlement(p, a, E1, nu1, r)
-    if not layers:
-        return w
-    h1 = layers[0][0]
-    depth = sum(h for h, _, _ in layers)
-    k_max = 40.0 / h1
-    breaks = [np.geomspace(1e-4 / max(depth, a), k_max, 400)]
+    breaks = [np.geomspace(k_min, k_max, graded)]
     for rr in r:
         period = 2.0 * np.pi / (a + rr)
         breaks.append(np.arange(0.0, k_max, period / panels_per_period))
@@ -237,7 +247,7 @@ def layered_surface_settlement(p, a, r, layers, base=None, panels_per_period=2,
     lo, hi = breaks[:-1, None], breaks[1:, None]
     k = (0.5 * (hi - lo) * xg + 0.5 * (hi + lo)).ravel()
     wk = (0.5 * (hi - lo) * wg).ravel()
-    rest = layered_surface_compliance(k, layers, base) - (1.0 - nu1) / (G1 * k)
+    rest = compliance(k) - (1.0 - nu1) / (G1 * k)
     j1 = bessel_j(1, k * a)
     for i, rr in enumerate(r):
         j0 = bessel_j(0, k * rr) if rr > 0 else 1.0
@@ -510,22 +520,10 @@ def gradient_surface_settlement(p, a, r, E_s, lam, nu, steps=200, k_max=None,
     subtracted and integrated by Gauss-Legendre panels to k_max (400 / a + 16 lam: the
     rest decays like 1 / k up to k ~ lam and like lam / k^2 beyond; measured at lam a =
     1e3: w0 2e-4 below its value at four times that k_max, 2.1 % at 400 / a alone)."""
-    r = np.atleast_1d(np.asarray(r, dtype=float))
     # the rest decays like 1 / k up to k ~ lam (the soil below 1 / k is stiffer than E_s),
     # like lam / k^2 beyond
     k_max = 400.0 / a + 16.0 * lam if k_max is None else k_max
-    breaks = [np.geomspace(1e-4 / a, k_max, 300)]
-    for rr in r:
-        breaks.append(np.arange(0.0, k_max, np.pi / (a + rr)))
-    breaks = np.unique(np.concatenate([[0.0], *breaks]))
-    xg, wg = np.polynomial.legendre.leggauss(points)
-    lo, hi = breaks[:-1, None], breaks[1:, None]
-    k = (0.5 * (hi - lo) * xg + 0.5 * (hi + lo)).ravel()
-    wk = (0.5 * (hi - lo) * wg).ravel()
-    rest = gradient_surface_compliance(k, E_s, lam, nu, steps) - 2.0 * (1.0 - nu**2) / (E_s * k)
-    w = flexible_surface_settlement(p, a, E_s, nu, r)
-    j1 = bessel_j(1, k * a)
-    for i, rr in enumerate(r):
-        j0 = bessel_j(0, k * rr) if rr > 0 else 1.0
-        w[i] += p * a * np.sum(wk * j1 * j0 * rest)
-    return w
+    return _hankel_settlement(p, a, r, E_s, nu,
+                              lambda k: gradient_surface_compliance(k, E_s, lam, nu, steps),
+                              k_min=1e-4 / a, k_max=k_max, graded=300, panels_per_period=2,
+                              points=points)
