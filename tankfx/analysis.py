@@ -525,6 +525,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     log.info("dofs: %s (soil P%d); assembling and solving with MUMPS",
              ", ".join(f"{k} {v}" for k, v in dofs.items()), scene.mesh.degree)
     solutions = []
+    rocking = None          # the first harmonic, built by the first stage that overturns
     for k, load in enumerate(stages):
         stage_scene = replace(scene, load=load)
         if k > 0:
@@ -569,11 +570,37 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             "numpy_blas_threads": limit_blas_threads()}
         if scene.solver.method == "iterative":
             results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
+        if load.overturning:
+            rocking = _overturning(model, rocking, load, results, log)
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,
                                   sigma_zz=sigma_zz, results=results, model=model))
     if len(solutions) > 1:
         solutions[-1].results["stages"] = [_stage_summary(s.results) for s in solutions]
     return solutions
+
+
+def _overturning(model, rocking, load, results: dict, log):
+    """Solve the first harmonic of an overturning load about the stage's converged state
+    and add its results (``results["overturning"]``, the planar tilt, warnings); returns the
+    harmonic model for the next stage."""
+    from .rocking import RockingModel, superpose
+
+    t = time.perf_counter()
+    if rocking is None:
+        rocking = RockingModel(model)
+    amplitudes = rocking.solve(load.overturning_moment, load.base_shear, log=log.info)
+    out, warnings = superpose(results, amplitudes, model.scene)
+    out["relative_residual"] = rocking.relative_residual
+    results["overturning"] = out
+    summary = results["settlement_summary"]
+    summary["planar_tilt"] = out["tilt"]
+    summary["note"] = ("planar tilt from the overturning load (first harmonic); the "
+                       "axisymmetric settlements are those without it")
+    for w in warnings:
+        log.warning("warning: %s", w)
+    results["warnings"] = results["warnings"] + warnings
+    results["timings_s"]["overturning"] = time.perf_counter() - t
+    return rocking
 
 
 def _stage_summary(r: dict) -> dict:

@@ -5,7 +5,8 @@ under a uniform pressure p on a circle of radius a (Boussinesq's flexible load; 
 Davis, "Elastic solutions for soil and rock mechanics", 1974, Table 3.1 and Eq. 3.1), and
 the rigid limit of a free plate on it (:func:`rigid_plate_centre_moment`); and for
 layered ground, the flexible load's surface settlement by Hankel transform
-(:func:`layered_surface_settlement`: Burmister's layered system, evaluated to round-off).
+(:func:`layered_surface_settlement`: Burmister's layered system, evaluated to round-off);
+and for overturning, the first harmonic of Boussinesq's problem and the rocking rigid disc.
 """
 from __future__ import annotations
 
@@ -20,7 +21,8 @@ __all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settl
            "rigid_plate_centre_moment", "bessel_j", "layered_surface_compliance",
            "layered_surface_settlement", "one_dimensional_settlement",
            "stepped_wall_under_liquid", "stepped_plate", "gradient_surface_compliance",
-           "gradient_surface_settlement"]
+           "gradient_surface_settlement", "antisymmetric_surface_settlement",
+           "rigid_disc_rocking_stiffness", "rigid_disc_rocking_pressure"]
 
 
 def flexible_centre_settlement(p, a, E, nu):
@@ -113,6 +115,51 @@ def rigid_plate_centre_moment(q, a, nu_plate):
     (0.07736 q a^2 at nu = 0.3; Brown's (1969) free raft at Kp = 10 has 0.0747)."""
     return q * a**2 * ((3.0 + nu_plate) / 16.0 - (1.0 - nu_plate) / 24.0
                        - (1.0 + nu_plate) * (1.0 - math.log(2.0)) / 4.0)
+
+
+# --------------------------------------------------------------------------- overturning
+def antisymmetric_surface_settlement(q, a, E, nu, r):
+    """Settlement amplitude w_1(r) (w = w_1 cos theta, downward) of an elastic half-space's
+    smooth surface under the pressure q (r / a) cos theta on the circle r <= a (the first
+    harmonic of Boussinesq's problem).
+
+    Boussinesq's kernel is 2 (1 - nu^2) / (E k) in Hankel space; with the load's order-1
+    transform q a J_2(k a) / k, w_1(r) = 2 (1 - nu^2) q a / E int_0^inf J_2(k a) J_1(k r) / k
+    dk, a Weber-Schafheitlin integral (Watson 1944, 13.4):
+
+        r <= a:  w_1 = (1 - nu^2) q r / E  2F1(3/2, -1/2; 2; r^2 / a^2)
+        r >= a:  w_1 = (1 - nu^2) q a^3 / (4 E r^2)  2F1(3/2, 1/2; 3; a^2 / r^2)
+
+    (both 4 (1 - nu^2) q a / (3 pi E) at the edge). The hypergeometric functions are
+    evaluated from Euler's integrals, which the substitution t = cos^2 phi (inside), t =
+    sin^2 phi (outside) makes smooth: Gauss-Legendre to round-off."""
+    x, wts = np.polynomial.legendre.leggauss(64)
+    phi, wts = 0.25 * math.pi * (x + 1.0), 0.25 * math.pi * wts
+    c2, s2 = np.cos(phi) ** 2, np.sin(phi) ** 2
+    r = np.atleast_1d(np.asarray(r, dtype=float))
+    out = np.empty_like(r)
+    for i, ri in enumerate(r):
+        if ri <= a:
+            f = 4.0 / math.pi * np.sum(wts * c2 * np.sqrt(1.0 - (ri / a) ** 2 * c2))
+            out[i] = (1.0 - nu**2) * q * ri / E * f
+        else:
+            f = 16.0 / (3.0 * math.pi) * np.sum(wts * c2**2 * (1.0 - (a / ri) ** 2 * s2)
+                                                ** -1.5)
+            out[i] = (1.0 - nu**2) * q * a**3 / (4.0 * E * ri**2) * f
+    return out
+
+
+def rigid_disc_rocking_stiffness(E, nu, a) -> float:
+    """M / rotation of a rigid circular disc on a smooth elastic half-space, 4 E a^3 /
+    (3 (1 - nu^2)) (Borowicka 1943; Poulos & Davis 1974, Eq. 7.21), N m/rad."""
+    return 4.0 * E * a**3 / (3.0 * (1.0 - nu**2))
+
+
+def rigid_disc_rocking_pressure(M, a, r):
+    """The contact pressure amplitude under the rocking rigid disc (smooth):
+    3 M r / (2 pi a^3 sqrt(a^2 - r^2)), Pa, compression positive (cos theta)."""
+    r = np.asarray(r, dtype=float)
+    return 3.0 * M * r / (2.0 * math.pi * a**3 * np.sqrt(a**2 - r**2))
 
 
 # --------------------------------------------------------------------------- layered ground

@@ -358,6 +358,19 @@ class Load:
     #: the wall (outward) and the roof, which carries it to the wall's top (up); no net
     #: vertical load on the foundation. Negative: a vacuum
     gas_pressure: float = 0.0
+    #: N m: an overturning moment (wind, earthquake) about the plate's underside at the
+    #: axis, pressing the side theta = 0 down; with a wall it reaches the foundation through
+    #: the wall's foot (API 650 Annex E's ringwall moment). Solved as the first Fourier
+    #: harmonic about the axisymmetric state (tankfx.rocking)
+    overturning_moment: float = 0.0
+    #: N: the horizontal force that comes with it (towards theta = 0), carried by the wall
+    #: (or the plate) to the interface
+    base_shear: float = 0.0
+
+    @property
+    def overturning(self) -> bool:
+        """Whether the load has a first-harmonic part (an overturning moment or shear)."""
+        return bool(self.overturning_moment or self.base_shear)
 
 
 @dataclass(frozen=True)
@@ -604,7 +617,8 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
     "load": {"pressure": (float, False), "load_radius": (float, False),
              "liquid_unit_weight": (float, False), "liquid_height": (float, False),
              "self_weight": (bool, False), "roof_weight": (float, False),
-             "gas_pressure": (float, False)},
+             "gas_pressure": (float, False), "overturning_moment": (float, False),
+             "base_shear": (float, False)},
     "domain": {"radius": (float, False), "depth": (float, False)},
     "mesh": {"degree": (int, False), "edge_size": (float, False), "growth": (float, False),
              "near_size": (float, False)},
@@ -842,6 +856,10 @@ def _parse(data: dict[str, Any]) -> Scene:
         if load.get("gas_pressure", 0.0) != 0 and "wall" not in data:
             rd.bad("load.gas_pressure: a gas pressure needs a closed tank, a [wall] with its "
                    "roof; add a [wall] table or give a pressure on the plate instead")
+        for key in ("overturning_moment", "base_shear"):
+            if load.get(key, 0.0) and "plate" not in data:
+                rd.bad(f"load.{key}: overturning needs a foundation to tilt; add a [plate] "
+                       f"(a flexible load has no structure to carry it)")
         if "plate" not in data:
             if "load_radius" not in load:
                 rd.bad("load.load_radius: missing; without a [plate] the load is a flexible "
@@ -869,9 +887,11 @@ def _parse(data: dict[str, Any]) -> Scene:
                    f"(>= 0); an upward pressure needs a [plate] to pull on")
         if load.get("pressure", 0.0) == 0.0 and load.get("liquid_height", 0.0) * \
                 load.get("liquid_unit_weight", 0.0) == 0.0 and not load.get("self_weight", False) \
-                and not load.get("roof_weight", 0.0) and not load.get("gas_pressure", 0.0):
+                and not load.get("roof_weight", 0.0) and not load.get("gas_pressure", 0.0) \
+                and not load.get("overturning_moment", 0.0) and not load.get("base_shear", 0.0):
             rd.bad("[load]: no load is applied; give load.pressure > 0 (Pa), a liquid, "
-                   "self_weight = true, a roof_weight or a gas_pressure")
+                   "self_weight = true, a roof_weight, a gas_pressure or an "
+                   "overturning_moment")
 
     mesh = secs["mesh"] or {}
     # a flexible load (no plate) defaults to P3 on a mesh twice as coarse: the soil alone
@@ -1005,7 +1025,9 @@ def _parse(data: dict[str, Any]) -> Scene:
                    liquid_height=load.get("liquid_height", 0.0),
                    self_weight=load.get("self_weight", False),
                    roof_weight=load.get("roof_weight", 0.0),
-                   gas_pressure=load.get("gas_pressure", 0.0))
+                   gas_pressure=load.get("gas_pressure", 0.0),
+                   overturning_moment=load.get("overturning_moment", 0.0),
+                   base_shear=load.get("base_shear", 0.0))
     D = plate_dc.embedment if plate_dc is not None else 0.0
     size = DEFAULT_DOMAIN_FACTOR * a
     domain_dc = DomainSize(radius=domain.get("radius", size), depth=domain.get("depth", size))

@@ -1,0 +1,374 @@
+"""Overturning: the tank's first harmonic under a horizontal force and a moment.
+
+A wind or earthquake load on a tank reaches its foundation as a base shear V and an
+overturning moment M (API 650 Annex E's "ringwall moment" and base shear). Both vary as
+cos(theta) around the tank, so they excite the first Fourier harmonic alone
+(:mod:`tankfx.harmonic`); solved on the same mesh, about the converged axisymmetric state
+(the secant moduli of a nonlinear soil, the interface states of a Mohr-Coulomb interface),
+it superposes on the axisymmetric result: the response at an angle theta is
+``axisymmetric + cos(theta) x amplitude`` (sin for the circumferential components).
+
+Loads (``[overturning]``): with a wall, V is a ring of horizontal line load on the wall's
+top edge (a uniform pull towards theta = 0), and the rest of M, M - V H, a couple on that
+edge (vertical line load -(M - V H) cos(theta) / (pi a_t^2)): at the wall's foot the shell
+then carries exactly V and M, and so does the foundation; above the foot the moment is
+linear in height (the real load's distribution over the height is not modelled). Without
+a wall, M is a pressure 4 M r cos(theta) / (pi a^4) on the plate and V a uniform
+horizontal traction. M is taken about the plate's underside at the axis.
+
+The interface: bonded and smooth as they are; a Mohr-Coulomb interface about its
+converged states (stick: bonded; slip: friction mu times the added normal stress, no
+circumferential shear; separated: free). Superposition holds while the contact stays in
+those states: where the axisymmetric contact stress less the amplitude falls below zero on
+the heel side, the foundation would lift off, and the results say so.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import ufl
+from dolfinx import fem, la
+from dolfinx import mesh as dmesh
+
+from . import harmonic as hm
+from . import structure as st
+from .post import allsum, evaluate_at
+from .reference import rigid_disc_rocking_stiffness
+
+__all__ = ["RockingModel", "superpose"]
+
+
+class RockingModel:
+    """The first harmonic of a :class:`tankfx.coupled.TankModel`, on its mesh, materials and
+    interface states (build it after the axisymmetric solve). ``solve(moment, shear)``
+    solves for the amplitudes; ``results()`` gives the profiles and the summary."""
+
+    def __init__(self, tank):
+        self.tank = tank
+        s, dom, soil = tank.scene, tank.domain, tank.soil
+        self.scene, msh = s, dom.mesh
+        self.V = fem.functionspace(msh, ("Lagrange", s.mesh.degree, (3,)))
+        self.u = fem.Function(self.V, name="u1")
+        U, W = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
+        r = soil.r
+        # soil: the axisymmetric soil's materials (a nonlinear soil's converged secant
+        # moduli), per stratum the displacement or the mixed form
+        self.pressures = []
+        displacement = [i for i in range(soil.n_materials) if i not in soil.mixed_strata]
+        a_ss = 0
+        if displacement:
+            a_ss = hm.soil_stiffness(U, W, soil.E, soil.nu, r, soil.dx_strata(displacement))
+        for i in soil.mixed_strata:
+            Q = fem.functionspace(msh, ("Lagrange", s.mesh.degree - 1))
+            p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
+            a_uu, a_up, a_pu, a_pp = hm.mixed_soil_forms(U, p, W, q, soil.E, soil.nu, r,
+                                                         soil.dx_strata([i]))
+            a_ss += a_uu
+            others = soil.dx_outside(i)
+            if others is not None:
+                a_pp += fem.Constant(msh, 0.0) * p * q * others
+            self.pressures.append((fem.Function(Q, name=f"p1_{i}"), (a_up, a_pu, a_pp),
+                                   fem.Constant(msh, 0.0) * q * soil.dx_strata([i]), i))
+        if dom.has_void:
+            a_ss += fem.Constant(msh, 0.0) * ufl.inner(U, W) * soil.dx_void
+
+        # structure on the tank's submesh, with its cell-wise properties
+        sub = tank.mesh
+        self.W = hm.structure_space(sub)
+        self.w = fem.Function(self.W, name="structure1")
+        q_, b_, Q_, s_ = ufl.TrialFunctions(self.W)
+        qv, bv, P_, sv = ufl.TestFunctions(self.W)
+        u_b, V_b = hm.shell_amplitudes(q_, s_)
+        v_b, Vv_b = hm.shell_amplitudes(qv, sv)
+        r_b, t_b, dx_b = tank.r_b, tank.t_b, tank.dx_b
+        a_bb = (hm.shell_stiffness((q_, b_, s_), (qv, bv, sv), r_b, t_b, tank.E, tank.nu,
+                                   tank.thickness, dx_b, tank.offset)
+                + hm.kirchhoff_constraint(Q_, bv, v_b, t_b, r_b, dx_b)
+                + hm.kirchhoff_constraint(P_, b_, u_b, t_b, r_b, dx_b))
+
+        # the interface, about the tank's converged states (k_n, k_s, mu per carrier)
+        kn, ks, mu = tank.k_n, tank.k_s, tank.mu
+        a_bb += hm.interface_form(-u_b, -V_b, -v_b, -Vv_b, st.normal(t_b), t_b, kn, ks, mu,
+                                  r_b, tank.dx_interface)
+        i_ss = i_sb = i_bs = 0
+        for _, n, t, pieces in tank._interface_measures():
+            for measure, R in pieces:
+                us, Vs = hm.soil_trace(R(U))
+                ws, Ws = hm.soil_trace(R(W))
+                ub, Vb = hm.shell_amplitudes(R(q_), R(s_))
+                wb, Wb = hm.shell_amplitudes(R(qv), R(sv))
+                k = (R(kn), R(ks), R(mu))
+                i_ss += hm.interface_form(us, Vs, ws, Ws, n, t, *k, r, measure)
+                i_sb += hm.interface_form(-ub, -Vb, ws, Ws, n, t, *k, r, measure)
+                i_bs += hm.interface_form(us, Vs, -wb, -Wb, n, t, *k, r, measure)
+        m = len(self.pressures)
+        rows = [[a_ss + i_ss] + [blocks[0] for _, blocks, _, _ in self.pressures] + [i_sb]]
+        for j, (_, (_, a_pu, a_pp), _, _) in enumerate(self.pressures):
+            rows.append([a_pu] + [a_pp if k == j else None for k in range(m)] + [None])
+        rows.append([i_bs] + [None] * m + [a_bb])
+        self.a = rows
+        self.unknowns = [self.u] + [p for p, _, _, _ in self.pressures] + [self.w]
+        self._load_forms(v_b, Vv_b, bv)
+        self.bcs = self._supports()
+        self.solution = None
+
+    # ------------------------------------------------------------------ set-up
+    def _load_forms(self, v_f, Vv_f, gamma):
+        """Loads on the structure's mid-surface: per unit moment and per unit shear
+        (Constants: one compiled form serves every load)."""
+        tank, s = self.tank, self.scene
+        msh, r_b = tank.mesh, tank.r_b
+        # the mid-surface test displacement, as the axisymmetric loads use
+        v_b = st.mid_surface_displacement(v_f, gamma, tank.t_b, tank.offset)
+        n = st.normal(tank.t_b)
+        Vv = Vv_f + tank.offset * (ufl.dot(v_f, n) + Vv_f * n[0]) / r_b
+        self.moment = fem.Constant(msh, 0.0)
+        self.shear = fem.Constant(msh, 0.0)
+        w = hm.WEIGHT * r_b
+        if s.wall is not None:
+            R, H = s.wall.radius, s.wall.height
+            top = dmesh.locate_entities_boundary(
+                msh, 0, lambda x: np.isclose(x[1], H - s.embedment) & np.isclose(x[0], R))
+            tags = dmesh.meshtags(msh, 0, top, np.full(len(top), 1, dtype=np.int32))
+            ds_top = ufl.Measure("ds", domain=msh, subdomain_data=tags)(1)
+            # a uniform pull V / (2 pi R) towards theta = 0: (cos e_r - sin e_theta)
+            horizontal = self.shear / (2.0 * math.pi * R) * (v_b[0] - Vv)
+            # the couple M - V H: a vertical line load on the mid-surface, at r_m = R - t / 2
+            # from the axis: -(M - V H) cos / (pi R r_m) per unit length of the face's circle
+            r_m = R - 0.5 * s.wall.thickness_at(np.array([s.wall.height]))[0]
+            couple = -(self.moment - self.shear * H) / (math.pi * R * r_m) * v_b[1]
+            L_b = (horizontal + couple) * w * ds_top
+        else:
+            a = s.plate.radius
+            dx_p = tank.dx_b(st.PLATE)
+            pressure = -4.0 * self.moment * r_b / (math.pi * a**4) * v_b[1]
+            traction = self.shear / (math.pi * a**2) * (v_b[0] - Vv)
+            L_b = (pressure + traction) * w * dx_p
+        W = ufl.TestFunction(self.V)
+        zero = fem.Constant(self.tank.domain.mesh, (0.0, 0.0, 0.0))
+        self.L = [ufl.inner(zero, W) * self.tank.soil.dx] + \
+            [L_p for _, _, L_p, _ in self.pressures] + [L_b]
+
+    def _supports(self):
+        tank, dom, soil = self.tank, self.tank.domain, self.tank.soil
+        V = self.V
+        fdim = dom.mesh.topology.dim - 1
+        bcs = []
+        # on the axis u_z = 0 and u_r + u_theta = 0 (Z and S)
+        axis = dom.facets("axis")
+        for c in (1, 2):
+            dofs = fem.locate_dofs_topological(V.sub(c), fdim, axis)
+            bcs.append(fem.dirichletbc(0.0, dofs, V.sub(c)))
+        far = fem.locate_dofs_topological(V, fdim, dom.facets("far_side", "bottom"))
+        zero = np.zeros(3)
+        bcs.append(fem.dirichletbc(zero, far, V))
+        if dom.has_void:
+            void = fem.locate_dofs_topological(V, 2, dom.cells("void"))
+            solid = fem.locate_dofs_topological(V, 2, dom.cells("soil"))
+            bcs.append(fem.dirichletbc(zero, np.setdiff1d(void, solid), V))
+        for pr, _, _, i in self.pressures:
+            Q = pr.function_space
+            imap = Q.dofmap.index_map
+            every = np.arange(imap.size_local + imap.num_ghosts, dtype=np.int32)
+            own = fem.locate_dofs_topological(Q, 2, soil.stratum_cells(i))
+            pinned = np.setdiff1d(every, own).astype(np.int32)
+            if dom.mesh.comm.allreduce(len(pinned)):
+                bcs.append(fem.dirichletbc(0.0, pinned, Q))
+        # the plate's centre: Z = S = 0 (its slope, the tilt, is free)
+        sub = tank.mesh
+        centre = dmesh.locate_entities(sub, 0, lambda x: np.isclose(x[0], 0.0))
+        for space in (self.W.sub(0).sub(1), self.W.sub(3)):
+            Vc, _ = space.collapse()
+            dofs = fem.locate_dofs_topological((space, Vc), 0, centre)
+            bcs.append(fem.dirichletbc(fem.Function(Vc), dofs, space))
+        return bcs
+
+    # ------------------------------------------------------------------ solve
+    def solve(self, moment: float, shear: float = 0.0, log=print) -> dict:
+        """Solve for the amplitudes under the overturning ``moment`` (N m, about the plate's
+        underside; at the wall's foot where there is a wall) and the horizontal ``shear``
+        (N) and return :meth:`results`."""
+        from .solve import DirectSolver
+
+        t0 = time.perf_counter()
+        self.moment.value, self.shear.value = float(moment), float(shear)
+        # (symmetric but for a slipping interface's friction)
+        symmetric = self.scene.interface.condition != "mohr_coulomb"
+        solver = DirectSolver(self.a, self.L, self.bcs, self.unknowns,
+                              entity_maps=self.tank.entity_maps, name="rocking",
+                              symmetric=symmetric, one_shot=True)
+        solver.solve()
+        self.relative_residual = solver.relative_residual
+        log(f"overturning (first harmonic): solved in {time.perf_counter() - t0:.2f} s")
+        self.solution = self.results()
+        return self.solution
+
+    # ------------------------------------------------------------------ results
+    def _contact_amplitudes(self):
+        """sigma_n and tau (cos) and tau_theta (sin) amplitudes per structure cell, averaged
+        over its interface facet (as the axisymmetric contact stresses)."""
+        tank = self.tank
+        Sp = tank.k_n.function_space
+        qt = ufl.TestFunction(Sp)
+        q_, _, _, s_ = ufl.split(self.w)
+        sums = None
+        for _, n, t, pieces in tank._interface_measures():
+            for measure, R in pieces:
+                us, Vs = hm.soil_trace(R(self.u))
+                ub, Vb = hm.shell_amplitudes(R(q_), R(s_))
+                tr = hm.interface_tractions(us - ub, Vs - Vb, n, t, R(tank.k_n), R(tank.k_s),
+                                            R(tank.mu))
+                w = hm.WEIGHT * tank.soil.r * R(qt)
+                parts = [f * w * measure for f in (*tr, 1.0)]
+                sums = parts if sums is None else [x + y for x, y in zip(sums, parts)]
+        values = []
+        for f in sums:
+            vec = fem.assemble_vector(fem.form(f, entity_maps=tank.entity_maps))
+            vec.scatter_reverse(la.InsertMode.add)
+            vec.scatter_forward()
+            values.append(vec.array.copy())
+        area = values.pop()
+        out = {}
+        for v, name in zip(values, ("sigma_n", "tau", "tau_theta")):
+            f = fem.Function(Sp, name=name)
+            f.x.array[:] = np.where(area > 0, v / np.where(area > 0, area, 1.0), 0.0)
+            out[name] = f
+        return out
+
+    def resistance(self) -> tuple[float, float]:
+        """What the soil's tractions on the structure resist: their moment about the y axis
+        through the plate's underside centre, N m (pressing theta = 0 up where the load
+        presses it down: equal to the applied moment at equilibrium), and their horizontal
+        force against the applied shear, N. Tractions with amplitudes (f_r, f_z) (cos) and
+        f_theta (sin) at (r, z) give an x-force pi r (f_r - f_theta) and a moment about y
+        pi r (r f_z - (z - z_0) (f_r - f_theta)) per unit length."""
+        tank = self.tank
+        q_, _, _, s_ = ufl.split(self.w)
+        x = ufl.SpatialCoordinate(tank.domain.mesh)
+        z0 = -self.scene.embedment
+        moment = force = 0.0
+        for _, n, t, pieces in tank._interface_measures():
+            for measure, R in pieces:
+                us, Vs = hm.soil_trace(R(self.u))
+                ub, Vb = hm.shell_amplitudes(R(q_), R(s_))
+                sn, tau, tau_th = hm.interface_tractions(us - ub, Vs - Vb, n, t, R(tank.k_n),
+                                                         R(tank.k_s), R(tank.mu))
+                f = sn * n + tau * t            # the soil's traction on the structure
+                fx = (f[0] - tau_th) * hm.WEIGHT * x[0]
+                moment += _assemble(f[1] * hm.WEIGHT * x[0] * x[0] - fx * (x[1] - z0),
+                                    measure, tank)
+                force -= _assemble(fx, measure, tank)
+        return moment, force
+
+    def results(self) -> dict:
+        tank, s = self.tank, self.scene
+        F = hm.shell_resultants(self.w, tank.r_b, tank.t_b, tank.E, tank.nu, tank.thickness,
+                                tank.offset)
+        F.update(self._contact_amplitudes())
+        pts = tank._stations(tank.plate_cells)
+        pts = pts[np.argsort(pts[:, 0])]
+        cells = tank.plate_cells
+        u = evaluate_at(F["u"], pts, cells)
+        plate = {"r": pts[:, 0].tolist(),
+                 "w": (-u[:, 1]).tolist(),
+                 "u_r": u[:, 0].tolist(),
+                 "u_theta": evaluate_at(F["V"], pts, cells)[:, 0].tolist(),
+                 "M_r": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist(),
+                 "M_theta": evaluate_at(F["M_theta"], pts, cells)[:, 0].tolist(),
+                 "contact_normal": evaluate_at(F["sigma_n"], pts, cells)[:, 0].tolist(),
+                 "contact_shear": evaluate_at(F["tau"], pts, cells)[:, 0].tolist()}
+        profiles = {"plate": plate}
+        at = s.wall.radius if s.wall is not None else s.plate.radius
+        w_shell = float(np.interp(at, plate["r"], plate["w"]))
+        M = float(self.moment.value)
+        out = {"moment": M, "shear": float(self.shear.value), "profiles": profiles,
+               "shell_settlement_amplitude": w_shell,
+               "tilt": w_shell / at}
+        out["rocking_stiffness"] = M / out["tilt"] if out["tilt"] else math.inf
+        if s.wall is not None:
+            cells = tank.wall_cells
+            pts = tank._stations(cells)
+            pts = pts[np.argsort(pts[:, 1])]
+            u = evaluate_at(F["u"], pts, cells)
+            V = evaluate_at(F["V"], pts, cells)[:, 0]
+            profiles["wall"] = {
+                "z": (pts[:, 1] + s.embedment).tolist(),
+                "u_r": u[:, 0].tolist(), "u_z": u[:, 1].tolist(), "u_theta": V.tolist(),
+                # the horizontal displacement of the wall's neutral axis (theta = 90 deg)
+                "u_x": (-V).tolist(),
+                "N_z": evaluate_at(F["N_s"], pts, cells)[:, 0].tolist(),
+                "N_z_theta": evaluate_at(F["N_s_theta"], pts, cells)[:, 0].tolist(),
+                "M_z": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist()}
+        moment, force = self.resistance()
+        out["equilibrium"] = {
+            "moment_resisted": moment, "shear_resisted": force,
+            "moment_relative_error": abs(moment - M) / max(abs(M), 1e-300),
+            "shear_relative_error": abs(force - out["shear"]) / max(abs(out["shear"]),
+                                                                   abs(M) / at, 1e-300)}
+        return out
+
+
+def _assemble(integrand, measure, tank) -> float:
+    """The integral of ``integrand`` over the parent's interface ``measure``, all ranks."""
+    return allsum(tank.domain.mesh.comm, fem.assemble_scalar(
+        fem.form(integrand * measure, entity_maps=tank.entity_maps)))
+
+
+def superpose(results: dict, amplitudes: dict, scene) -> tuple[dict, list[str]]:
+    """The overturning's results beside the axisymmetric ones: the amplitudes, the totals on
+    the side pressed down (the "toe", theta = 0: axisymmetric + amplitude) and the other
+    (the "heel", theta = 180 deg: axisymmetric - amplitude), the tilt and rocking
+    stiffness, and whether the heel lifts; with the warnings to give."""
+    prof0, prof1 = results["profiles"], amplitudes["profiles"]
+    plate0, plate1 = prof0["plate"], prof1["plate"]
+    sn0, sn1 = np.asarray(plate0["contact_normal"]), np.asarray(plate1["contact_normal"])
+    w0, w1 = np.asarray(plate0["w"]), np.asarray(plate1["w"])
+    plate1.update({"w_toe": (w0 + w1).tolist(), "w_heel": (w0 - w1).tolist(),
+                   "contact_normal_toe": (sn0 + sn1).tolist(),
+                   "contact_normal_heel": (sn0 - sn1).tolist()})
+    r = np.asarray(plate1["r"])
+    heel = sn0 - sn1
+    # the contact (the interface's own stations) that would pull: a zone the linear
+    # superposition holds in tension
+    pulled = heel < 0.0
+    span = (float(r[pulled].min()), float(r[pulled].max())) if pulled.any() else None
+    a_p = scene.plate.radius
+    E_s, nu_s = scene.soil.E, scene.soil.nu
+    out = {k: amplitudes[k] for k in ("moment", "shear", "tilt", "shell_settlement_amplitude",
+                                      "rocking_stiffness", "equilibrium")}
+    out["rocking_stiffness_rigid_disc"] = rigid_disc_rocking_stiffness(E_s, nu_s, a_p)
+    out["profiles"] = prof1
+    out["toe"] = {"max_contact_normal": float((sn0 + sn1).max()),
+                  "shell_settlement": float(results["settlement_summary"]["shell_settlement"]
+                                            + amplitudes["shell_settlement_amplitude"])}
+    out["heel"] = {"min_contact_normal": float(heel.min()),
+                   "shell_settlement": float(results["settlement_summary"]["shell_settlement"]
+                                             - amplitudes["shell_settlement_amplitude"])}
+    out["uplift"] = {"tension_at_heel": bool(pulled.any()), "r_range": span}
+    warnings = []
+    if pulled.any():
+        linear = scene.interface.condition != "mohr_coulomb"
+        warnings.append(
+            f"overturning: on the heel side the contact stress falls to "
+            f"{heel.min() / 1e3:.3g} kPa, a tension, at r = {span[0]:.3g}-{span[1]:.3g} m; "
+            + (f"the {scene.interface.condition} interface (two-sided) holds it, where a "
+               f"real foundation would lift: " if linear else
+               "a Mohr-Coulomb interface cannot hold it, the foundation would lift there: ")
+            + "the superposed results overstate the contact there; lower "
+              "load.overturning_moment or treat the uplift separately (not modelled)")
+    if "wall" in prof1 and "wall" in prof0:
+        wall0, wall1 = prof0["wall"], prof1["wall"]
+        N0, N1 = np.asarray(wall0["N_z"]), np.asarray(wall1["N_z"])
+        t = np.asarray(wall0["thickness"])
+        wall1.update({"N_z_toe": (N0 + N1).tolist(), "N_z_heel": (N0 - N1).tolist(),
+                      "axial_stress_toe": ((N0 + N1) / t).tolist(),
+                      "axial_stress_heel": ((N0 - N1) / t).tolist()})
+        z = np.asarray(wall1["z"])
+        foot = int(np.argmin(np.abs(z - 0.0)))
+        out["wall_foot"] = {"N_z_amplitude": float(N1[foot]), "N_z_toe": float(N0[foot] + N1[foot]),
+                            "N_z_heel": float(N0[foot] - N1[foot]),
+                            "axial_stress_toe": float((N0[foot] + N1[foot]) / t[foot]),
+                            "axial_stress_heel": float((N0[foot] - N1[foot]) / t[foot])}
+    return out, warnings
