@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import math
 
+import basix
 import basix.ufl
 import ufl
 from dolfinx import fem
@@ -172,14 +173,21 @@ def kirchhoff_constraint(Q, beta, u, t, r, dx):
 
 
 def shell_resultants(w, r, t, E, nu, thickness, offset=0.0) -> dict:
-    """Resultant amplitudes of a solved first-harmonic shell as cell-wise DG2 fields:
-    N_s, N_theta, M_s, M_theta (cos) and N_s_theta, M_s_theta (sin), with u = (A, Z), V,
-    beta and the rotation about the meridian's normal... as fields for point evaluation."""
+    """Resultant amplitudes of a solved first-harmonic shell as cell-wise fields for point
+    evaluation: N_s, N_theta, M_s, M_theta (cos) and N_s_theta, M_s_theta (sin), with the
+    face displacement u = (A, Z), V and beta."""
     q, b, _, s = ufl.split(w)
     u, V = shell_amplitudes(q, s)
     res = shell_resultants_of(shell_strains(u, V, b, r, t, offset), E, nu, thickness)
-    space = fem.functionspace(w.function_space.mesh, ("DG", 2))
-    vec = fem.functionspace(w.function_space.mesh, ("DG", 3, (2,)))
+    # discontinuous spaces with their points inside the cells (Gauss-Legendre's): the
+    # strains' 1 / r and 1 / r^2 are never evaluated on the axis, and the polynomials give
+    # there the limits (every first-harmonic amplitude vanishes on the axis)
+    msh = w.function_space.mesh
+    gl = basix.LagrangeVariant.gl_warped
+    space = fem.functionspace(msh, basix.ufl.element("DG", msh.basix_cell(), 2,
+                                                     lagrange_variant=gl))
+    vec = fem.functionspace(msh, basix.ufl.element("DG", msh.basix_cell(), 3, shape=(2,),
+                                                   lagrange_variant=gl))
     out = {}
     names = ("N_s", "N_theta", "N_s_theta", "M_s", "M_theta", "M_s_theta")
     for name, expr in zip(names, res):

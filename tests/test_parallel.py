@@ -196,6 +196,28 @@ def test_load_stages_sharing_one_factorisation_parallel_equals_serial():
 
 
 @needs_two_ranks
+@pytest.mark.parametrize("condition", ["bonded", "mohr_coulomb"])
+def test_overturning_parallel_equals_serial(condition):
+    """The first harmonic (overturning moment and shear) of the embedded tank: every
+    profile and summary number the same on 2 ranks as serially."""
+    ifc = {"condition": condition, **({"tan_phi": 0.5} if condition != "bonded" else {})}
+    scene = Scene.from_dict(small_tank(interface=ifc) | {"load": {
+        "pressure": 50e3, "overturning_moment": 3e4, "base_shear": 1e4}})
+    parallel, serial = _solve_both(scene)
+    _assert_same_numbers(parallel, serial)
+    p, s = parallel["overturning"], serial["overturning"]
+    for key in ("tilt", "rocking_stiffness"):
+        assert p[key] == pytest.approx(s[key], rel=1e-8), key
+    for key in ("N_z_toe", "N_z_heel"):
+        assert p["wall_foot"][key] == pytest.approx(s["wall_foot"][key], rel=1e-7), key
+    for member in ("plate", "wall"):
+        for key, values in s["profiles"][member].items():
+            scale = np.max(np.abs(values)) + 1e-300
+            np.testing.assert_allclose(p["profiles"][member][key], values, rtol=1e-7,
+                                       atol=1e-7 * scale, err_msg=f"{member}.{key}")
+
+
+@needs_two_ranks
 def test_failed_unscaled_factorisation_redone_scaled_parallel_equals_serial():
     """An unscaled factorisation that fails (tankfx.solve) is redone scaled on all ranks
     together: the same solves and numbers as serially."""

@@ -1,0 +1,234 @@
+"""Overturning: the first Fourier harmonic of soil, shells and interface (tankfx.harmonic,
+tankfx.rocking) against rigid-body kinematics, plate and beam theory, the antisymmetric
+Boussinesq problem, Borowicka's rocking disc and the equilibrium of moment and shear."""
+import math
+
+import numpy as np
+import pytest
+import ufl
+from dolfinx import fem
+from mpi4py import MPI
+
+from conftest import COARSE, HYPERBOLIC_SOIL, small_tank
+from tankfx import Scene, analyse
+from tankfx import harmonic as hm
+from tankfx import reference as ref
+from tankfx import structure as st
+from tankfx.post import evaluate_at
+from tankfx.scene import SceneError
+
+
+def _surface_plate(Kp, condition="smooth", nu=0.3, mesh=COARSE, **load):
+    return {"soil": {"E": 10e6, "nu": nu},
+            "plate": {"radius": 1.0, "Kp": Kp, "E": 30e9, "nu": 0.2},
+            "interface": {"condition": condition},
+            "load": {"pressure": 10e3, **load}, "mesh": mesh}
+
+
+# ----------------------------------------------------------------------- kinematics
+@pytest.mark.parametrize("offset", [0.0, 0.05])
+def test_rigid_motions_strain_nothing(offset):
+    """A translation along x and a rotation about y strain neither the shell (a cone,
+    Koiter's bending strains, with and without the face offset) nor the soil: the
+    harmonic's forms do no work in a rigid motion (what makes moment equilibrium exact)."""
+    pts = np.array([[0.5, 0.0], [1.0, 0.4], [1.5, 1.0]])
+    msh, _ = st.line_mesh(MPI.COMM_SELF, pts)
+    x = ufl.SpatialCoordinate(msh)
+    t = st.tangent(msh)
+    dx = ufl.Measure("dx", domain=msh, metadata={"quadrature_degree": 6})
+    one, zero = fem.Constant(msh, 1.0), fem.Constant(msh, 0.0)
+    # (A, Z), V, beta = d(u.n)/ds
+    motions = {"translation": (ufl.as_vector([one, zero]), -one, zero),
+               "rotation": (ufl.as_vector([x[1], -x[0]]), -x[1], -one)}
+    for name, (u, V, beta) in motions.items():
+        strains = hm.shell_strains(u, V, beta, x[0], t, offset)
+        total = fem.assemble_scalar(fem.form(sum(e**2 for e in strains) * dx))
+        assert abs(total) < 1e-24, (name, total)
+    # a bending mode is not rigid: the check can fail
+    bent = hm.shell_strains(ufl.as_vector([zero, x[0] ** 2]), zero, 2 * x[0], x[0],
+                            t, offset)
+    assert fem.assemble_scalar(fem.form(sum(e**2 for e in bent) * dx)) > 1e-2
+
+    from dolfinx.mesh import create_unit_square
+    sq = create_unit_square(MPI.COMM_SELF, 2, 2)
+    y = ufl.SpatialCoordinate(sq)
+    r = y[0] + 0.5
+    dxs = ufl.Measure("dx", domain=sq, metadata={"quadrature_degree": 4})
+    two, nil = fem.Constant(sq, 2.0), fem.Constant(sq, 0.0)
+    for U in (ufl.as_vector([two, nil, nil]), ufl.as_vector([2.0 * y[1], -r, nil])):
+        eps = hm.soil_strain(U, r)
+        assert abs(fem.assemble_scalar(fem.form(ufl.inner(eps, eps) * dxs))) < 1e-26
+
+
+# ----------------------------------------------------------------------- structure
+def test_clamped_plate_under_antisymmetric_load():
+    """A clamped circular plate under q (r/a) cos theta: w = q a^4 rho (1 - rho^2)^2 /
+    (192 D) cos theta (Timoshenko & Woinowsky-Krieger, Sec. 19, antisymmetric load) and
+    its moment; 4th order in the deflection, 2nd in the moment."""
+    a, t, E, nu, q = 1.0, 0.02, 2e11, 0.3, 1e4
+    D = E * t**3 / (12 * (1 - nu**2))
+    rho = np.linspace(0, 1, 11)[1:-1]
+    A = q * a**4 / (192 * D)
+    w_ref = A * rho * (1 - rho**2) ** 2
+    f, f1, f2 = rho - 2 * rho**3 + rho**5, 1 - 6 * rho**2 + 5 * rho**4, -12 * rho + 20 * rho**3
+    M_ref = -D * A / a**2 * (f2 + nu * (f1 / rho - f / rho**2))       # sagging positive
+    errors = []
+    for n in (20, 40):
+        shell = hm.StandaloneHarmonicShell(
+            np.column_stack([np.linspace(0, a, n + 1), np.zeros(n + 1)]), E, nu, t,
+            {lambda x: np.isclose(x[0], 0.0): ("Z", "S"),
+             lambda x: np.isclose(x[0], a): ("D", "Z", "S", "beta")},
+            lambda u, V, x: -q * x[0] / a * u[1], comm=MPI.COMM_SELF)
+        F = shell.resultants()
+        P = np.column_stack([rho * a, 0 * rho])
+        w = -evaluate_at(F["u"], P)[:, 1]
+        M = evaluate_at(F["M_s"], P)[:, 0]
+        errors.append((np.max(abs(w - w_ref)) / w_ref.max(),
+                       np.max(abs(M - M_ref)) / abs(M_ref).max()))
+    assert errors[1][0] < 2e-7 and errors[0][0] / errors[1][0] > 12
+    assert errors[1][1] < 2e-3 and errors[0][1] / errors[1][1] > 3.5
+
+
+def test_cantilever_cylinder_is_a_thin_tube_beam():
+    """A cylinder clamped at its foot under a horizontal pull V at its top: away from the
+    ends the membrane state of beam theory, N_z = -V (H - z) / (pi R^2) cos theta (the side
+    pulled towards in compression), N_z_theta = -V / (pi R) sin theta, and the neutral axis
+    (theta = 90 deg, u_x = -V) moves as a Timoshenko beam with shear area pi R t."""
+    R, H, t, E, nu, V = 10.0, 30.0, 0.02, 2e11, 0.3, 1e6
+    G, inertia = E / (2 * (1 + nu)), math.pi * R**3 * t
+    z = np.linspace(0, H, 121)
+    qh = V / (2 * math.pi * R)
+    shell = hm.StandaloneHarmonicShell(
+        np.column_stack([np.full_like(z, R), z]), E, nu, t,
+        {lambda x: np.isclose(x[1], 0.0): ("D", "Z", "S", "beta")},
+        lambda u, V_, x: 0.0 * u[0],
+        edge_load=lambda u, V_, x: ufl.conditional(ufl.gt(x[1], H / 2), qh * (u[0] - V_), 0.0),
+        comm=MPI.COMM_SELF)
+    F = shell.resultants()
+    zz = np.array([0.3, 0.5, 0.7]) * H
+    P = np.column_stack([np.full(3, R), zz])
+    np.testing.assert_allclose(evaluate_at(F["N_s"], P)[:, 0], -V * (H - zz) / (math.pi * R**2),
+                               rtol=1e-5)
+    np.testing.assert_allclose(evaluate_at(F["N_s_theta"], P)[:, 0], -V / (math.pi * R),
+                               rtol=1e-5)
+    beam = V * zz**2 * (3 * H - zz) / (6 * E * inertia) + V * zz / (G * math.pi * R * t)
+    np.testing.assert_allclose(-evaluate_at(F["V"], P)[:, 0], beam, rtol=5e-3)
+
+
+# ----------------------------------------------------------------------- soil
+def test_flexible_plate_under_moment_is_the_antisymmetric_boussinesq_load():
+    """A plate of negligible stiffness (Kp = 1e-6; at 1e-4 its edge still settles 2.5 % more)
+    on a smooth interface passes the moment's
+    pressure 4 M r cos theta / (pi a^4) to the soil: the settlement amplitude is that of
+    the first harmonic of Boussinesq's problem (reference.antisymmetric_surface_settlement),
+    and the tilt that no rigid disc has."""
+    M = 1e5
+    sol = analyse(Scene.from_dict(_surface_plate(1e-6, overturning_moment=M)))
+    o = sol.results["overturning"]
+    plate = o["profiles"]["plate"]
+    r, w = np.asarray(plate["r"]), np.asarray(plate["w"])
+    w_ref = ref.antisymmetric_surface_settlement(4 * M / math.pi, 1.0, 10e6, 0.3, r)
+    inner = (r > 0.05) & (r < 0.9)
+    assert np.max(np.abs(w - w_ref)[inner]) < 5e-4 * w_ref.max()
+    edge = np.argmin(abs(r - 1.0))
+    assert abs(w[edge] / w_ref[edge] - 1) < 0.01
+    assert o["equilibrium"]["moment_relative_error"] < 1e-8
+
+
+@pytest.mark.parametrize("nu", [0.3, 0.5])
+def test_rigid_disc_rocks_as_borowickas(nu):
+    """A rigid plate (Kp = 1e3) on a smooth interface: M / tilt = 4 E a^3 / (3 (1 - nu^2))
+    (Borowicka), also at nu = 0.5 (the harmonic's mixed form), and the contact pressure
+    3 M r / (2 pi a^3 sqrt(a^2 - r^2)) inside the edge zone."""
+    M = 1e5
+    sol = analyse(Scene.from_dict(_surface_plate(1e3, nu=nu, overturning_moment=M)))
+    o = sol.results["overturning"]
+    K = ref.rigid_disc_rocking_stiffness(10e6, nu, 1.0)
+    assert abs(o["rocking_stiffness"] / K - 1) < 5e-3        # (default mesh: 6e-4)
+    assert o["rocking_stiffness_rigid_disc"] == pytest.approx(K)
+    plate = o["profiles"]["plate"]
+    # (the contact stresses are cell averages: compared at the cells' midpoints, every
+    # second station)
+    r, sn = np.asarray(plate["r"])[1::2], np.asarray(plate["contact_normal"])[1::2]
+    inner = (r > 0.2) & (r < 0.8)
+    p_ref = ref.rigid_disc_rocking_pressure(M, 1.0, r[inner])
+    assert np.max(np.abs(sn[inner] / p_ref - 1)) < 0.015      # (0.2-1.2 % on this mesh)
+    # (the tractions are the penalty times jumps of a rigid plate: 1.5e-8 at nu = 0.5)
+    assert o["equilibrium"]["moment_relative_error"] < 1e-7
+
+
+# ----------------------------------------------------------------------- the tank
+@pytest.mark.parametrize("condition", ["bonded", "mohr_coulomb"])
+def test_embedded_tank_balances_the_moment_and_the_shear(condition):
+    """The embedded 1 m tank (wall, pit faces, plate) under M and V: the soil's tractions
+    on the structure resist both (1e-8), and the wall carries the base moment of its top
+    loads as a tube beam, N_z pi R r_m = -(M - V (H - z)) at mid-height (r_m the
+    mid-surface's radius; 0.1 %); serial and axisymmetric parts unchanged by it."""
+    ifc = {"condition": condition, **({"tan_phi": 0.5} if condition != "bonded" else {})}
+    M, V = 3e4, 1e4
+    base = small_tank(interface=ifc)
+    sol = analyse(Scene.from_dict(base | {"load": {"pressure": 50e3, "overturning_moment": M,
+                                                   "base_shear": V}}))
+    res = sol.results
+    o = res["overturning"]
+    assert o["equilibrium"]["moment_relative_error"] < 1e-8
+    assert o["equilibrium"]["shear_relative_error"] < 1e-8
+    assert o["relative_residual"] < 1e-8
+    wall = o["profiles"]["wall"]
+    z, Nz = np.asarray(wall["z"]), np.asarray(wall["N_z"])
+    H, R = 3.0, 1.0
+    t_wall = Scene.from_dict(base).wall.thickness
+    r_m = R - t_wall / 2
+    zm = 0.6 * H
+    beam = -(M - V * zm) / (math.pi * R * r_m)
+    assert abs(np.interp(zm, z, Nz) / beam - 1) < 1e-3
+    # the first harmonic leaves the axisymmetric solution as it was
+    plain = analyse(Scene.from_dict(base)).results
+    assert res["w0"] == pytest.approx(plain["w0"], rel=1e-12)
+    assert res["M0"] == pytest.approx(plain["M0"], rel=1e-12)
+    # toe and heel: the axisymmetric state plus and minus the amplitude
+    assert o["toe"]["max_contact_normal"] > max(res["profiles"]["plate"]["contact_normal"])
+    assert res["settlement_summary"]["planar_tilt"] == o["tilt"] > 0
+    assert o["wall_foot"]["N_z_toe"] < o["wall_foot"]["N_z_heel"]
+
+
+def test_uplift_of_the_heel_is_reported():
+    """Where the axisymmetric contact less the amplitude pulls, the results and a warning
+    say the heel would lift (the linear superposition no longer holds there); a moderate
+    moment gives neither."""
+    small = analyse(Scene.from_dict(_surface_plate(1.0, overturning_moment=1e3))).results
+    assert not small["overturning"]["uplift"]["tension_at_heel"]
+    assert not any("overturning" in w for w in small["warnings"])
+    big = analyse(Scene.from_dict(_surface_plate(1.0, overturning_moment=3e4))).results
+    o = big["overturning"]
+    assert o["uplift"]["tension_at_heel"] and o["heel"]["min_contact_normal"] < 0
+    lo, hi = o["uplift"]["r_range"]
+    assert 0 < lo < hi <= 1.0
+    assert any("heel" in w and "load.overturning_moment" in w for w in big["warnings"])
+
+
+def test_nonlinear_soil_rocks_on_its_secant_moduli():
+    """The harmonic uses the converged secant moduli: Kondner's soil of negligible b is the
+    linear soil of E = 1/a (1e-6); the paper's b softens the soil under the load, and the
+    tank rocks more."""
+    def tilt(soil):
+        d = small_tank(soil=soil)
+        d["load"] = {"pressure": 50e3, "overturning_moment": 2e4}
+        return analyse(Scene.from_dict(d)).results["overturning"]["tilt"]
+
+    a = HYPERBOLIC_SOIL["hyperbolic_a"]
+    linear = tilt({"E": 1.0 / a, "nu": 0.3})
+    assert tilt({**HYPERBOLIC_SOIL, "hyperbolic_b": 1e-14}) == pytest.approx(linear, rel=1e-6)
+    assert tilt(HYPERBOLIC_SOIL) > 1.02 * linear
+
+
+def test_overturning_needs_a_plate():
+    with pytest.raises(SceneError, match="load.overturning_moment.*plate"):
+        Scene.from_dict({"soil": {"E": 1e7, "nu": 0.3},
+                         "load": {"pressure": 1e3, "load_radius": 1.0,
+                                  "overturning_moment": 1e3}})
+    with pytest.raises(SceneError, match="load.base_shear"):
+        Scene.from_dict({"soil": {"E": 1e7, "nu": 0.3},
+                         "load": {"pressure": 1e3, "load_radius": 1.0, "base_shear": 1e3}})
+    with pytest.raises(SceneError, match="overturning_moment"):
+        Scene.from_dict(_surface_plate(1.0, overturning_moment=float("nan")))
