@@ -229,6 +229,9 @@ def describe(scene) -> list[str]:
                         if getattr(scene, p) is not None]
     if scene.plate is not None:
         parts.append(f"{scene.interface.condition} interface")
+    if any(ld.overturning for ld in (scene.load, *scene.stages)):
+        parts.append("the first harmonic (overturning: one more linear solve where a stage "
+                     "has it)")
     out.append(f"  builds: {', '.join(parts)}; iterates: "
                f"{', '.join(iterations) if iterations else 'nothing (one linear solve a stage)'}")
     return out

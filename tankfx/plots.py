@@ -14,11 +14,11 @@ from dolfinx import fem, plot
 
 __all__ = ["gather_grid", "plot_section", "plot_surface_settlement", "plot_moment_diagrams",
            "plot_structure_profiles", "plot_contact", "plot_cutaway", "plot_sweep",
-           "FIGURES", "write_figures", "ringwall_outline"]
+           "plot_overturning", "FIGURES", "write_figures", "ringwall_outline"]
 
 #: The figures ``write_figures`` may write (which ones depends on the scene).
 FIGURES = ("section.png", "stress_level.png", "settlement.png", "moments.png", "profiles.png",
-           "contact.png", "load_path.png")
+           "contact.png", "load_path.png", "overturning.png", "overturning_wall.png")
 
 if not os.environ.get("DISPLAY"):
     # no X server: render through EGL rather than let VTK try (and warn about) X first
@@ -450,6 +450,41 @@ def plot_load_path(results: dict, path: str | Path, title: str = "") -> Path | N
     return plot_curves(x, panels, path, "applied vertical load [kN]", title=title)
 
 
+def plot_overturning(results: dict, path: str | Path, wall_path: str | Path | None = None,
+                     title: str = "") -> list[Path]:
+    """The overturning load's effect (the first harmonic superposed on the axisymmetric
+    state): along the plate, the contact stress and the settlement without it, on the side
+    pressed down (toe, theta = 0) and on the other (heel); along the wall (``wall_path``),
+    its axial membrane stress N_z / t at toe and heel. Rank 0 writes the PNGs."""
+    o = results.get("overturning")
+    if o is None:
+        return []
+    plate0, plate1 = results["profiles"]["plate"], o["profiles"]["plate"]
+    kpa = 1e-3
+    panels = {"contact stress [kPa]": {
+                  "axisymmetric": np.asarray(plate0["contact_normal"]) * kpa,
+                  "toe (theta = 0)": np.asarray(plate1["contact_normal_toe"]) * kpa,
+                  "heel (theta = 180 deg)": np.asarray(plate1["contact_normal_heel"]) * kpa,
+                  "no tension": [0.0]},
+              "settlement [mm]": {
+                  "axisymmetric": np.asarray(plate0["w"]) * 1e3,
+                  "toe": np.asarray(plate1["w_toe"]) * 1e3,
+                  "heel": np.asarray(plate1["w_heel"]) * 1e3}}
+    heading = f"{title}: overturning" if title else "overturning"
+    out = [plot_curves(plate1["r"], panels, path, "r [m]", title=heading)]
+    wall1 = o["profiles"].get("wall")
+    if wall_path is not None and wall1 is not None and "axial_stress_toe" in wall1:
+        t = np.asarray(results["profiles"]["wall"]["thickness"])
+        mpa = 1e-6
+        panels = {"axial stress N_z / t [MPa]": {
+            "axisymmetric": np.asarray(results["profiles"]["wall"]["N_z"]) / t * mpa,
+            "toe": np.asarray(wall1["axial_stress_toe"]) * mpa,
+            "heel": np.asarray(wall1["axial_stress_heel"]) * mpa}}
+        out.append(plot_curves(wall1["z"], panels, wall_path, "height above the wall's foot [m]",
+                               title=heading))
+    return [p for p in out if p is not None]
+
+
 def plot_contact(results: dict, path: str | Path, title: str = "") -> Path | None:
     """Contact normal and shear stress along the plate underside (and the embedded wall
     face), with the Mohr-Coulomb limit c + sigma_n tan phi drawn beside the shear and the
@@ -537,6 +572,10 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
     else:
         figures.append((plot_surface_settlement, (r, directory / "settlement.png"),
                         {"title": title}))
+    if "overturning" in r:
+        figures.append((plot_overturning, (r, directory / "overturning.png",
+                                           directory / "overturning_wall.png"),
+                        {"title": title}))
     written = []
     for plot_fn, args, kwargs in figures:
         try:
@@ -546,6 +585,8 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
                 "%s not written (%s: %s); --no-figures skips the figures", args[-1].name,
                 type(e).__name__, e)
             continue
-        if path is not None:
+        if isinstance(path, list):
+            written += path
+        elif path is not None:
             written.append(path)
     return written

@@ -330,6 +330,32 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
                  ("settlement at the shell", f"{1e3 * ss['shell_settlement']:.2f} mm", ""),
                  ("centre-to-shell dish", f"{1e3 * ss['dish']:.2f} mm",
                   f"dish / radius = {ss['dish_over_radius']:.2e}")]
+    o = r.get("overturning")
+    if o:
+        # the first harmonic: toe = the side pressed down (theta = 0), heel = the other
+        rows += [("overturning: tilt", f"{1e3 * o['tilt']:.3f} mm/m",
+                  f"M = {o['moment'] / 1e3:.4g} kN m, V = {o['shear'] / 1e3:.4g} kN"),
+                 ("rocking stiffness M / tilt", f"{o['rocking_stiffness']:.4g} N m/rad",
+                  f"rigid disc on the surface soil: {o['rocking_stiffness_rigid_disc']:.4g}"),
+                 ("shell settlement toe / heel",
+                  f"{1e3 * o['toe']['shell_settlement']:.2f} / "
+                  f"{1e3 * o['heel']['shell_settlement']:.2f} mm", ""),
+                 ("contact stress: toe max / heel min",
+                  f"{o['toe']['max_contact_normal'] / 1e3:.1f} / "
+                  f"{o['heel']['min_contact_normal'] / 1e3:.1f} kPa",
+                  "the heel would lift: see the warning" if o["uplift"]["tension_at_heel"]
+                  else f"the heel starts to lift at {o['uplift']['onset_factor']:.3g} x this "
+                       f"overturning load")]
+        if "wall_foot" in o:
+            wf = o["wall_foot"]
+            rows.append(("wall foot axial stress toe / heel",
+                         f"{wf['axial_stress_toe'] / 1e6:.2f} / "
+                         f"{wf['axial_stress_heel'] / 1e6:.2f} MPa",
+                         "N_z / t, tension positive"))
+        eq = o["equilibrium"]
+        error = max(eq["moment_relative_error"], eq["shear_relative_error"])
+        rows.append(("overturning equilibrium error", f"{error:.1e}",
+                     "moment and shear resisted by the interface"))
     ifc = r.get("interface", {})
     if ifc.get("condition") == "mohr_coulomb":
         parts = [p for p in ("plate", "wall") if p in r["profiles"]]

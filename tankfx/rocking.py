@@ -346,7 +346,12 @@ def superpose(results: dict, amplitudes: dict, scene) -> tuple[dict, list[str]]:
     out["heel"] = {"min_contact_normal": float(heel.min()),
                    "shell_settlement": float(results["settlement_summary"]["shell_settlement"]
                                              - amplitudes["shell_settlement_amplitude"])}
-    out["uplift"] = {"tension_at_heel": bool(pulled.any()), "r_range": span}
+    # linear in the overturning load: the multiple of it at which the heel's contact first
+    # reaches zero (where the axisymmetric contact presses and the amplitude lifts)
+    lifting = (sn1 > 0.0) & (sn0 > 0.0)
+    onset = float(np.min(sn0[lifting] / sn1[lifting])) if lifting.any() else math.inf
+    out["uplift"] = {"tension_at_heel": bool(pulled.any()), "r_range": span,
+                     "onset_factor": onset}
     warnings = []
     if pulled.any():
         linear = scene.interface.condition != "mohr_coulomb"

@@ -195,7 +195,8 @@ def test_embedded_tank_balances_the_moment_and_the_shear(condition):
 def test_uplift_of_the_heel_is_reported():
     """Where the axisymmetric contact less the amplitude pulls, the results and a warning
     say the heel would lift (the linear superposition no longer holds there); a moderate
-    moment gives neither."""
+    moment gives neither, and the multiple of the moment at which the heel's contact opens
+    (``onset_factor``) is the same load for both."""
     small = analyse(Scene.from_dict(_surface_plate(1.0, overturning_moment=1e3))).results
     assert not small["overturning"]["uplift"]["tension_at_heel"]
     assert not any("overturning" in w for w in small["warnings"])
@@ -204,6 +205,10 @@ def test_uplift_of_the_heel_is_reported():
     assert o["uplift"]["tension_at_heel"] and o["heel"]["min_contact_normal"] < 0
     lo, hi = o["uplift"]["r_range"]
     assert 0 < lo < hi <= 1.0
+    # both parts are linear in their loads: the onset's multiple scales as 1 / M
+    onset = [res["overturning"]["uplift"]["onset_factor"] for res in (small, big)]
+    assert onset[0] > 1 > onset[1]
+    assert onset[0] * 1e3 == pytest.approx(onset[1] * 3e4, rel=1e-8)
     assert any("heel" in w and "load.overturning_moment" in w for w in big["warnings"])
 
 
