@@ -125,9 +125,14 @@ def load_sweep(path: str | Path) -> Sweep:
     return Sweep(base=base, axes=axes, cases=cases, scenes=scenes)
 
 
+#: ... and, for results with an overturning load, these
+OVERTURNING_COLUMNS = ("overturning.tilt", "overturning.rocking_stiffness",
+                       "overturning.heel.min_contact_normal", "overturning.uplift.onset_factor")
+
+
 def _flatten(results: dict) -> dict:
     out = {}
-    for col in COLUMNS:
+    for col in COLUMNS + (OVERTURNING_COLUMNS if "overturning" in results else ()):
         value = results
         for part in col.split("."):
             value = value.get(part) if isinstance(value, dict) else None
@@ -213,7 +218,9 @@ def run_sweep(sweep: Sweep, out: Path, comm: MPI.Comm = MPI.COMM_WORLD) -> list[
         record = json.loads((cases_dir / f"{k:04d}.json").read_text())
         rows.append({"case": k, **record["axes"], **_flatten(record["results"])})
     with (out / "table.csv").open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        # (a failed case has no overturning columns: the union of every row's, in order)
+        writer = csv.DictWriter(f, fieldnames=list(dict.fromkeys(k for row in rows
+                                                                  for k in row)))
         writer.writeheader()
         writer.writerows(rows)
     from .plots import plot_sweep

@@ -237,3 +237,26 @@ def test_overturning_needs_a_plate():
                          "load": {"pressure": 1e3, "load_radius": 1.0, "base_shear": 1e3}})
     with pytest.raises(SceneError, match="overturning_moment"):
         Scene.from_dict(_surface_plate(1.0, overturning_moment=float("nan")))
+
+
+def test_a_sweep_over_the_overturning_moment_tabulates_the_tilt(tmp_path):
+    """A sweep's axis may be the overturning load; its table then has the tilt, the rocking
+    stiffness and the uplift's onset (the tilt in proportion to the moment, the stiffness
+    the same)."""
+    import csv
+
+    from tankfx.sweep import Sweep, _with, run_sweep
+
+    base = Scene.from_dict(_surface_plate(1.0, overturning_moment=1e3))
+    cases = [{"load.overturning_moment": m} for m in (1e3, 2e3)]
+    sweep = Sweep(base=base, axes={"load.overturning_moment": [1e3, 2e3]}, cases=cases,
+                  scenes=[_with(base, c) for c in cases])
+    rows = run_sweep(sweep, tmp_path / "out", MPI.COMM_SELF)
+    with (tmp_path / "out" / "table.csv").open() as f:
+        table = list(csv.DictReader(f))
+    assert [float(r["overturning.tilt"]) for r in table] == pytest.approx(
+        [rows[0]["overturning.tilt"], 2 * rows[0]["overturning.tilt"]], rel=1e-9)
+    assert float(table[1]["overturning.rocking_stiffness"]) == pytest.approx(
+        float(table[0]["overturning.rocking_stiffness"]), rel=1e-9)
+    assert float(table[0]["overturning.uplift.onset_factor"]) == pytest.approx(
+        2 * float(table[1]["overturning.uplift.onset_factor"]), rel=1e-8)
