@@ -493,8 +493,9 @@ class TankModel:
         out["status"] = status
         return out
 
-    def _stations(self, cells):
-        """Sorted, gathered vertex and midpoint coordinates of the given structure cells."""
+    def _stations(self, cells, along: int | None = None):
+        """Gathered vertex and midpoint coordinates of the given structure cells, sorted (by
+        the coordinate ``along``: 0 for r, 1 for z)."""
         sub = self.mesh
         owned = cells[cells < sub.topology.index_map(1).size_local]
         conn = sub.topology.connectivity(1, 0)
@@ -506,7 +507,8 @@ class TankModel:
             else np.empty((0, 2))
         pts = np.concatenate(self.mesh.comm.allgather(np.concatenate([x, mids])))
         pts = np.unique(np.round(pts, 12), axis=0)
-        return pts[np.lexsort((pts[:, 0], pts[:, 1]))] if len(pts) else pts
+        pts = pts[np.lexsort((pts[:, 0], pts[:, 1]))] if len(pts) else pts
+        return pts if along is None else pts[np.argsort(pts[:, along])]
 
     def cell_average_forms(self, integrands) -> list:
         """Compiled forms whose assembled vectors are, per structure cell, the integrals over
@@ -572,8 +574,7 @@ class TankModel:
         F = self._fields()
         self._F = F
         s = self.scene
-        pts = self._stations(self.plate_cells)
-        pts = pts[np.argsort(pts[:, 0])]
+        pts = self._stations(self.plate_cells, along=0)
         cells = self.plate_cells
         u = evaluate_at(F["u"], pts, cells)
         w = -u[:, 1]
@@ -589,8 +590,7 @@ class TankModel:
 
     def structure_results(self) -> dict:
         F, s = self._F, self.scene
-        pts = self._stations(self.plate_cells)
-        pts = pts[np.argsort(pts[:, 0])]
+        pts = self._stations(self.plate_cells, along=0)
         cells = self.plate_cells
         u = evaluate_at(F["u"], pts, cells)
         sn, tau = self._contact(F, pts, cells)
@@ -604,8 +604,7 @@ class TankModel:
         profiles = {"plate": plate}
         if s.wall is not None:
             cells = self.wall_cells
-            pts = self._stations(cells)
-            pts = pts[np.argsort(pts[:, 1])]
+            pts = self._stations(cells, along=1)
             u = evaluate_at(F["u"], pts, cells)
             N_theta = evaluate_at(F["N_theta"], pts, cells)[:, 0]
             # (at a course joint both come from the course below)

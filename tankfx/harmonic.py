@@ -37,6 +37,7 @@ import basix
 import basix.ufl
 import ufl
 from dolfinx import fem
+from mpi4py import MPI
 
 from . import soil as soil_forms
 from . import structure as st
@@ -44,7 +45,8 @@ from . import structure as st
 __all__ = ["cylindrical", "soil_strain", "soil_stiffness", "soil_trace",
            "shell_amplitudes", "shell_strains", "shell_energy_density", "shell_resultants",
            "structure_space", "kirchhoff_constraint", "interface_form", "interface_tractions",
-           "WEIGHT"]
+           "mixed_soil_forms", "shell_stiffness", "shell_resultants_of",
+           "StandaloneHarmonicShell", "WEIGHT"]
 
 #: integral of cos^2 (and sin^2) over the circle: the weight pi r of every form
 WEIGHT = math.pi
@@ -227,14 +229,9 @@ class StandaloneHarmonicShell:
     vertices."""
 
     def __init__(self, points, E, nu, thickness, supports, load, edge_load=None,
-                 comm=None):
-        import numpy as np
-        from dolfinx import mesh as dmesh
-        from mpi4py import MPI
-
+                 comm=MPI.COMM_WORLD):
         from .solve import DirectSolver
 
-        comm = MPI.COMM_WORLD if comm is None else comm
         self.mesh, _ = st.line_mesh(comm, points)
         msh = self.mesh
         msh.topology.create_connectivity(0, 1)
@@ -255,18 +252,10 @@ class StandaloneHarmonicShell:
         L = load(uv, Vv, x) * WEIGHT * self.r * dx
         if edge_load is not None:
             L += edge_load(uv, Vv, x) * WEIGHT * self.r * ufl.Measure("ds", domain=msh)
-        spaces = {"D": self.W.sub(0).sub(0), "Z": self.W.sub(0).sub(1),
-                  "beta": self.W.sub(1), "S": self.W.sub(3)}
-        bcs = []
-        for where, comps in supports.items():
-            verts = dmesh.locate_entities(msh, 0, where)
-            for c in comps:
-                Vc, _ = spaces[c].collapse()
-                dofs = fem.locate_dofs_topological((spaces[c], Vc), 0, verts)
-                bcs.append(fem.dirichletbc(fem.Function(Vc), dofs, spaces[c]))
+        bcs = st.vertex_supports(msh, {"D": self.W.sub(0).sub(0), "Z": self.W.sub(0).sub(1),
+                                       "beta": self.W.sub(1), "S": self.W.sub(3)}, supports)
         self.w = fem.Function(self.W)
         DirectSolver(a, L, bcs, self.w, name="harmonic_shell").solve()
-        del np
 
     def resultants(self) -> dict:
         return shell_resultants(self.w, self.r, self.t, self.E, self.nu, self.thickness)

@@ -267,8 +267,7 @@ class RockingModel:
         F = hm.shell_resultants(self.w, tank.r_b, tank.t_b, tank.E, tank.nu, tank.thickness,
                                 tank.offset)
         F.update(self._contact_amplitudes())
-        pts = tank._stations(tank.plate_cells)
-        pts = pts[np.argsort(pts[:, 0])]
+        pts = tank._stations(tank.plate_cells, along=0)
         cells = tank.plate_cells
         u = evaluate_at(F["u"], pts, cells)
         plate = {"r": pts[:, 0].tolist(),
@@ -289,8 +288,7 @@ class RockingModel:
         out["rocking_stiffness"] = M / out["tilt"] if out["tilt"] else math.inf
         if s.wall is not None:
             cells = tank.wall_cells
-            pts = tank._stations(cells)
-            pts = pts[np.argsort(pts[:, 1])]
+            pts = tank._stations(cells, along=1)
             u = evaluate_at(F["u"], pts, cells)
             V = evaluate_at(F["V"], pts, cells)[:, 0]
             profiles["wall"] = {

@@ -41,7 +41,7 @@ from mpi4py import MPI
 __all__ = ["tangent", "normal", "arc_derivative", "shell_strains", "membrane_forces",
            "bending_moments", "mid_surface_displacement", "shell_stiffness", "kirchhoff_constraint",
            "structure_space", "line_mesh", "flexural_rigidity", "wall_beta", "shell_resultants",
-           "StandaloneShell"]
+           "StandaloneShell", "vertex_supports"]
 
 #: Cell tags of the structure mesh.
 PLATE, WALL, WALL_EMBEDDED = 1, 2, 3
@@ -164,6 +164,19 @@ def line_mesh(comm: MPI.Comm, points: np.ndarray, tags: np.ndarray | None = None
     return msh, ct
 
 
+def vertex_supports(msh, spaces: dict, supports: dict) -> list:
+    """Zero Dirichlet conditions on a 1D mesh's vertices: ``supports`` maps a vertex
+    predicate ``f(x) -> bool`` to the names (keys of ``spaces``, subspaces) it fixes."""
+    bcs = []
+    for where, comps in supports.items():
+        verts = dmesh.locate_entities(msh, 0, where)
+        for c in comps:
+            V, _ = spaces[c].collapse()
+            dofs = fem.locate_dofs_topological((spaces[c], V), 0, verts)
+            bcs.append(fem.dirichletbc(fem.Function(V), dofs, spaces[c]))
+    return bcs
+
+
 class StandaloneShell:
     """A plate or wall on its own, on rigid supports: for verification against plate and
     shell theory, and for benchmarks. ``supports`` maps a vertex predicate ``f(x) -> bool``
@@ -198,15 +211,8 @@ class StandaloneShell:
              + kirchhoff_constraint(Q, g, v, self.t, self.r, dx)
              + kirchhoff_constraint(P, b, u, self.t, self.r, dx))
         L = load(v, x) * 2.0 * math.pi * self.r * dx
-        spaces = {"u_r": self.W.sub(0).sub(0), "u_z": self.W.sub(0).sub(1),
-                  "beta": self.W.sub(1)}
-        bcs = []
-        for where, comps in supports.items():
-            verts = dmesh.locate_entities(msh, 0, where)
-            for c in comps:
-                V, _ = spaces[c].collapse()
-                dofs = fem.locate_dofs_topological((spaces[c], V), 0, verts)
-                bcs.append(fem.dirichletbc(fem.Function(V), dofs, spaces[c]))
+        bcs = vertex_supports(msh, {"u_r": self.W.sub(0).sub(0), "u_z": self.W.sub(0).sub(1),
+                                    "beta": self.W.sub(1)}, supports)
         self.w = fem.Function(self.W)
         DirectSolver(a, L, bcs, self.w, name="shell").solve()
 
