@@ -608,7 +608,8 @@ def _stage_summary(r: dict) -> dict:
     out = {"stage": r["stage"], "load": r["scene"]["load"],
            "applied_load": r["equilibrium"]["applied_load"],
            **{k: r[k] for k in ("w0", "w_edge", "wd", "w_mean", "M0", "nondim")},
-           "soil_iterations": r["soil"]["iterations"], "linear_solves": r["linear_solves"]}
+           "soil_iterations": r["soil"]["iterations"], "linear_solves": r["linear_solves"],
+           "tilt": r["overturning"]["tilt"] if "overturning" in r else None}
     if "interface" in r:
         out["interface"] = {k: v for k, v in r["interface"].items()
                             if k.endswith("_length") or k in ("converged", "iterations")}

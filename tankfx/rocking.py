@@ -14,7 +14,8 @@ edge (vertical line load -(M - V H) cos(theta) / (pi a_t^2)): at the wall's foot
 then carries exactly V and M, and so does the foundation; above the foot the moment is
 linear in height (the real load's distribution over the height is not modelled). Without
 a wall, M is a pressure 4 M r cos(theta) / (pi a^4) on the plate and V a uniform
-horizontal traction. M is taken about the plate's underside at the axis.
+horizontal traction on its mid-surface (the pressure then carries M less the traction's
+moment about the underside). M is taken about the plate's underside at the axis.
 
 The interface: bonded and smooth as they are; a Mohr-Coulomb interface about its
 converged states (stick: bonded; slip: friction mu times the added normal stress, no
@@ -143,7 +144,11 @@ class RockingModel:
         else:
             a = s.plate.radius
             dx_p = tank.dx_b(st.PLATE)
-            pressure = -4.0 * self.moment * r_b / (math.pi * a**4) * v_b[1]
+            # the traction acts on the mid-surface, t / 2 above the underside: its moment
+            # about it, V / (pi a^2) times the plate's volume / 2, is taken off the pressure's
+            lever = s.plate.volume / (2.0 * math.pi * a**2)
+            pressure = -4.0 * (self.moment - self.shear * lever) * r_b / (math.pi * a**4) * \
+                v_b[1]
             traction = self.shear / (math.pi * a**2) * (v_b[0] - Vv)
             L_b = (pressure + traction) * w * dx_p
         W = ufl.TestFunction(self.V)

@@ -260,3 +260,59 @@ def test_a_sweep_over_the_overturning_moment_tabulates_the_tilt(tmp_path):
         float(table[0]["overturning.rocking_stiffness"]), rel=1e-9)
     assert float(table[0]["overturning.uplift.onset_factor"]) == pytest.approx(
         2 * float(table[1]["overturning.uplift.onset_factor"]), rel=1e-8)
+
+
+def _steel_on_ringwall():
+    from pathlib import Path
+
+    from tankfx import load_scene
+
+    root = Path(__file__).resolve().parents[1]
+    return load_scene(root / "demos" / "scenes" / "steel_tank.toml").with_coarse_mesh() \
+        .with_changes(ringwall={"inner_radius": 14.7, "outer_radius": 15.3, "depth": 1.2,
+                                "E": 30e9},
+                      load={"overturning_moment": 2e7, "base_shear": 3e6}).to_dict()
+
+
+@pytest.mark.parametrize("case", ["node states", "plate alone, embedded, with shear",
+                                  "layers with an undrained one", "Duncan & Chang",
+                                  "steel tank on a ringwall"])
+def test_every_kind_of_scene_balances_the_overturning(case):
+    """The first harmonic's equilibrium (moment about the plate's underside, shear) on the
+    other parts of the model: Mohr-Coulomb states per node, a plate without a wall (the
+    shear's traction on its mid-surface), layered ground with a mixed layer, Duncan &
+    Chang's soil (mixed, its converged secant moduli), a steel tank on a ringwall."""
+    load = {"pressure": 50e3, "overturning_moment": 1e4, "base_shear": 4e3}
+    d = {"node states": lambda: small_tank(interface={
+            "condition": "mohr_coulomb", "tan_phi": 0.5, "states": "node"}),
+         "plate alone, embedded, with shear": lambda: {
+            "soil": {"E": 10e6, "nu": 0.3}, "mesh": COARSE,
+            "plate": {"radius": 1.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": 0.2}},
+         "layers with an undrained one": lambda: small_tank(soil={
+            "E": 10e6, "nu": 0.3, "layers": [{"depth": 2.0, "E": 50e6, "nu": 0.5}]}),
+         "Duncan & Chang": lambda: small_tank(soil={
+            "model": "duncan_chang", "modulus_number": 400, "modulus_exponent": 0.5,
+            "failure_ratio": 0.85, "cohesion": 5e3, "friction_angle": 35.0,
+            "unit_weight": 18e3, "nu": 0.3}),
+         "steel tank on a ringwall": _steel_on_ringwall}[case]()
+    if case != "steel tank on a ringwall":
+        d["load"] = load
+    o = analyse(Scene.from_dict(d)).results["overturning"]
+    assert o["equilibrium"]["moment_relative_error"] < 1e-8
+    assert o["equilibrium"]["shear_relative_error"] < 1e-8
+    assert o["tilt"] > 0
+
+
+def test_a_load_path_overturns_only_where_a_stage_says_so():
+    """Stages: the full tank, then the full tank in an earthquake; the first has no
+    overturning results, the second its own (about the second stage's state), and the
+    stages' table carries its tilt."""
+    from tankfx.analysis import analyse_path
+
+    scene = Scene.from_dict(small_tank())
+    first, second = analyse_path(scene, [{"pressure": 50e3},
+                                         {"pressure": 50e3, "overturning_moment": 1e4}])
+    assert "overturning" not in first.results
+    assert second.results["overturning"]["equilibrium"]["moment_relative_error"] < 1e-8
+    assert second.results["stages"][1]["tilt"] == second.results["overturning"]["tilt"]
+    assert second.results["stages"][0]["tilt"] is None
