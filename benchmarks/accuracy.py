@@ -10,6 +10,8 @@ tankfx.reference.rigid_plate_centre_moment) and rigid bonded punch (w0: Mossakov
 M0: its own finest solution), the free raft at Kp = 0.1 and 10 (Brown 1969: w0, wd, M0), the
 flexible load on layered ground (three layers on a rigid base, the middle one undrained: w0 and
 w_edge against Burmister's solution, tankfx.reference.layered_surface_settlement), and
+the rocking rigid disc (the first harmonic: its rocking stiffness against Borowicka's, and
+its element-averaged contact pressure for 0.1 a < r < 0.9 a),
 the nonlinear embedded tank of `make demo` (hyperbolic soil, Mohr-Coulomb interface) against
 its own finest solution (P3, level 1: ``SELF_REFERENCE``). The plate and wall elements
 alone are in benchmarks/structure.py (their cost is negligible beside the soil's).
@@ -35,6 +37,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 P, A, E, NU = 100e3, 1.0, 10e6, 0.3
+MOMENT = 1e5          #: N m, on the rocking disc
 BROWN = {0.1: (1.954, 0.5572, 0.01462), 10.0: (1.588, 0.02378, 0.0747)}
 #: Layered ground on a rigid base 4 a down: (thickness, E, nu) top down, as in tests/
 LAYERS = [(0.5, E, NU), (1.5, 2e6, 0.5), (2.0, 30e6, 0.25)]
@@ -72,7 +75,12 @@ def scenes(degree: int, level: int) -> dict[str, dict]:
                                    "load": {"pressure": P}, "mesh": mesh},
            "rigid punch, bonded": {"soil": soil, "plate": plate | {"Kp": 1e3},
                                    "interface": {"condition": "bonded"},
-                                   "load": {"pressure": P}, "mesh": mesh}}
+                                   "load": {"pressure": P}, "mesh": mesh},
+           # the first harmonic: a moment on the smooth rigid punch (no pressure: 1 Pa)
+           "rigid disc, rocking": {"soil": soil, "plate": plate | {"Kp": 1e3},
+                                   "interface": {"condition": "smooth"},
+                                   "load": {"pressure": 1.0, "overturning_moment": MOMENT},
+                                   "mesh": mesh}}
     tops = np.cumsum([0.0] + [h for h, _, _ in LAYERS])
     if degree > 1:      # its undrained layer's mixed form needs P2 or P3
         out["layered ground"] = {
@@ -109,6 +117,16 @@ def errors(case: str, r: dict, reference: dict | None) -> dict:
         w0, w_edge = ref.layered_surface_settlement(P, A, [0.0, A], LAYERS, None)
         return {"w0": r["w0"] / w0 - 1, "w_edge": r["w_edge"] / w_edge - 1}
     force = P * math.pi * A**2
+    if case == "rigid disc, rocking":
+        o = r["overturning"]
+        x, c = o["profiles"]["plate"]["r"], o["profiles"]["plate"]["contact_normal"]
+        # element averages (every second station a midpoint): against the reference's
+        # average over the element's ring
+        contact = [c[i] / ref.ring_average(lambda s: ref.rigid_disc_rocking_pressure(
+            MOMENT, A, s), x[i - 1], x[i + 1]) - 1 for i in range(1, len(x) - 1, 2)
+            if 0.1 * A < x[i] < 0.9 * A]
+        return {"rocking": o["rocking_stiffness"] / ref.rigid_disc_rocking_stiffness(E, NU, A)
+                - 1, "contact": max(contact, key=abs)}
     if case == "rigid punch, smooth":
         return {"w0": r["w0"] / (force * (1 - NU**2) / (2 * A * E)) - 1,
                 "M0": r["M0"] / ref.rigid_plate_centre_moment(P, A, NU) - 1}

@@ -22,7 +22,7 @@ __all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settl
            "layered_surface_settlement", "one_dimensional_settlement",
            "stepped_wall_under_liquid", "stepped_plate", "gradient_surface_compliance",
            "gradient_surface_settlement", "antisymmetric_surface_settlement",
-           "rigid_disc_rocking_stiffness", "rigid_disc_rocking_pressure"]
+           "rigid_disc_rocking_stiffness", "rigid_disc_rocking_pressure", "ring_average"]
 
 
 def flexible_centre_settlement(p, a, E, nu):
@@ -160,6 +160,14 @@ def rigid_disc_rocking_pressure(M, a, r):
     3 M r / (2 pi a^3 sqrt(a^2 - r^2)), Pa, compression positive (cos theta)."""
     r = np.asarray(r, dtype=float)
     return 3.0 * M * r / (2.0 * math.pi * a**3 * np.sqrt(a**2 - r**2))
+
+
+def ring_average(f, lo, hi, points: int = 8) -> float:
+    """The average of f(r) over the annulus lo <= r <= hi (r-weighted: what a contact stress
+    averaged over an axisymmetric interface element is), by Gauss-Legendre."""
+    x, w = np.polynomial.legendre.leggauss(points)
+    r = 0.5 * (hi - lo) * (x + 1.0) + lo
+    return float(np.sum(w * r * f(r)) / np.sum(w * r))
 
 
 # --------------------------------------------------------------------------- layered ground

@@ -139,7 +139,7 @@ def test_flexible_plate_under_moment_is_the_antisymmetric_boussinesq_load():
 def test_rigid_disc_rocks_as_borowickas(nu):
     """A rigid plate (Kp = 1e3) on a smooth interface: M / tilt = 4 E a^3 / (3 (1 - nu^2))
     (Borowicka), also at nu = 0.5 (the harmonic's mixed form), and the contact pressure
-    3 M r / (2 pi a^3 sqrt(a^2 - r^2)) inside the edge zone."""
+    3 M r / (2 pi a^3 sqrt(a^2 - r^2)) for 0.1 < r / a < 0.9."""
     M = 1e5
     sol = analyse(Scene.from_dict(_surface_plate(1e3, nu=nu, overturning_moment=M)))
     o = sol.results["overturning"]
@@ -147,12 +147,16 @@ def test_rigid_disc_rocks_as_borowickas(nu):
     assert abs(o["rocking_stiffness"] / K - 1) < 5e-3        # (default mesh: 6e-4)
     assert o["rocking_stiffness_rigid_disc"] == pytest.approx(K)
     plate = o["profiles"]["plate"]
-    # (the contact stresses are cell averages: compared at the cells' midpoints, every
-    # second station)
-    r, sn = np.asarray(plate["r"])[1::2], np.asarray(plate["contact_normal"])[1::2]
-    inner = (r > 0.2) & (r < 0.8)
-    p_ref = ref.rigid_disc_rocking_pressure(M, 1.0, r[inner])
-    assert np.max(np.abs(sn[inner] / p_ref - 1)) < 0.015      # (0.2-1.2 % on this mesh)
+    # (the contact stresses are cell averages, at every second station the cell's
+    # midpoint between its vertices: against the reference's average over the ring)
+    r, sn = np.asarray(plate["r"]), np.asarray(plate["contact_normal"])
+    errors = [sn[i] / ref.ring_average(lambda x: ref.rigid_disc_rocking_pressure(M, 1.0, x),
+                                       r[i - 1], r[i + 1]) - 1
+              for i in range(1, len(r) - 1, 2) if 0.1 < r[i] < 0.9]
+    # (coarse mesh: 3.7 % in its first, 0.24 a wide cell, 0.7-1.6 % beyond 0.5 a; the
+    # default mesh 1.2 % at most, where the element size changes)
+    assert np.max(np.abs(errors)) < 0.04
+    assert np.max(np.abs(errors[len(errors) // 2:])) < 0.02
     # (the tractions are the penalty times jumps of a rigid plate: 1.5e-8 at nu = 0.5)
     assert o["equilibrium"]["moment_relative_error"] < 1e-7
 
