@@ -27,7 +27,7 @@ from mpi4py import MPI
 
 from tankfx import analyse, load_scene
 from tankfx.cli import write_json
-from tankfx.plots import plot_curves, plot_overturning
+from tankfx.plots import plot_curves, plot_overturning, plot_tilt
 from tankfx.reference import rigid_disc_rocking_stiffness
 
 comm = MPI.COMM_WORLD
@@ -149,7 +149,7 @@ say(f"bottom course ({1e3 * t1:g} mm) axial compression at the toe: tankfx "
 
 # ## Figures and results
 # The contact pressure and settlement along the floor, and the shell's axial stress up its
-# height, at toe and heel and without the earthquake.
+# height, at toe and heel and without the earthquake; the tank in 3D.
 
 figs = plot_overturning(r, out / "overturning.png", out / "overturning_wall.png",
                         title=scene.title)
@@ -161,6 +161,8 @@ figs.append(plot_curves(np.asarray(plate1["r"])[near], {"contact stress [kPa]": 
     "heel (theta = 180 deg)": np.asarray(plate1["contact_normal_heel"])[near] / 1e3,
     "no tension": [0.0]}}, out / "overturning_foot.png", "r [m]",
     title=f"{scene.title}: at the shell's foot"))
+# and the tank itself in 3D, tilting towards the toe (displacements exaggerated)
+figs.append(plot_tilt(r, out / "tilt.png", title=scene.title))
 figs = [f for f in figs if f is not None]
 if comm.rank == 0:
     write_json(out / "results.json", r)

@@ -14,11 +14,12 @@ from dolfinx import fem, plot
 
 __all__ = ["gather_grid", "plot_section", "plot_surface_settlement", "plot_moment_diagrams",
            "plot_structure_profiles", "plot_contact", "plot_cutaway", "plot_sweep",
-           "plot_overturning", "FIGURES", "write_figures", "ringwall_outline"]
+           "plot_overturning", "plot_tilt", "FIGURES", "write_figures", "ringwall_outline"]
 
 #: The figures ``write_figures`` may write (which ones depends on the scene).
 FIGURES = ("section.png", "stress_level.png", "settlement.png", "moments.png", "profiles.png",
-           "contact.png", "load_path.png", "overturning.png", "overturning_wall.png")
+           "contact.png", "load_path.png", "overturning.png", "overturning_wall.png",
+           "tilt.png")
 
 if not os.environ.get("DISPLAY"):
     # no X server: render through EGL rather than let VTK try (and warn about) X first
@@ -485,6 +486,65 @@ def plot_overturning(results: dict, path: str | Path, wall_path: str | Path | No
     return [p for p in out if p is not None]
 
 
+def plot_tilt(results: dict, path: str | Path, title: str = "",
+              exaggeration: float | None = None) -> Path | None:
+    """The plate and wall revolved in 3D, displaced by the overturning load alone (its first
+    harmonic: u_r, u_z amplitudes times cos theta, u_theta times sin theta), exaggerated
+    (by default so that the largest displacement is a tenth of the plate's radius), over
+    the undeformed outline and coloured by that settlement: the tank tilting towards
+    theta = 0 (+x). (The axisymmetric settlement, tens of times larger in a full tank,
+    would hide the tilt.) Rank 0 writes the PNG."""
+    from mpi4py import MPI
+
+    o = results.get("overturning")
+    if MPI.COMM_WORLD.rank != 0 or o is None:
+        return None
+    pv = _pyvista()
+    theta = np.linspace(0.0, 2.0 * np.pi, 97)[None, :]
+    c, s = np.cos(theta), np.sin(theta)
+    members = []
+    sc = results["scene"]
+    depth = sc["plate"].get("embedment", 0.0)
+    for name in ("plate", "wall"):
+        if name not in o["profiles"]:
+            continue
+        p1 = o["profiles"][name]
+        if name == "plate":
+            r = np.asarray(p1["r"])[:, None]
+            z = np.full_like(r, -depth)
+            uz = -np.asarray(p1["w"])[:, None] * c
+        else:
+            z = np.asarray(p1["z"])[:, None] - depth
+            r = np.full_like(z, sc["wall"]["radius"])
+            uz = np.asarray(p1["u_z"])[:, None] * c
+        members.append((r, z, np.asarray(p1["u_r"])[:, None] * c,
+                        np.asarray(p1["u_theta"])[:, None] * s, uz))
+    a = sc["plate"]["radius"]
+    largest = max(np.max(np.abs([ur, ut, uz])) for _, _, ur, ut, uz in members)
+    scale = exaggeration if exaggeration is not None else 0.1 * a / max(largest, 1e-300)
+    p = pv.Plotter(off_screen=True, window_size=(1100, 850))
+    lim = max(np.max(np.abs(uz)) for *_, uz in members) * 1e3
+    for r, z, ur, ut, uz in members:
+        # the undeformed outline: a few meridians' worth of lines
+        k = max(len(r) // 12, 1)
+        r_o, z_o = np.append(r[::k], r[-1:], axis=0), np.append(z[::k], z[-1:], axis=0)
+        outline = pv.StructuredGrid(r_o * c[:, ::4], r_o * s[:, ::4], z_o + 0.0 * c[:, ::4])
+        p.add_mesh(outline, style="wireframe", color="grey", opacity=0.3)
+        rr = r + scale * ur
+        grid = pv.StructuredGrid(rr * c - scale * ut * s, rr * s + scale * ut * c,
+                                 z + scale * uz)
+        grid.point_data["settlement [mm]"] = (-uz * 1e3).ravel(order="F")
+        p.add_mesh(grid, scalars="settlement [mm]", cmap="coolwarm", clim=(-lim, lim),
+                   show_edges=False,
+                   scalar_bar_args={"title": "settlement [mm]", "vertical": True})
+    p.add_text(f"{title}\nthe overturning's displacements alone (first harmonic), x "
+               f"{scale:.3g}: tilt {1e3 * o['tilt']:.3g} mm/m towards +x", font_size=11)
+    # from the side (theta = -90 deg) and above, to see the floor through the open top
+    p.camera_position = [(0.0, -3.0 * a, 2.2 * a), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)]
+    p.reset_camera()
+    return _save(p, path)
+
+
 def plot_contact(results: dict, path: str | Path, title: str = "") -> Path | None:
     """Contact normal and shear stress along the plate underside (and the embedded wall
     face), with the Mohr-Coulomb limit c + sigma_n tan phi drawn beside the shear and the
@@ -573,9 +633,10 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
         figures.append((plot_surface_settlement, (r, directory / "settlement.png"),
                         {"title": title}))
     if "overturning" in r:
-        figures.append((plot_overturning, (r, directory / "overturning.png",
-                                           directory / "overturning_wall.png"),
-                        {"title": title}))
+        figures += [(plot_overturning, (r, directory / "overturning.png",
+                                        directory / "overturning_wall.png"),
+                     {"title": title}),
+                    (plot_tilt, (r, directory / "tilt.png"), {"title": title})]
     written = []
     for plot_fn, args, kwargs in figures:
         try:

@@ -8,8 +8,9 @@ cos(theta) around the tank, so they excite the first Fourier harmonic alone
 it superposes on the axisymmetric result: the response at an angle theta is
 ``axisymmetric + cos(theta) x amplitude`` (sin for the circumferential components).
 
-Loads (``[overturning]``): with a wall, V is a ring of horizontal line load on the wall's
-top edge (a uniform pull towards theta = 0), and the rest of M, M - V H, a couple on that
+Loads (``[load] overturning_moment, base_shear``): with a wall, V is a line load on the
+wall's top edge along the circle, the shear flow -V sin(theta) / (pi a_t) of a thin tube
+(its resultant V towards theta = 0), and the rest of M, M - V H, a couple on that
 edge (vertical line load -(M - V H) cos(theta) / (pi a_t^2)): at the wall's foot the shell
 then carries exactly V and M, and so does the foundation; above the foot the moment is
 linear in height (the real load's distribution over the height is not modelled). Without
@@ -134,8 +135,11 @@ class RockingModel:
                 msh, 0, lambda x: np.isclose(x[1], H - s.embedment) & np.isclose(x[0], R))
             tags = dmesh.meshtags(msh, 0, top, np.full(len(top), 1, dtype=np.int32))
             ds_top = ufl.Measure("ds", domain=msh, subdomain_data=tags)(1)
-            # a uniform pull V / (2 pi R) towards theta = 0: (cos e_r - sin e_theta)
-            horizontal = self.shear / (2.0 * math.pi * R) * (v_b[0] - Vv)
+            # V as the shear flow a thin tube carries it with, -V sin / (pi R) along
+            # e_theta (its x-resultant is V): in equilibrium with the membrane state, so the
+            # free top edge does not bend under it (a uniform pull would flare it, the local
+            # bending of a radial line load on a free edge)
+            horizontal = -self.shear / (math.pi * R) * Vv
             # the couple M - V H: a vertical line load on the mid-surface, at r_m = R - t / 2
             # from the axis: -(M - V H) cos / (pi R r_m) per unit length of the face's circle
             r_m = R - 0.5 * s.wall.thickness_at(np.array([s.wall.height]))[0]
