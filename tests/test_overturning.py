@@ -344,3 +344,21 @@ def test_a_load_path_overturns_only_where_a_stage_says_so():
     assert second.results["overturning"]["equilibrium"]["moment_relative_error"] < 1e-8
     assert second.results["stages"][1]["tilt"] == second.results["overturning"]["tilt"]
     assert second.results["stages"][0]["tilt"] is None
+
+
+def test_rocking_from_a_flexible_to_a_rigid_plate():
+    """Kp from 1e-6 to 1e4 under a moment: the rocking stiffness (moment over the edge's
+    tilt) falls monotonically from the flexible load's 3 pi^2 E a^3 / (16 (1 - nu^2)) (the
+    antisymmetric Boussinesq load's edge, 4 (1 - nu^2) q a / (3 pi E)) to the rigid disc's
+    4 E a^3 / (3 (1 - nu^2)); every solve's residual and equilibrium at round-off."""
+    E_, nu = 10e6, 0.3
+    stiffness = []
+    for Kp in (1e-6, 1e-2, 1.0, 1e2, 1e4):
+        o = analyse(Scene.from_dict(_surface_plate(Kp, overturning_moment=1e5))).results[
+            "overturning"]
+        assert o["relative_residual"] < 1e-7
+        assert o["equilibrium"]["moment_relative_error"] < 1e-8
+        stiffness.append(o["rocking_stiffness"] * (1 - nu**2) / E_)
+    assert all(b < a for a, b in zip(stiffness, stiffness[1:]))
+    assert stiffness[0] == pytest.approx(3 * math.pi**2 / 16, rel=5e-3)      # (-0.3 %)
+    assert stiffness[-1] == pytest.approx(4 / 3, rel=5e-3)                   # (+0.33 %)
