@@ -336,7 +336,8 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
         rows += [("overturning: tilt", f"{1e3 * o['tilt']:.3f} mm/m",
                   f"M = {o['moment'] / 1e3:.4g} kN m, V = {o['shear'] / 1e3:.4g} kN"),
                  ("rocking stiffness M / tilt", f"{o['rocking_stiffness']:.4g} N m/rad",
-                  f"rigid disc on the surface soil: {o['rocking_stiffness_rigid_disc']:.4g}"),
+                  f"K (1 - nu_s^2) / (E_s a^3) = {o['nondim']['rocking_stiffness']:.4f} "
+                  f"(rigid disc 4/3)"),
                  ("shell settlement toe / heel",
                   f"{1e3 * o['toe']['shell_settlement']:.2f} / "
                   f"{1e3 * o['heel']['shell_settlement']:.2f} mm", ""),

@@ -348,6 +348,10 @@ def superpose(results: dict, amplitudes: dict, scene) -> tuple[dict, list[str]]:
     out = {k: amplitudes[k] for k in ("moment", "shear", "tilt", "shell_settlement_amplitude",
                                       "rocking_stiffness", "equilibrium")}
     out["rocking_stiffness_rigid_disc"] = rigid_disc_rocking_stiffness(E_s, nu_s, a_p)
+    # in the manner of Eqs. 21-23: on the surface soil's E_s, nu_s and the plate's radius
+    # (4/3 for the rigid disc, 3 pi^2 / 16 for the flexible plate by its edge's tilt)
+    out["nondim"] = {"rocking_stiffness": amplitudes["rocking_stiffness"] * (1 - nu_s**2)
+                     / (E_s * a_p**3)}
     out["profiles"] = prof1
     out["toe"] = {"max_contact_normal": float((sn0 + sn1).max()),
                   "shell_settlement": float(results["settlement_summary"]["shell_settlement"]

@@ -170,6 +170,7 @@ def test_rigid_disc_rocks_as_borowickas(nu):
     K = ref.rigid_disc_rocking_stiffness(10e6, nu, 1.0)
     assert abs(o["rocking_stiffness"] / K - 1) < 5e-3        # (default mesh: 6e-4)
     assert o["rocking_stiffness_rigid_disc"] == pytest.approx(K)
+    assert o["nondim"]["rocking_stiffness"] == pytest.approx(4 / 3 * o["rocking_stiffness"] / K)
     plate = o["profiles"]["plate"]
     # (the contact stresses are cell averages, at every second station the cell's
     # midpoint between its vertices: against the reference's average over the ring)
