@@ -207,26 +207,34 @@ STATUS_CODES = {"none": 0, "stick": 1, "slip": 2, "separated": 3, "rebonded": 4}
 
 
 #: The profiles :func:`write_profiles` writes, one CSV file each where the results have it.
-PROFILE_FILES = ("surface.csv", "axis.csv", "plate.csv", "wall.csv")
+PROFILE_FILES = ("surface.csv", "axis.csv", "plate.csv", "wall.csv", "overturning_plate.csv",
+                 "overturning_wall.csv")
 #: The SI unit of each profile column (results.json's ``conventions`` say the signs).
 PROFILE_UNITS = {"r": "m", "z": "m", "w": "m", "u_r": "m", "u_z": "m", "rotation": "rad",
                  "M_r": "N m/m", "M_theta": "N m/m", "M_z": "N m/m", "Q_r": "N/m", "Q": "N/m",
                  "N_z": "N/m", "N_theta": "N/m", "thickness": "m", "hoop_stress": "Pa",
                  "sigma_zz": "Pa", "contact_normal": "Pa", "contact_shear": "Pa",
-                 "contact_status": ""}
+                 "contact_status": "",
+                 # the overturning's first harmonic (amplitudes; toe and heel totals)
+                 "u_theta": "m", "u_x": "m", "N_z_theta": "N/m", "w_toe": "m", "w_heel": "m",
+                 "contact_normal_toe": "Pa", "contact_normal_heel": "Pa", "N_z_toe": "N/m",
+                 "N_z_heel": "N/m", "axial_stress_toe": "Pa", "axial_stress_heel": "Pa"}
 
 
 def write_profiles(results: dict, directory) -> list[Path]:
-    """The results' profiles (ground surface, axis, plate, wall) as CSV files in
-    ``directory``, a column per quantity with its unit in the header, for a spreadsheet
-    (rank 0 only; the numbers are those of results.json)."""
+    """The results' profiles (ground surface, axis, plate, wall, and an overturning load's
+    plate and wall) as CSV files in ``directory``, a column per quantity with its unit in
+    the header, for a spreadsheet (rank 0 only; the numbers are those of results.json)."""
     import csv
 
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     written = []
+    overturning = results.get("overturning", {}).get("profiles", {})
     for name in PROFILE_FILES:
-        prof = results["profiles"].get(name.removesuffix(".csv"))
+        member = name.removesuffix(".csv")
+        prof = overturning.get(member.removeprefix("overturning_")) \
+            if member.startswith("overturning_") else results["profiles"].get(member)
         if not prof:
             continue
         keys = list(prof)

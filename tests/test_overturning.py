@@ -363,3 +363,33 @@ def test_rocking_from_a_flexible_to_a_rigid_plate():
     assert all(b < a for a, b in zip(stiffness, stiffness[1:]))
     assert stiffness[0] == pytest.approx(3 * math.pi**2 / 16, rel=5e-3)      # (-0.3 %)
     assert stiffness[-1] == pytest.approx(4 / 3, rel=5e-3)                   # (+0.33 %)
+
+
+def test_tankfx_run_writes_the_overturning_profiles_and_figures(tmp_path):
+    """`tankfx run` on a scene with an overturning load: the summary's overturning rows, its
+    profiles as CSV (amplitudes and toe / heel totals, units in the header), its figures."""
+    import csv
+    import tomllib
+
+    from tankfx.cli import main
+
+    d = small_tank(interface={"condition": "mohr_coulomb", "tan_phi": 0.5})
+    d["load"] = {"pressure": 50e3, "overturning_moment": 3e4, "base_shear": 1e4}
+    lines = []
+    for section, values in d.items():
+        lines.append(f"[{section}]")
+        lines += [f"{k} = {v!r}" if not isinstance(v, str) else f'{k} = "{v}"'
+                  for k, v in values.items()]
+    (tmp_path / "tank.toml").write_text("\n".join(lines) + "\n")
+    assert tomllib.loads((tmp_path / "tank.toml").read_text())["load"]["base_shear"] == 1e4
+    out = tmp_path / "out"
+    assert main(["run", str(tmp_path / "tank.toml"), "--out", str(out), "--no-fields"]) == 0
+    with (out / "profiles" / "overturning_wall.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    assert "axial_stress_toe [Pa]" in rows[0] and len(rows) > 10
+    with (out / "profiles" / "overturning_plate.csv").open() as f:
+        assert "contact_normal_heel [Pa]" in next(csv.reader(f))
+    report = (out / "report.md").read_text()
+    assert "overturning: tilt" in report and "rocking stiffness" in report
+    for name in ("overturning.png", "overturning_wall.png", "tilt.png"):
+        assert (out / name).stat().st_size > 10_000, name
