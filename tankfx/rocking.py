@@ -327,13 +327,16 @@ def _assemble(integrand, measure, tank) -> float:
 
 def superpose(results: dict, amplitudes: dict, scene) -> tuple[dict, list[str]]:
     """The overturning's results beside the axisymmetric ones: the amplitudes, the totals on
-    the side pressed down (the "toe", theta = 0: axisymmetric + amplitude) and the other
-    (the "heel", theta = 180 deg: axisymmetric - amplitude), the tilt and rocking
-    stiffness, and whether the heel lifts; with the warnings to give."""
+    the side pressed down (the "toe": theta = 0 for a positive moment, axisymmetric +
+    amplitude; 180 deg for a negative one) and on the other (the "heel"), the tilt and
+    rocking stiffness, and whether the heel lifts; with the warnings to give."""
     prof0, prof1 = results["profiles"], amplitudes["profiles"]
     plate0, plate1 = prof0["plate"], prof1["plate"]
-    sn0, sn1 = np.asarray(plate0["contact_normal"]), np.asarray(plate1["contact_normal"])
-    w0, w1 = np.asarray(plate0["w"]), np.asarray(plate1["w"])
+    # the toe's side: where the tilt presses the tank down
+    side = 1.0 if amplitudes["tilt"] >= 0.0 else -1.0
+    sn0 = np.asarray(plate0["contact_normal"])
+    sn1 = side * np.asarray(plate1["contact_normal"])
+    w0, w1 = np.asarray(plate0["w"]), side * np.asarray(plate1["w"])
     plate1.update({"w_toe": (w0 + w1).tolist(), "w_heel": (w0 - w1).tolist(),
                    "contact_normal_toe": (sn0 + sn1).tolist(),
                    "contact_normal_heel": (sn0 - sn1).tolist()})
@@ -353,12 +356,14 @@ def superpose(results: dict, amplitudes: dict, scene) -> tuple[dict, list[str]]:
     out["nondim"] = {"rocking_stiffness": amplitudes["rocking_stiffness"] * (1 - nu_s**2)
                      / (E_s * a_p**3)}
     out["profiles"] = prof1
-    out["toe"] = {"max_contact_normal": float((sn0 + sn1).max()),
-                  "shell_settlement": float(results["settlement_summary"]["shell_settlement"]
-                                            + amplitudes["shell_settlement_amplitude"])}
-    out["heel"] = {"min_contact_normal": float(heel.min()),
-                   "shell_settlement": float(results["settlement_summary"]["shell_settlement"]
-                                             - amplitudes["shell_settlement_amplitude"])}
+    shell0 = results["settlement_summary"]["shell_settlement"]
+    shell1 = side * amplitudes["shell_settlement_amplitude"]
+    out["toe"] = {"theta": 0.0 if side > 0 else 180.0,
+                  "max_contact_normal": float((sn0 + sn1).max()),
+                  "shell_settlement": float(shell0 + shell1)}
+    out["heel"] = {"theta": 180.0 if side > 0 else 0.0,
+                   "min_contact_normal": float(heel.min()),
+                   "shell_settlement": float(shell0 - shell1)}
     # linear in the overturning load: the multiple of it at which the heel's contact first
     # reaches zero (where the axisymmetric contact presses and the amplitude lifts)
     lifting = (sn1 > 0.0) & (sn0 > 0.0)
@@ -378,14 +383,15 @@ def superpose(results: dict, amplitudes: dict, scene) -> tuple[dict, list[str]]:
               "load.overturning_moment or treat the uplift separately (not modelled)")
     if "wall" in prof1 and "wall" in prof0:
         wall0, wall1 = prof0["wall"], prof1["wall"]
-        N0, N1 = np.asarray(wall0["N_z"]), np.asarray(wall1["N_z"])
+        N0, N1 = np.asarray(wall0["N_z"]), side * np.asarray(wall1["N_z"])
         t = np.asarray(wall0["thickness"])
         wall1.update({"N_z_toe": (N0 + N1).tolist(), "N_z_heel": (N0 - N1).tolist(),
                       "axial_stress_toe": ((N0 + N1) / t).tolist(),
                       "axial_stress_heel": ((N0 - N1) / t).tolist()})
         z = np.asarray(wall1["z"])
         foot = int(np.argmin(np.abs(z - 0.0)))
-        out["wall_foot"] = {"N_z_amplitude": float(N1[foot]), "N_z_toe": float(N0[foot] + N1[foot]),
+        out["wall_foot"] = {"N_z_amplitude": float(side * N1[foot]),
+                            "N_z_toe": float(N0[foot] + N1[foot]),
                             "N_z_heel": float(N0[foot] - N1[foot]),
                             "axial_stress_toe": float((N0[foot] + N1[foot]) / t[foot]),
                             "axial_stress_heel": float((N0[foot] - N1[foot]) / t[foot])}

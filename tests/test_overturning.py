@@ -393,3 +393,25 @@ def test_tankfx_run_writes_the_overturning_profiles_and_figures(tmp_path):
     assert "overturning: tilt" in report and "rocking stiffness" in report
     for name in ("overturning.png", "overturning_wall.png", "tilt.png"):
         assert (out / name).stat().st_size > 10_000, name
+
+
+def test_a_negative_moment_is_the_same_tank_turned_round():
+    """M < 0 presses theta = 180 deg down: the amplitudes change sign, and the toe and heel
+    (the sides pressed down and lifted) are the same numbers on the other sides."""
+    def run(M):
+        d = small_tank()
+        d["load"] = {"pressure": 50e3, "overturning_moment": M, "base_shear": M / 3}
+        return analyse(Scene.from_dict(d)).results["overturning"]
+
+    plus, minus = run(3e4), run(-3e4)
+    assert minus["tilt"] == pytest.approx(-plus["tilt"], rel=1e-9)
+    assert minus["rocking_stiffness"] == pytest.approx(plus["rocking_stiffness"], rel=1e-9)
+    assert (plus["toe"]["theta"], minus["toe"]["theta"]) == (0.0, 180.0)
+    for side in ("toe", "heel"):
+        for key, value in plus[side].items():
+            if key != "theta":
+                assert minus[side][key] == pytest.approx(value, rel=1e-9), (side, key)
+    for key in ("N_z_toe", "N_z_heel", "axial_stress_toe"):
+        assert minus["wall_foot"][key] == pytest.approx(plus["wall_foot"][key], rel=1e-9)
+    assert minus["uplift"]["onset_factor"] == pytest.approx(plus["uplift"]["onset_factor"],
+                                                            rel=1e-9)
