@@ -352,9 +352,8 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
                  ("contact stress: toe max / heel min",
                   f"{o['toe']['max_contact_normal'] / 1e3:.1f} / "
                   f"{o['heel']['min_contact_normal'] / 1e3:.1f} kPa",
-                  "the heel would lift: see the warning" if o["uplift"]["tension_at_heel"]
-                  else f"the heel starts to lift at {o['uplift']['onset_factor']:.3g} x this "
-                       f"overturning load")]
+                  f"a heel contact zone lifts at {o['uplift']['onset_factor']:.3g} x this "
+                  f"overturning load" + (" (see the warning)" if o["uplift"]["lifts"] else ""))]
         if "wall_foot" in o:
             wf = o["wall_foot"]
             rows.append(("wall foot axial stress toe / heel",

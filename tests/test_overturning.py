@@ -222,23 +222,42 @@ def test_embedded_tank_balances_the_moment_and_the_shear(condition):
 
 
 def test_uplift_of_the_heel_is_reported():
-    """Where the axisymmetric contact less the amplitude pulls, the results and a warning
-    say the heel would lift (the linear superposition no longer holds there); a moderate
-    moment gives neither, and the multiple of the moment at which the heel's contact opens
-    (``onset_factor``) is the same load for both."""
+    """A contact zone whose net force on the heel side vanishes lifts as a whole: the
+    results and a warning say so, with the multiple of the moment at which it happens
+    (``onset_factor``, the same load for both moments: both parts are linear); a moderate
+    moment gives neither. Local tension at a zone's edge is reported apart (no warning)."""
     small = analyse(Scene.from_dict(_surface_plate(1.0, overturning_moment=1e3))).results
-    assert not small["overturning"]["uplift"]["tension_at_heel"]
+    assert not small["overturning"]["uplift"]["lifts"]
     assert not any("overturning" in w for w in small["warnings"])
     big = analyse(Scene.from_dict(_surface_plate(1.0, overturning_moment=3e4))).results
-    o = big["overturning"]
-    assert o["uplift"]["tension_at_heel"] and o["heel"]["min_contact_normal"] < 0
-    lo, hi = o["uplift"]["r_range"]
-    assert 0 < lo < hi <= 1.0
-    # both parts are linear in their loads: the onset's multiple scales as 1 / M
+    u = big["overturning"]["uplift"]
+    assert u["lifts"] and big["overturning"]["heel"]["min_contact_normal"] < 0
+    assert u["zone"] == [0.0, 1.0] and u["local_tension"]
     onset = [res["overturning"]["uplift"]["onset_factor"] for res in (small, big)]
     assert onset[0] > 1 > onset[1]
     assert onset[0] * 1e3 == pytest.approx(onset[1] * 3e4, rel=1e-8)
     assert any("heel" in w and "load.overturning_moment" in w for w in big["warnings"])
+
+
+def test_heel_uplift_of_a_rigid_disc_and_of_a_zone_beside_a_separated_band():
+    """heel_uplift on closed forms: the rigid disc's contact P / (2 pi a sqrt(a^2 - r^2))
+    and amplitude 3 M r / (2 pi a^3 sqrt(...)) lift as a zone at M = 4 P a / (3 pi) (its
+    edge opens at M = P a / 3); two zones either side of a separated band, each with its
+    own onset, the band itself none."""
+    from tankfx.rocking import heel_uplift
+
+    a, P, M = 1.0, 1e5, 1e4
+    r = np.linspace(0.0, a * (1 - 1e-6), 200001)
+    root = np.sqrt(a**2 - r**2)
+    zones = heel_uplift(r, P / (2 * math.pi * a * root), 3 * M * r / (2 * math.pi * a**3 * root))
+    assert len(zones) == 1
+    assert zones[0]["onset_factor"] == pytest.approx(4 * P * a / (3 * math.pi * M), rel=2e-3)
+    r = np.linspace(0.0, 3.0, 301)
+    sn0 = np.where((r > 1.0) & (r < 2.0), 0.0, 1.0)
+    sn1 = np.where(r >= 2.0, 2.0, 0.1)
+    zones = heel_uplift(r, sn0, sn1)
+    assert [(z["r_min"], z["r_max"]) for z in zones] == [(0.0, 1.0), (2.0, 3.0)]
+    assert [z["onset_factor"] for z in zones] == pytest.approx([10.0, 0.5])
 
 
 def test_nonlinear_soil_rocks_on_its_secant_moduli():
