@@ -46,6 +46,7 @@ __all__ = ["cylindrical", "soil_strain", "soil_stiffness", "soil_trace",
            "shell_amplitudes", "shell_strains", "shell_energy_density", "shell_resultants",
            "structure_space", "kirchhoff_constraint", "interface_form", "interface_tractions",
            "mixed_soil_forms", "shell_stiffness", "shell_resultants_of",
+           "mid_surface_circumferential",
            "StandaloneHarmonicShell", "WEIGHT"]
 
 #: integral of cos^2 (and sin^2) over the circle: the weight pi r of every form
@@ -111,6 +112,14 @@ def shell_amplitudes(q, s):
     return ufl.as_vector([0.5 * (s + q[0]), q[1]]), 0.5 * (s - q[0])
 
 
+def mid_surface_circumferential(u, V, r, t, offset):
+    """V of the mid-surface, ``offset`` from the face whose displacement is (u, V): the face
+    lies behind the mid-surface along -n, so the normal's rotation about the meridian,
+    (n . d U / d theta) / r = -(u.n + V n_r) / r (sin), moves it by offset times that."""
+    n = st.normal(t)
+    return V + offset * (ufl.dot(u, n) + V * n[0]) / r
+
+
 def shell_strains(u, V, beta, r, t, offset=0.0):
     """(eps_s, eps_theta, gamma, kappa_s, kappa_theta, kappa_s_theta) of the first harmonic:
     membrane strains of the mid-surface and Koiter's bending strains (physical components;
@@ -126,7 +135,7 @@ def shell_strains(u, V, beta, r, t, offset=0.0):
     # the mid-surface, half a thickness from the face (the normal's rotation times offset),
     # on its own radius: with the face's, a rotation about y would shear it (by offset / r)
     um = st.mid_surface_displacement(u, beta, t, offset)
-    Vm = V + offset * (un + V * n[0]) / r
+    Vm = mid_surface_circumferential(u, V, r, t, offset)
     rm = r + offset * n[0]
     eps_s = ufl.dot(st.arc_derivative(um, t), t)
     eps_th = (um[0] + Vm) / rm

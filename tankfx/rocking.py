@@ -124,8 +124,7 @@ class RockingModel:
         msh, r_b = tank.mesh, tank.r_b
         # the mid-surface test displacement, as the axisymmetric loads use
         v_b = st.mid_surface_displacement(v_f, gamma, tank.t_b, tank.offset)
-        n = st.normal(tank.t_b)
-        Vv = Vv_f + tank.offset * (ufl.dot(v_f, n) + Vv_f * n[0]) / r_b
+        Vv = hm.mid_surface_circumferential(v_f, Vv_f, r_b, tank.t_b, tank.offset)
         self.moment = fem.Constant(msh, 0.0)
         self.shear = fem.Constant(msh, 0.0)
         w = hm.WEIGHT * r_b
