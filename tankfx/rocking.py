@@ -205,10 +205,12 @@ class RockingModel:
         # LU without MUMPS's scaling (the solver falls back to it if the factorisation
         # fails), even where the system is symmetric: on a rigid plate (Kp = 1e3, smooth,
         # P1-P3 soil, meshes of 0.5-2 x the default) the scaled LDL^T left relative
-        # residuals of 2-8e-6 after refinement, the scaled LU up to 8e-6, this one 6e-9 to
-        # 1.1e-7 (measured; one factorisation, so the cost does not matter)
+        # residuals of 2-8e-6 after refinement, the scaled LU up to 8e-6, this one 1.2e-8 to
+        # 3.8e-7 (measured); one factorisation, so ordered as a linear scene's (AMD: on the
+        # demo's nonlinear tank the harmonic's solve 0.94 -> 0.71 s against METIS)
         solver = DirectSolver(self.a, self.L, self.bcs, self.unknowns,
-                              entity_maps=self.tank.entity_maps, name="rocking")
+                              entity_maps=self.tank.entity_maps, name="rocking",
+                              one_shot=True, scaled=False)
         solver.solve()
         self.relative_residual = solver.relative_residual
         log(f"overturning (first harmonic): solved in {time.perf_counter() - t0:.2f} s")

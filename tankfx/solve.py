@@ -120,8 +120,11 @@ class DirectSolver(_LinearSolver):
     pattern (measured: 2 analyses for 17 numeric factorisations in a nonlinear run)."""
 
     def __init__(self, a, L, bcs, u, entity_maps=None, name: str = "soil",
-                 symmetric: bool = False, one_shot: bool = False, split=None):
-        unscaled = UNSCALED_REFACTORISATIONS and not one_shot
+                 symmetric: bool = False, one_shot: bool = False, split=None,
+                 scaled: bool | None = None):
+        # (``scaled``: MUMPS's scaling; by default for a single factorisation only)
+        unscaled = (UNSCALED_REFACTORISATIONS and not one_shot) if scaled is None \
+            else not scaled
         self._options = {
             # LU with MUMPS, then two steps of iterative refinement (Richardson on the
             # same factors): they recover the digits a bare LU solve loses to the
