@@ -69,6 +69,8 @@ class Solution:
     sigma_zz: fem.Function
     results: dict
     model: object = None
+    #: the overturning's first harmonic (tankfx.rocking.RockingModel) where the load has one
+    harmonic: object = None
 
 
 def _versions() -> dict[str, str]:
@@ -573,7 +575,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         if load.overturning:
             rocking = _overturning(model, rocking, load, results, log)
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,
-                                  sigma_zz=sigma_zz, results=results, model=model))
+                                  sigma_zz=sigma_zz, results=results, model=model,
+                                  harmonic=rocking if load.overturning else None))
     if len(solutions) > 1:
         solutions[-1].results["stages"] = [_stage_summary(s.results) for s in solutions]
     return solutions

@@ -10,6 +10,7 @@ import weakref
 from pathlib import Path
 
 import numpy as np
+import ufl
 from dolfinx import fem, geometry
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
@@ -256,10 +257,12 @@ def write_fields(solution, directory) -> list[Path]:
     ``soil.pvd`` (beside it one .pvtu and a .vtu per rank): the displacement ``u`` (u_r,
     u_z) and ``sigma_zz`` (compression positive, the field of the results' axis profile) at
     the nodes of the soil's elements (higher-order VTK cells), and per cell
-    :func:`soil_cell_fields`. With a plate, ``plate.vtp`` and (with a wall) ``wall.vtp``:
-    the members as lines through the stations of the results' profiles, carrying their
-    values (``u`` the displacement vector, for warping like the soil's; ``contact_status``
-    as :data:`STATUS_CODES`)."""
+    :func:`soil_cell_fields`; with an overturning load also ``u_overturning``, its first
+    harmonic's amplitudes (u_r, u_z of cos theta, u_theta of sin theta). With a plate,
+    ``plate.vtp`` and (with a wall) ``wall.vtp``: the members as lines through the stations
+    of the results' profiles, carrying their values (``u`` the displacement vector, for
+    warping like the soil's; ``contact_status`` as :data:`STATUS_CODES`; an overturning's
+    profiles as ``overturning_`` + their keys)."""
     from dolfinx import io
 
     directory = Path(directory)
@@ -269,8 +272,18 @@ def write_fields(solution, directory) -> list[Path]:
     comm.barrier()
     cells = soil_cell_fields(solution.model)
     paths = [directory / "soil.pvd"]
+    extra = []
+    if solution.harmonic is not None:
+        # the overturning's amplitudes (u_r, u_z of cos theta, u_theta of sin theta)
+        from .harmonic import cylindrical
+
+        V1 = solution.harmonic.u.function_space
+        amplitude = fem.Function(V1, name="u_overturning")
+        amplitude.interpolate(fem.Expression(ufl.as_vector(cylindrical(solution.harmonic.u)),
+                                             V1.element.interpolation_points))
+        extra.append(amplitude)
     with io.VTKFile(comm, str(paths[0]), "w") as f:
-        f.write_function([solution.u, solution.sigma_zz, *cells.values()], 0.0)
+        f.write_function([solution.u, solution.sigma_zz, *cells.values(), *extra], 0.0)
     profiles, base = solution.results["profiles"], -solution.scene.embedment
     members = []
     if "plate" in profiles:
@@ -281,7 +294,12 @@ def write_fields(solution, directory) -> list[Path]:
         wa = profiles["wall"]
         members.append(("wall.vtp", np.full(len(wa["z"]), solution.scene.wall.radius),
                         base + np.asarray(wa["z"]), wa, (wa["u_r"], wa["u_z"])))
+    overturning = solution.results.get("overturning", {}).get("profiles", {})
     for name, x, y, values, (ux, uy) in members:
+        # (an overturning's amplitudes and toe / heel totals beside, "overturning_" + key)
+        values = values | {f"overturning_{k}": v for k, v in
+                           overturning.get(name.removesuffix(".vtp"), {}).items()
+                           if k not in ("r", "z")}
         paths.append(directory / name)
         if comm.rank == 0:          # the profiles are gathered already: one writer
             _write_member(paths[-1], x, y, values, ux, uy)

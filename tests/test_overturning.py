@@ -386,7 +386,8 @@ def test_rocking_from_a_flexible_to_a_rigid_plate():
 
 def test_tankfx_run_writes_the_overturning_profiles_and_figures(tmp_path):
     """`tankfx run` on a scene with an overturning load: the summary's overturning rows, its
-    profiles as CSV (amplitudes and toe / heel totals, units in the header), its figures."""
+    profiles as CSV (amplitudes and toe / heel totals, units in the header), its figures,
+    and its fields for ParaView."""
     import csv
     import tomllib
 
@@ -402,7 +403,7 @@ def test_tankfx_run_writes_the_overturning_profiles_and_figures(tmp_path):
     (tmp_path / "tank.toml").write_text("\n".join(lines) + "\n")
     assert tomllib.loads((tmp_path / "tank.toml").read_text())["load"]["base_shear"] == 1e4
     out = tmp_path / "out"
-    assert main(["run", str(tmp_path / "tank.toml"), "--out", str(out), "--no-fields"]) == 0
+    assert main(["run", str(tmp_path / "tank.toml"), "--out", str(out)]) == 0
     with (out / "profiles" / "overturning_wall.csv").open() as f:
         rows = list(csv.DictReader(f))
     assert "axial_stress_toe [Pa]" in rows[0] and len(rows) > 10
@@ -412,6 +413,16 @@ def test_tankfx_run_writes_the_overturning_profiles_and_figures(tmp_path):
     assert "overturning: tilt" in report and "rocking stiffness" in report
     for name in ("overturning.png", "overturning_wall.png", "tilt.png"):
         assert (out / name).stat().st_size > 10_000, name
+    # the fields for ParaView: the soil's amplitudes beside its axisymmetric displacement,
+    # the members' overturning profiles beside theirs
+    import pyvista
+
+    wall = pyvista.read(out / "fields" / "wall.vtp")
+    assert np.allclose(wall.point_data["overturning_N_z_toe"], [r["N_z_toe [N/m]"]
+                                                                for r in rows])
+    soil = pyvista.read(sorted((out / "fields").glob("soil*.vtu"))[0])
+    assert soil.point_data["u_overturning"].shape[1] == 3
+    assert np.abs(soil.point_data["u_overturning"]).max() > 0
 
 
 def test_a_negative_moment_is_the_same_tank_turned_round():
