@@ -418,7 +418,7 @@ def test_tankfx_run_writes_the_overturning_profiles_and_figures(tmp_path):
     import pyvista
 
     wall = pyvista.read(out / "fields" / "wall.vtp")
-    assert np.allclose(wall.point_data["overturning_N_z_toe"], [r["N_z_toe [N/m]"]
+    assert np.allclose(wall.point_data["overturning_N_z_toe"], [float(r["N_z_toe [N/m]"])
                                                                 for r in rows])
     soil = pyvista.read(sorted((out / "fields").glob("soil*.vtu"))[0])
     assert soil.point_data["u_overturning"].shape[1] == 3
