@@ -1,6 +1,7 @@
 """Plate and wall elements: locking, accuracy against element count, the cost of ignoring the
-plate's face offset, the coupled raft (Brown 1969) against mesh size and run time, and a
-wall of courses against the stepped-shell solution.
+plate's face offset, the coupled raft (Brown 1969) against mesh size and run time, a
+wall of courses against the stepped-shell solution, and the members' first harmonic
+(overturning) against plate and shell theory.
 
     python benchmarks/structure.py [--out results/benchmarks]
 """
@@ -153,6 +154,57 @@ def wall_of_courses(rows):
         say(f"{n:10d} {eM:14.2e} {ew:15.2e} {dt:7.2f}")
 
 
+def overturning_members(rows):
+    say("\n6. The first harmonic (overturning): a clamped plate under q (r/a) cos theta "
+        "(Timoshenko's w, M_r), and a cylinder clamped at its foot under a couple on its top "
+        "(the bending moment at the foot of a semi-infinite cylinder)")
+    say(f"{'member':>9s} {'elements':>9s} {'err M':>9s} {'err w':>9s} {'time s':>7s}")
+    import math
+
+    import ufl
+
+    from tankfx import harmonic as hm
+
+    a, t, E, nu, q = 1.0, 0.02, 2e11, 0.3, 1e4
+    D = flexural_rigidity(E, nu, t)
+    rho = np.linspace(0, 1, 21)[1:-1]
+    A = q * a**4 / (192 * D)
+    f, f1, f2 = rho - 2 * rho**3 + rho**5, 1 - 6 * rho**2 + 5 * rho**4, -12 * rho + 20 * rho**3
+    w_ref, M_ref = A * rho * (1 - rho**2) ** 2, -D * A / a**2 * (f2 + nu * (f1 / rho - f / rho**2))
+    for n in (10, 20, 40, 80):
+        t0 = time.perf_counter()
+        shell = hm.StandaloneHarmonicShell(
+            np.column_stack([np.linspace(0, a, n + 1), np.zeros(n + 1)]), E, nu, t,
+            {lambda x: np.isclose(x[0], 0.0): ("Z", "S"),
+             lambda x: np.isclose(x[0], a): ("D", "Z", "S", "beta")},
+            lambda u, V, x: -q * x[0] / a * u[1])
+        F = shell.resultants()
+        P = np.column_stack([rho * a, 0 * rho])
+        eM = np.max(np.abs(evaluate_at(F["M_s"], P)[:, 0] - M_ref)) / np.max(np.abs(M_ref))
+        ew = np.max(np.abs(-evaluate_at(F["u"], P)[:, 1] - w_ref)) / np.max(w_ref)
+        dt = time.perf_counter() - t0
+        rows.append({"case": "harmonic clamped plate", "elements": n, "err_M": eM,
+                     "err_w": ew, "time_s": dt})
+        say(f"{'plate':>9s} {n:9d} {eM:9.2e} {ew:9.2e} {dt:7.2f}")
+    R, H, M = 10.0, 10.0, 1e6
+    qz = M / (math.pi * R**2)
+    reference = nu * qz * t / (2 * math.sqrt(3 * (1 - nu**2)))
+    for n in (25, 50, 100, 200):
+        t0 = time.perf_counter()
+        z = np.concatenate([np.linspace(0, 1.0, n + 1), np.linspace(1.0, H, 91)[1:]])
+        shell = hm.StandaloneHarmonicShell(
+            np.column_stack([np.full_like(z, R), z]), E, nu, t,
+            {lambda x: np.isclose(x[1], 0.0): ("D", "Z", "S", "beta")},
+            lambda u, V, x: 0.0 * u[0],
+            edge_load=lambda u, V, x: ufl.conditional(ufl.gt(x[1], H / 2), -qz * u[1], 0.0))
+        F = shell.resultants()
+        eM = abs(abs(evaluate_at(F["M_s"], np.array([[R, 0.0]]))[0, 0]) / reference - 1)
+        dt = time.perf_counter() - t0
+        rows.append({"case": "harmonic wall foot", "elements_in_first_metre": n, "err_M": eM,
+                     "time_s": dt})
+        say(f"{'wall':>9s} {n:9d} {eM:9.2e} {'':>9s} {dt:7.2f}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", default="results/benchmarks")
@@ -163,6 +215,7 @@ def main():
     offset_cost(rows)
     brown_raft(rows)
     wall_of_courses(rows)
+    overturning_members(rows)
     if MPI.COMM_WORLD.rank == 0:
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
