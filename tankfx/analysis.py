@@ -56,6 +56,11 @@ CONVENTIONS = {
                      "outward (+r) under the plate and upward on the wall, Pa",
     "profiles.wall.z": "height above the plate underside (the wall base), m",
     "reaction": "upward force of the supports on the soil, N",
+    "overturning": "first Fourier harmonic: an amplitude f is the value at theta = 0 of "
+                   "f cos(theta) (f sin(theta) for u_theta and N_z_theta); theta = 0 is the "
+                   "side a positive overturning_moment presses down and base_shear pushes "
+                   "towards; toe / heel: the sides pressed down / lifted (axisymmetric "
+                   "+ / - amplitude); tilt in rad, positive towards theta = 0",
 }
 
 
