@@ -325,11 +325,17 @@ class SoilBlock:
     def stress(self, u=None):
         """The soil stress (3 x 3, tension positive) of a displacement (default: the
         solution), with the solution's pressure in the mixed form."""
-        eps = soil_forms.strain(self.u if u is None else u, self.r)
+        return self.stress_of(soil_forms.strain(self.u if u is None else u, self.r),
+                              [pr for pr, _, _ in self.pressures])
+
+    def stress_of(self, eps, pressures):
+        """The stress of a strain tensor ``eps`` with the mixed strata's ``pressures`` (one
+        per mixed stratum, in order): of this soil's materials (also for the overturning's
+        first harmonic, whose strain and pressures are amplitudes)."""
         if not self.mixed:
             return soil_forms.stress(eps, self.E, self.nu)
         if self.n_strata == 1:
-            return soil_forms.mixed_stress(eps, self.pressures[0][0], self.E, self.nu)
+            return soil_forms.mixed_stress(eps, pressures[0], self.E, self.nu)
         # per cell the form of its stratum, by indicators (an expression valid in every
         # cell, for projections and cell fields); the displacement form's Poisson's ratio
         # is set to 0 in the mixed cells, where lambda would be infinite
@@ -340,7 +346,7 @@ class SoilBlock:
         nu = self.nu.x.array[self.nu.function_space.dofmap.list[:, 0]]
         nu_d = _cell_field(msh, np.where(in_mixed, 0.0, nu), "nu_displacement_form")
         out = (1.0 - sum(chi)) * soil_forms.stress(eps, self.E, nu_d)
-        for c, (pr, _, _) in zip(chi, self.pressures):
+        for c, pr in zip(chi, pressures):
             out += c * soil_forms.mixed_stress(eps, pr, self.E, self.nu)
         return out
 
@@ -365,15 +371,16 @@ class SoilBlock:
             res += ufl.action(a_up, pr)
         return res
 
-    def vertical_stress(self) -> fem.Function:
-        """sigma_zz (compression positive), L2-projected (r-weighted) onto the continuous
-        displacement space: point values of the raw stress on the axis, a boundary of the
-        meridian plane, are noisy for nearly incompressible soil; the projection is not."""
+    def vertical_stress(self, stress=None, name: str = "sigma_zz") -> fem.Function:
+        """sigma_zz (compression positive) of the solution's stress (or of ``stress``),
+        L2-projected (r-weighted) onto the continuous displacement space: point values of
+        the raw stress on the axis, a boundary of the meridian plane, are noisy for nearly
+        incompressible soil; the projection is not."""
         msh = self.domain.mesh
         Q = fem.functionspace(msh, ("Lagrange", self.scene.mesh.degree))
         s, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
-        sigma = -self.stress()[1, 1]
-        out = fem.Function(Q, name="sigma_zz")
+        sigma = -(self.stress() if stress is None else stress)[1, 1]
+        out = fem.Function(Q, name=name)
         bcs = []
         if self.domain.has_void:
             void = fem.locate_dofs_topological(Q, 2, self.domain.cells("void"))
@@ -578,7 +585,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         if scene.solver.method == "iterative":
             results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
         if load.overturning:
-            rocking = _overturning(model, rocking, load, results, log)
+            rocking = _overturning(model, rocking, load, results, log, sigma_zz)
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,
                                   sigma_zz=sigma_zz, results=results, model=model,
                                   harmonic=rocking if load.overturning else None))
@@ -587,7 +594,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     return solutions
 
 
-def _overturning(model, rocking, load, results: dict, log):
+def _overturning(model, rocking, load, results: dict, log, sigma_zz):
     """Solve the first harmonic of an overturning load about the stage's converged state
     and add its results (``results["overturning"]``, the planar tilt, warnings); returns the
     harmonic model for the next stage."""
@@ -597,7 +604,8 @@ def _overturning(model, rocking, load, results: dict, log):
     if rocking is None:
         rocking = RockingModel(model)
     amplitudes = rocking.solve(load.overturning_moment, load.base_shear, log=log.info)
-    out, warnings = superpose(results, amplitudes, model.scene)
+    out, warnings = superpose(results, amplitudes, model.scene, sigma_zz,
+                              model.domain.cells("soil"))
     out["relative_residual"] = rocking.relative_residual
     results["overturning"] = out
     summary = results["settlement_summary"]

@@ -209,7 +209,7 @@ STATUS_CODES = {"none": 0, "stick": 1, "slip": 2, "separated": 3, "rebonded": 4}
 
 #: The profiles :func:`write_profiles` writes, one CSV file each where the results have it.
 PROFILE_FILES = ("surface.csv", "axis.csv", "plate.csv", "wall.csv", "overturning_plate.csv",
-                 "overturning_wall.csv")
+                 "overturning_wall.csv", "overturning_soil_line.csv")
 #: The SI unit of each profile column (results.json's ``conventions`` say the signs).
 PROFILE_UNITS = {"r": "m", "z": "m", "w": "m", "u_r": "m", "u_z": "m", "rotation": "rad",
                  "M_r": "N m/m", "M_theta": "N m/m", "M_z": "N m/m", "Q_r": "N/m", "Q": "N/m",
@@ -219,7 +219,9 @@ PROFILE_UNITS = {"r": "m", "z": "m", "w": "m", "u_r": "m", "u_z": "m", "rotation
                  # the overturning's first harmonic (amplitudes; toe and heel totals)
                  "u_theta": "m", "u_x": "m", "N_z_theta": "N/m", "w_toe": "m", "w_heel": "m",
                  "contact_normal_toe": "Pa", "contact_normal_heel": "Pa", "N_z_toe": "N/m",
-                 "N_z_heel": "N/m", "axial_stress_toe": "Pa", "axial_stress_heel": "Pa"}
+                 "N_z_heel": "N/m", "axial_stress_toe": "Pa", "axial_stress_heel": "Pa",
+                 "depth": "m", "sigma_zz_axisymmetric": "Pa", "sigma_zz_toe": "Pa",
+                 "sigma_zz_heel": "Pa"}
 
 
 def write_profiles(results: dict, directory) -> list[Path]:

@@ -22,7 +22,8 @@ __all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settl
            "layered_surface_settlement", "one_dimensional_settlement",
            "stepped_wall_under_liquid", "stepped_plate", "gradient_surface_compliance",
            "gradient_surface_settlement", "antisymmetric_surface_settlement",
-           "rigid_disc_rocking_stiffness", "rigid_disc_rocking_pressure", "ring_average"]
+           "rigid_disc_rocking_stiffness", "rigid_disc_rocking_pressure", "ring_average",
+           "antisymmetric_vertical_stress"]
 
 
 def flexible_centre_settlement(p, a, E, nu):
@@ -146,6 +147,35 @@ def antisymmetric_surface_settlement(q, a, E, nu, r):
             f = 16.0 / (3.0 * math.pi) * np.sum(wts * c2**2 * (1.0 - (a / ri) ** 2 * s2)
                                                 ** -1.5)
             out[i] = (1.0 - nu**2) * q * a**3 / (4.0 * E * ri**2) * f
+    return out
+
+
+def antisymmetric_vertical_stress(q, a, r, z, points: int = 16) -> np.ndarray:
+    """The vertical stress amplitude sigma_zz (compression positive; sigma_zz cos theta)
+    at (r, z) (z > 0 the depth) in a homogeneous half-space under the smooth pressure
+    q (r / a) cos theta on r <= a: Boussinesq's vertical stress, whose Hankel kernel (1 +
+    k z) e^{-k z} does not depend on the elastic constants, on the load's order-1
+    transform q a J_2(k a) / k:
+
+        sigma_zz = q a int_0^inf J_2(k a) (1 + k z) e^{-k z} J_1(k r) dk
+
+    (with J_0 for J_1 and p a J_1(k a) for q a J_2(k a), Boussinesq's uniform load, whose
+    axis value p (1 - z^3 / (a^2 + z^2)^1.5) checks the kernel). Gauss-Legendre panels of
+    a quarter of the shortest Bessel period up to k z = 50."""
+    r, z = np.broadcast_arrays(np.asarray(r, dtype=float), np.asarray(z, dtype=float))
+    x, w = np.polynomial.legendre.leggauss(points)
+    out = np.empty(r.shape)
+    for idx in np.ndindex(r.shape):
+        ri, zi = r[idx], z[idx]
+        K = 50.0 / zi
+        n = max(int(np.ceil(K * max(a, ri) / (0.5 * math.pi))), 8)
+        edges = np.linspace(0.0, K, n + 1)
+        k = (0.5 * (edges[1:] - edges[:-1])[:, None] * (x + 1.0) + edges[:-1, None]).ravel()
+        wk = (0.5 * (edges[1:] - edges[:-1])[:, None] * w).ravel()
+        ka = k * a
+        J2 = 2.0 * bessel_j(1, ka) / ka - bessel_j(0, ka)
+        out[idx] = q * a * np.sum(wk * J2 * (1.0 + k * zi) * np.exp(-k * zi) *
+                                  bessel_j(1, k * ri))
     return out
 
 

@@ -274,6 +274,23 @@ class RockingModel:
                 force -= _assemble(fx, measure, tank)
         return moment, force
 
+    def vertical_stress(self) -> fem.Function:
+        """The amplitude of sigma_zz (compression positive, cos theta), projected as the
+        axisymmetric one is (:meth:`tankfx.analysis.SoilBlock.vertical_stress`)."""
+        soil = self.tank.soil
+        stress = soil.stress_of(hm.soil_strain(self.u, soil.r),
+                                [p for p, _, _, _ in self.pressures])
+        return soil.vertical_stress(stress, name="sigma_zz_overturning")
+
+    def stress_line(self) -> np.ndarray:
+        """(r, z) of the vertical line in the soil under the shell (the plate's edge without
+        a wall) on which the soil's vertical stress is reported: depths 0.05 to 2 radii
+        below the foundation's underside."""
+        s = self.scene
+        r = s.wall.radius if s.wall is not None else s.plate.radius
+        depth = np.linspace(0.05, 2.0, 40) * r
+        return np.column_stack([np.full_like(depth, r), -s.embedment - depth])
+
     def results(self) -> dict:
         tank, s = self.tank, self.scene
         F = hm.shell_resultants(self.w, tank.r_b, tank.t_b, tank.E, tank.nu, tank.thickness,
@@ -311,6 +328,11 @@ class RockingModel:
                 "N_z": evaluate_at(F["N_s"], pts, cells)[:, 0].tolist(),
                 "N_z_theta": evaluate_at(F["N_s_theta"], pts, cells)[:, 0].tolist(),
                 "M_z": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist()}
+        line = self.stress_line()
+        cells = tank.domain.cells("soil")
+        profiles["soil_line"] = {
+            "r": line[:, 0].tolist(), "depth": (-line[:, 1] - s.embedment).tolist(),
+            "sigma_zz": evaluate_at(self.vertical_stress(), line, cells)[:, 0].tolist()}
         moment, force = self.resistance()
         out["equilibrium"] = {
             "moment_resisted": moment, "shear_resisted": force,
@@ -359,7 +381,8 @@ def heel_uplift(r, sn0, sn1) -> list[dict]:
     return zones
 
 
-def superpose(results: dict, amplitudes: dict, scene) -> tuple[dict, list[str]]:
+def superpose(results: dict, amplitudes: dict, scene, sigma_zz=None,
+              soil_cells=None) -> tuple[dict, list[str]]:
     """The overturning's results beside the axisymmetric ones: the amplitudes, the totals on
     the side pressed down (the "toe": theta = 0 for a positive moment, axisymmetric +
     amplitude; 180 deg for a negative one) and on the other (the "heel"), the tilt and
@@ -374,6 +397,14 @@ def superpose(results: dict, amplitudes: dict, scene) -> tuple[dict, list[str]]:
     plate1.update({"w_toe": (w0 + w1).tolist(), "w_heel": (w0 - w1).tolist(),
                    "contact_normal_toe": (sn0 + sn1).tolist(),
                    "contact_normal_heel": (sn0 - sn1).tolist()})
+    line = prof1.get("soil_line")
+    if line is not None and sigma_zz is not None:
+        # the axisymmetric vertical stress on the same line
+        pts = np.column_stack([line["r"], -np.asarray(line["depth"]) - scene.embedment])
+        s0 = evaluate_at(sigma_zz, pts, soil_cells)[:, 0]
+        s1 = side * np.asarray(line["sigma_zz"])
+        line.update({"sigma_zz_axisymmetric": s0.tolist(), "sigma_zz_toe": (s0 + s1).tolist(),
+                     "sigma_zz_heel": (s0 - s1).tolist()})
     r = np.asarray(plate1["r"])
     heel = sn0 - sn1
     # the stations where the superposed heel contact pulls: locally, at a contact zone's
