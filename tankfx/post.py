@@ -363,7 +363,9 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
         # the first harmonic: toe = the side pressed down (theta = 0), heel = the other
         rows += [("overturning: tilt", f"{1e3 * o['tilt']:.3f} mm/m",
                   f"M = {o['moment'] / 1e3:.4g} kN m, V = {o['shear'] / 1e3:.4g} kN"),
-                 ("rocking stiffness M / tilt", f"{o['rocking_stiffness']:.4g} N m/rad",
+                 ("rocking stiffness M / tilt", "no moment" if o["rocking_stiffness"] is None
+                  else f"{o['rocking_stiffness']:.4g} N m/rad",
+                  "" if o["rocking_stiffness"] is None else
                   f"K (1 - nu_s^2) / (E_s a^3) = {o['nondim']['rocking_stiffness']:.4f} "
                   f"(rigid disc 4/3)"),
                  ("shell settlement toe / heel",

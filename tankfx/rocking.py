@@ -11,7 +11,8 @@ it superposes on the axisymmetric result: the response at an angle theta is
 Loads (``[load] overturning_moment, base_shear``): with a wall, V is a line load on the
 wall's top edge along the circle, the shear flow -V sin(theta) / (pi a_t) of a thin tube
 (its resultant V towards theta = 0), and the rest of M, M - V H, a couple on that
-edge (vertical line load -(M - V H) cos(theta) / (pi a_t^2)): at the wall's foot the shell
+edge (a vertical line load -(M - V H) cos(theta) / (pi a_t r_m) on the mid-surface, r_m
+from the axis): at the wall's foot the shell
 then carries exactly V and M, and so does the foundation; above the foot the moment is
 linear in height (the real load's distribution over the height is not modelled). Without
 a wall, M is a pressure 4 M r cos(theta) / (pi a^4) on the plate and V a uniform
@@ -21,8 +22,8 @@ moment about the underside). M is taken about the plate's underside at the axis.
 The interface: bonded and smooth as they are; a Mohr-Coulomb interface about its
 converged states (stick: bonded; slip: friction mu times the added normal stress, no
 circumferential shear; separated: free). Superposition holds while the contact stays in
-those states: where the axisymmetric contact stress less the amplitude falls below zero on
-the heel side, the foundation would lift off, and the results say so.
+those states: where a contact zone's net force on the heel side vanishes it lifts, and the
+results say at what multiple of the load (:func:`heel_uplift`).
 """
 from __future__ import annotations
 
@@ -314,7 +315,8 @@ class RockingModel:
         out = {"moment": M, "shear": float(self.shear.value), "profiles": profiles,
                "shell_settlement_amplitude": w_shell,
                "tilt": w_shell / at}
-        out["rocking_stiffness"] = M / out["tilt"] if out["tilt"] else math.inf
+        # (none without a moment: a shear alone tilts the tank through its lever only)
+        out["rocking_stiffness"] = M / out["tilt"] if M and out["tilt"] else None
         if s.wall is not None:
             cells = tank.wall_cells
             pts = tank._stations(cells, along=1)
@@ -334,11 +336,14 @@ class RockingModel:
             "r": line[:, 0].tolist(), "depth": (-line[:, 1] - s.embedment).tolist(),
             "sigma_zz": evaluate_at(self.vertical_stress(), line, cells)[:, 0].tolist()}
         moment, force = self.resistance()
+        # relative to the loads' size: the moment, or the shear's over the tank's height
+        # (or radius), and the other way round
+        lever = max(s.wall.height if s.wall is not None else 0.0, at)
+        V = out["shear"]
         out["equilibrium"] = {
             "moment_resisted": moment, "shear_resisted": force,
-            "moment_relative_error": abs(moment - M) / max(abs(M), 1e-300),
-            "shear_relative_error": abs(force - out["shear"]) / max(abs(out["shear"]),
-                                                                   abs(M) / at, 1e-300)}
+            "moment_relative_error": abs(moment - M) / max(abs(M), abs(V) * lever, 1e-300),
+            "shear_relative_error": abs(force - V) / max(abs(V), abs(M) / lever, 1e-300)}
         return out
 
 
@@ -420,7 +425,8 @@ def superpose(results: dict, amplitudes: dict, scene, sigma_zz=None,
     out["rocking_stiffness_rigid_disc"] = rigid_disc_rocking_stiffness(E_s, nu_s, a_p)
     # in the manner of Eqs. 21-23: on the surface soil's E_s, nu_s and the plate's radius
     # (4/3 for the rigid disc, 3 pi^2 / 16 for the flexible plate by its edge's tilt)
-    out["nondim"] = {"rocking_stiffness": amplitudes["rocking_stiffness"] * (1 - nu_s**2)
+    K = amplitudes["rocking_stiffness"]
+    out["nondim"] = {"rocking_stiffness": None if K is None else K * (1 - nu_s**2)
                      / (E_s * a_p**3)}
     out["profiles"] = prof1
     shell0 = results["settlement_summary"]["shell_settlement"]

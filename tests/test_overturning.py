@@ -455,3 +455,20 @@ def test_a_negative_moment_is_the_same_tank_turned_round():
         assert minus["wall_foot"][key] == pytest.approx(plus["wall_foot"][key], rel=1e-9)
     assert minus["uplift"]["onset_factor"] == pytest.approx(plus["uplift"]["onset_factor"],
                                                             rel=1e-9)
+
+
+def test_a_shear_alone_tilts_the_tank_without_a_rocking_stiffness():
+    """base_shear without a moment: the wall carries V to its foot with no moment there (the
+    couple -V H on its top edge), the interface resists V and no moment, and no rocking
+    stiffness is reported (the summary says so)."""
+    from tankfx.post import summary_table
+
+    d = small_tank()
+    d["load"] = {"pressure": 50e3, "base_shear": 1e4}
+    r = analyse(Scene.from_dict(d)).results
+    o = r["overturning"]
+    assert o["rocking_stiffness"] is None and o["nondim"]["rocking_stiffness"] is None
+    assert abs(o["equilibrium"]["moment_resisted"]) < 1e-8 * 1e4 * 3.0
+    assert o["equilibrium"]["moment_relative_error"] < 1e-8      # (on the scale V H)
+    assert o["equilibrium"]["shear_relative_error"] < 1e-8
+    assert "no moment" in summary_table(r)
