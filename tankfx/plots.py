@@ -356,9 +356,10 @@ def plot_structure_profiles(results: dict, path: str | Path, title: str = "") ->
 
 
 def plot_sweep(rows: list[dict], axes: dict, path: str | Path, title: str = "") -> Path | None:
-    """The non-dimensional results (w0_bar, wd_bar, M0_bar) against the sweep's first
-    numeric axis, one curve per value of the other axes (e.g. per interface condition), as
-    in the paper's figure families. Rank 0 writes the PNG."""
+    """The non-dimensional results (w0_bar, wd_bar, M0_bar; and where the cases overturn,
+    the tilt) against the sweep's first numeric axis, one curve per value of the other axes
+    (e.g. per interface condition), as in the paper's figure families. Rank 0 writes the
+    PNG."""
     from mpi4py import MPI
 
     if MPI.COMM_WORLD.rank != 0 or not rows:
@@ -376,9 +377,12 @@ def plot_sweep(rows: list[dict], axes: dict, path: str | Path, title: str = "") 
     values = np.asarray(axes[x_key], dtype=float)
     use_log = bool(np.all(values > 0) and values.max() / values.min() >= 100)
     colors = ["tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple", "tab:brown"]
-    p = pv.Plotter(off_screen=True, window_size=(1800, 550), shape=(1, 3))
-    for col, (key, label) in enumerate((("nondim.w0", "w0_bar"), ("nondim.wd", "wd_bar"),
-                                        ("nondim.M0", "M0_bar"))):
+    panels = [("nondim.w0", "w0_bar"), ("nondim.wd", "wd_bar"), ("nondim.M0", "M0_bar")]
+    if any(row.get("overturning.tilt") is not None for row in rows):
+        panels.append(("overturning.tilt", "tilt [rad]"))
+    p = pv.Plotter(off_screen=True, window_size=(600 * len(panels), 550),
+                   shape=(1, len(panels)))
+    for col, (key, label) in enumerate(panels):
         chart = pv.Chart2D(x_label=("log10 " if use_log else "") + x_key, y_label=label)
         chart.title = f"{title}: {label}" if col == 0 and title else label
         for g, (group, members) in enumerate(sorted(groups.items(), key=lambda kv: str(kv[0]))):

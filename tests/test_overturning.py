@@ -324,6 +324,11 @@ def test_a_sweep_over_the_overturning_moment_tabulates_the_tilt(tmp_path):
         float(table[0]["overturning.rocking_stiffness"]), rel=1e-9)
     assert float(table[0]["overturning.uplift.onset_factor"]) == pytest.approx(
         2 * float(table[1]["overturning.uplift.onset_factor"]), rel=1e-8)
+    # its chart has the tilt's panel (four panels: wider than the three of w0, wd, M0)
+    import pyvista
+
+    chart = pyvista.read(tmp_path / "out" / "charts.png")
+    assert chart.dimensions[0] == 2400
 
 
 def _steel_on_ringwall():
