@@ -140,6 +140,17 @@ wf = o["wall_foot"]
 say(f"bottom course ({1e3 * t1:g} mm) axial compression at the toe: tankfx "
     f"{-wf['axial_stress_toe'] / 1e6:.1f} MPa, Annex E's rigid base {sigma_api / 1e6:.1f} MPa")
 
+# The corner bends more on one side and less on the other: its elastic surface stresses
+# 6 M / t^2 in the bottom course and the annular plate, at toe and heel, against the full
+# tank's without the earthquake.
+
+jn, j0 = o["junction"], r["junction"]
+say(f"the corner's bending stress, without / toe / heel: shell "
+    f"{j0['wall_bending_stress'] / 1e6:.0f} / {jn['wall_bending_stress_toe'] / 1e6:.0f} / "
+    f"{jn['wall_bending_stress_heel'] / 1e6:.0f} MPa, annular plate "
+    f"{j0['plate_bending_stress'] / 1e6:.0f} / {jn['plate_bending_stress_toe'] / 1e6:.0f} / "
+    f"{jn['plate_bending_stress_heel'] / 1e6:.0f} MPa")
+
 # ## Figures and results
 # The contact pressure and settlement along the floor, and the shell's axial stress up its
 # height, at toe and heel and without the earthquake; the tank in 3D.

@@ -377,11 +377,17 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
                   f"a heel contact zone lifts at {o['uplift']['onset_factor']:.3g} x this "
                   f"overturning load" + (" (see the warning)" if o["uplift"]["lifts"] else ""))]
         if "wall_foot" in o:
-            wf = o["wall_foot"]
-            rows.append(("wall foot axial stress toe / heel",
-                         f"{wf['axial_stress_toe'] / 1e6:.2f} / "
-                         f"{wf['axial_stress_heel'] / 1e6:.2f} MPa",
-                         "N_z / t, tension positive"))
+            wf, jn = o["wall_foot"], o["junction"]
+            rows += [("wall foot axial stress toe / heel",
+                      f"{wf['axial_stress_toe'] / 1e6:.2f} / "
+                      f"{wf['axial_stress_heel'] / 1e6:.2f} MPa",
+                      "N_z / t, tension positive"),
+                     ("joint bending toe / heel: wall",
+                      f"{jn['wall_bending_stress_toe'] / 1e6:.1f} / "
+                      f"{jn['wall_bending_stress_heel'] / 1e6:.1f} MPa", "6 M / t^2"),
+                     ("joint bending toe / heel: plate",
+                      f"{jn['plate_bending_stress_toe'] / 1e6:.1f} / "
+                      f"{jn['plate_bending_stress_heel'] / 1e6:.1f} MPa", "6 M / t^2")]
         eq = o["equilibrium"]
         error = max(eq["moment_relative_error"], eq["shear_relative_error"])
         rows.append(("overturning equilibrium error", f"{error:.1e}",

@@ -330,6 +330,14 @@ class RockingModel:
                 "N_z": evaluate_at(F["N_s"], pts, cells)[:, 0].tolist(),
                 "N_z_theta": evaluate_at(F["N_s_theta"], pts, cells)[:, 0].tolist(),
                 "M_z": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist()}
+        if s.wall is not None:
+            # the joint's moment amplitudes: the wall's foot, the plate just inside the wall
+            corner = np.array([[s.wall.radius, -s.embedment]])
+            inner = tank.plate_cells[tank.cell_midpoints[tank.plate_cells, 0] < s.wall.radius]
+            out["junction"] = {
+                "M_wall": float(evaluate_at(F["M_s"], corner, tank.wall_cells)[0, 0]),
+                "M_plate": float(evaluate_at(F["M_s"], corner, inner)[0, 0])
+                if tank.mesh.comm.allreduce(len(inner)) else 0.0}
         line = self.stress_line()
         cells = tank.domain.cells("soil")
         profiles["soil_line"] = {
@@ -464,6 +472,19 @@ def superpose(results: dict, amplitudes: dict, scene, sigma_zz=None,
                       "axial_stress_heel": ((N0 - N1) / t).tolist()})
         z = np.asarray(wall1["z"])
         foot = int(np.argmin(np.abs(z - 0.0)))
+        # the joint's bending at toe and heel, and its surface stresses 6 M / t^2 (what an
+        # annular plate and the bottom course are checked for in an earthquake)
+        j0, j1 = results["junction"], amplitudes["junction"]
+        t_wall = float(t[foot])
+        t_plate = float(scene.plate.thickness_at(np.array([scene.wall.radius * (1 - 1e-9)]))[0])
+        junction = {"M_wall_amplitude": j1["M_wall"], "M_plate_amplitude": j1["M_plate"]}
+        for name, sgn in (("toe", side), ("heel", -side)):
+            M_w = j0["M_wall"] + sgn * j1["M_wall"]
+            M_p = j0["M_plate"] + sgn * j1["M_plate"]
+            junction |= {f"M_wall_{name}": M_w, f"M_plate_{name}": M_p,
+                         f"wall_bending_stress_{name}": 6.0 * abs(M_w) / t_wall**2,
+                         f"plate_bending_stress_{name}": 6.0 * abs(M_p) / t_plate**2}
+        out["junction"] = junction
         out["wall_foot"] = {"N_z_amplitude": float(side * N1[foot]),
                             "N_z_toe": float(N0[foot] + N1[foot]),
                             "N_z_heel": float(N0[foot] - N1[foot]),

@@ -235,6 +235,15 @@ def test_embedded_tank_balances_the_moment_and_the_shear(condition):
     assert o["toe"]["max_contact_normal"] > max(res["profiles"]["plate"]["contact_normal"])
     assert res["settlement_summary"]["planar_tilt"] == o["tilt"] > 0
     assert o["wall_foot"]["N_z_toe"] < o["wall_foot"]["N_z_heel"]
+    # the joint's bending: the amplitude is the wall profile's at its foot, toe and heel
+    # the axisymmetric moment plus and minus it
+    jn = o["junction"]
+    assert jn["M_wall_amplitude"] == pytest.approx(wall["M_z"][0], rel=1e-12)
+    for member in ("wall", "plate"):
+        assert jn[f"M_{member}_toe"] + jn[f"M_{member}_heel"] == pytest.approx(
+            2 * res["junction"][f"M_{member}"], rel=1e-9)
+        assert jn[f"M_{member}_toe"] - jn[f"M_{member}_heel"] == pytest.approx(
+            2 * jn[f"M_{member}_amplitude"], rel=1e-9)
 
 
 def test_uplift_of_the_heel_is_reported():
@@ -464,6 +473,8 @@ def test_a_negative_moment_is_the_same_tank_turned_round():
                 assert minus[side][key] == pytest.approx(value, rel=1e-9), (side, key)
     for key in ("N_z_toe", "N_z_heel", "axial_stress_toe"):
         assert minus["wall_foot"][key] == pytest.approx(plus["wall_foot"][key], rel=1e-9)
+    for key in ("M_wall_toe", "M_plate_heel", "plate_bending_stress_toe"):
+        assert minus["junction"][key] == pytest.approx(plus["junction"][key], rel=1e-9)
     assert minus["uplift"]["onset_factor"] == pytest.approx(plus["uplift"]["onset_factor"],
                                                             rel=1e-9)
 
