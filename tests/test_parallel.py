@@ -210,6 +210,8 @@ def test_overturning_parallel_equals_serial(condition):
         assert p[key] == pytest.approx(s[key], rel=1e-8), key
     for key in ("N_z_toe", "N_z_heel"):
         assert p["wall_foot"][key] == pytest.approx(s["wall_foot"][key], rel=1e-7), key
+    for key, value in s["junction"].items():
+        assert p["junction"][key] == pytest.approx(value, rel=1e-7), key
     for member in ("plate", "wall", "soil_line"):
         for key, values in s["profiles"][member].items():
             scale = np.max(np.abs(values)) + 1e-300
