@@ -299,19 +299,26 @@ class SoilBlock:
         zero = np.zeros(2, dtype=np.float64)
         bcs = [fem.dirichletbc(0.0, axis, Vr),                 # symmetry: u_r = 0 on r = 0
                fem.dirichletbc(zero, far, V)]                  # rigid far boundary
+        return bcs + self.pins(V, [(pr.function_space, i) for i, (pr, _, _) in
+                                   zip(self.mixed_strata, self.pressures)])
+
+    def pins(self, V, pressure_spaces) -> list[fem.DirichletBC]:
+        """The supports that are not boundary conditions: the void's dofs of the
+        displacement space ``V`` that touch no soil cell (it carries no stiffness), and
+        each mixed stratum's pressure (``pressure_spaces``: (space, stratum index))
+        everywhere outside its cells."""
+        dom, bcs = self.domain, []
         if dom.has_void:
-            # the void carries no stiffness; pin its dofs that touch no soil cell
             void = fem.locate_dofs_topological(V, 2, dom.cells("void"))
             soil = fem.locate_dofs_topological(V, 2, dom.cells("soil"))
-            bcs.append(fem.dirichletbc(zero, np.setdiff1d(void, soil), V))
-        for i, (pr, _, _) in zip(self.mixed_strata, self.pressures):
-            # a stratum's pressure lives on its cells: pin it everywhere else
-            Q = pr.function_space
+            bcs.append(fem.dirichletbc(np.zeros(V.dofmap.index_map_bs),
+                                       np.setdiff1d(void, soil), V))
+        for Q, i in pressure_spaces:
             imap = Q.dofmap.index_map
             every = np.arange(imap.size_local + imap.num_ghosts, dtype=np.int32)
             own = fem.locate_dofs_topological(Q, 2, self.stratum_cells(i))
             pinned = np.setdiff1d(every, own).astype(np.int32)
-            if self.domain.mesh.comm.allreduce(len(pinned)):
+            if dom.mesh.comm.allreduce(len(pinned)):
                 bcs.append(fem.dirichletbc(0.0, pinned, Q))
         return bcs
 

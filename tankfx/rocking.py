@@ -32,7 +32,7 @@ import time
 
 import numpy as np
 import ufl
-from dolfinx import fem, la
+from dolfinx import fem
 from dolfinx import mesh as dmesh
 
 from . import harmonic as hm
@@ -115,7 +115,7 @@ class RockingModel:
         self.unknowns = [self.u] + [p for p, _, _, _ in self.pressures] + [self.w]
         self._load_forms(v_b, Vv_b, bv)
         self.bcs = self._supports()
-        self.solution = None
+        self._solver = None
 
     # ------------------------------------------------------------------ set-up
     def _load_forms(self, v_f, Vv_f, gamma):
@@ -171,20 +171,8 @@ class RockingModel:
             dofs = fem.locate_dofs_topological(V.sub(c), fdim, axis)
             bcs.append(fem.dirichletbc(0.0, dofs, V.sub(c)))
         far = fem.locate_dofs_topological(V, fdim, dom.facets("far_side", "bottom"))
-        zero = np.zeros(3)
-        bcs.append(fem.dirichletbc(zero, far, V))
-        if dom.has_void:
-            void = fem.locate_dofs_topological(V, 2, dom.cells("void"))
-            solid = fem.locate_dofs_topological(V, 2, dom.cells("soil"))
-            bcs.append(fem.dirichletbc(zero, np.setdiff1d(void, solid), V))
-        for pr, _, _, i in self.pressures:
-            Q = pr.function_space
-            imap = Q.dofmap.index_map
-            every = np.arange(imap.size_local + imap.num_ghosts, dtype=np.int32)
-            own = fem.locate_dofs_topological(Q, 2, soil.stratum_cells(i))
-            pinned = np.setdiff1d(every, own).astype(np.int32)
-            if dom.mesh.comm.allreduce(len(pinned)):
-                bcs.append(fem.dirichletbc(0.0, pinned, Q))
+        bcs.append(fem.dirichletbc(np.zeros(3), far, V))
+        bcs += soil.pins(V, [(pr.function_space, i) for pr, _, _, i in self.pressures])
         # the plate's centre: Z = S = 0 (its slope, the tilt, is free)
         sub = tank.mesh
         centre = dmesh.locate_entities(sub, 0, lambda x: np.isclose(x[0], 0.0))
@@ -209,44 +197,36 @@ class RockingModel:
         # residuals of 2-8e-6 after refinement, the scaled LU up to 8e-6, this one 1.2e-8 to
         # 3.8e-7 (measured); one factorisation, so ordered as a linear scene's (AMD: on the
         # demo's nonlinear tank the harmonic's solve 0.94 -> 0.71 s against METIS)
-        solver = DirectSolver(self.a, self.L, self.bcs, self.unknowns,
-                              entity_maps=self.tank.entity_maps, name="rocking",
-                              one_shot=True, scaled=False)
-        solver.solve()
-        self.relative_residual = solver.relative_residual
+        # (one solver for every stage that overturns: its forms compiled once, the matrix
+        # re-assembled with the stage's interface states and moduli)
+        if self._solver is None:
+            self._solver = DirectSolver(self.a, self.L, self.bcs, self.unknowns,
+                                        entity_maps=self.tank.entity_maps, name="rocking",
+                                        one_shot=True, scaled=False)
+        self._solver.solve()
+        self.relative_residual = self._solver.relative_residual
         log(f"overturning (first harmonic): solved in {time.perf_counter() - t0:.2f} s")
-        self.solution = self.results()
-        return self.solution
+        return self.results()
 
     # ------------------------------------------------------------------ results
     def _contact_amplitudes(self):
-        """sigma_n and tau (cos) and tau_theta (sin) amplitudes per structure cell, averaged
-        over its interface facet (as the axisymmetric contact stresses)."""
+        """sigma_n and tau (cos) and tau_theta (sin) amplitudes per interface carrier,
+        averaged over its element as the axisymmetric contact stresses are
+        (:meth:`tankfx.coupled.TankModel.cell_averages`)."""
         tank = self.tank
-        Sp = tank.k_n.function_space
-        qt = ufl.TestFunction(Sp)
         q_, _, _, s_ = ufl.split(self.w)
-        sums = None
-        for _, n, t, pieces in tank._interface_measures():
-            for measure, R in pieces:
-                us, Vs = hm.soil_trace(R(self.u))
-                ub, Vb = hm.shell_amplitudes(R(q_), R(s_))
-                tr = hm.interface_tractions(us - ub, Vs - Vb, n, t, R(tank.k_n), R(tank.k_s),
-                                            R(tank.mu))
-                w = hm.WEIGHT * tank.soil.r * R(qt)
-                parts = [f * w * measure for f in (*tr, 1.0)]
-                sums = parts if sums is None else [x + y for x, y in zip(sums, parts)]
-        values = []
-        for f in sums:
-            vec = fem.assemble_vector(fem.form(f, entity_maps=tank.entity_maps))
-            vec.scatter_reverse(la.InsertMode.add)
-            vec.scatter_forward()
-            values.append(vec.array.copy())
-        area = values.pop()
+
+        def tractions(_, n, t, R):              # (the axisymmetric jump is not this one)
+            us, Vs = hm.soil_trace(R(self.u))
+            ub, Vb = hm.shell_amplitudes(R(q_), R(s_))
+            return list(hm.interface_tractions(us - ub, Vs - Vb, n, t, R(tank.k_n),
+                                               R(tank.k_s), R(tank.mu)))
+
         out = {}
-        for v, name in zip(values, ("sigma_n", "tau", "tau_theta")):
-            f = fem.Function(Sp, name=name)
-            f.x.array[:] = np.where(area > 0, v / np.where(area > 0, area, 1.0), 0.0)
+        for values, name in zip(tank.cell_averages(tank.cell_average_forms(tractions)),
+                                ("sigma_n", "tau", "tau_theta")):
+            f = fem.Function(tank.S, name=name)
+            f.x.array[:] = values
             out[name] = f
         return out
 
