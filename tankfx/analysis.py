@@ -214,9 +214,17 @@ class SoilBlock:
         self.unknowns = [self.u]
         #: per mixed stratum: (its pressure, (a_up, a_pu, a_pp), its zero load)
         self.pressures = []
+        #: the stratum of each pressure (pinned outside its cells)
+        self.pressure_strata = list(self.mixed_strata)
+        #: a consolidating soil's excess pore pressure is its one pressure (Biot)
+        self.consolidating = scene.consolidation is not None
+        if self.consolidating:
+            self.mixed_strata, self.mixed = [], True
         displacement_form = [i for i in range(self.n_materials) if i not in self.mixed_strata]
         self.a = 0
-        if displacement_form:
+        if self.consolidating:
+            self._pore_pressure(msh)
+        elif displacement_form:
             self.a = soil_forms.stiffness_form(self.trial, self.test, self.E, self.nu, self.r,
                                                self.dx_strata(displacement_form))
         for i in self.mixed_strata:
@@ -242,6 +250,42 @@ class SoilBlock:
             self.a += fem.Constant(msh, 0.0) * ufl.inner(self.trial, self.test) * self.dx_void
         self.bcs = self._supports()
         self.supported_facets = domain.facets("far_side", "bottom")
+
+    def _pore_pressure(self, msh) -> None:
+        """Biot's blocks (tankfx.consolidation) for the excess pore pressure, one degree
+        below the displacement, with the drained boundaries by Nitsche's method; the time
+        step enters through ``conductance`` (dt k / gamma_w) and ``step_weights``, the
+        earlier states through ``u_n``, ``u_nn``."""
+        from . import consolidation as cf
+
+        scene = self.scene
+        c, deg = scene.consolidation, scene.mesh.degree
+        Q = fem.functionspace(msh, ("Lagrange", deg - 1))
+        p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
+        self.conductance = fem.Constant(msh, 0.0)
+        self.step_weights = w = cf.StepWeights(msh)
+        self.u_n, self.u_nn = (fem.Function(self.V, name=n) for n in ("u_n", "u_nn"))
+        a_uu, a_up, a_pu, a_pp = cf.biot_forms(self.trial, p, self.test, q, self.E, self.nu,
+                                               self.conductance, self.r, self.dx)
+        drained = ["surface"] + (["contact"] if scene.plate is None else []) + \
+            (["bottom"] if c.drainage == "top_and_bottom" else [])
+        ds = ufl.Measure("ds", domain=msh, subdomain_data=self.domain.facet_tags)
+        a_pp += cf.drainage_form(p, q, self.conductance, self.r,
+                                 ds(tuple(FACET_TAGS[n] for n in drained)), deg - 1)
+        if self.domain.has_void:
+            # (the void's pressure dofs are pinned: see pins)
+            a_pp += fem.Constant(msh, 0.0) * p * q * self.dx_void
+        self.a = a_uu
+        self.pressures.append((fem.Function(Q, name="pore_pressure"), (a_up, a_pu, a_pp),
+                               cf.previous_volume_load([(w.previous, self.u_n),
+                                                        (w.before, self.u_nn)],
+                                                       q, self.r, self.dx)))
+        self.pressure_strata = [0]
+
+    @property
+    def pore_pressure(self) -> fem.Function | None:
+        """The excess pore pressure (Pa, compression positive) of a consolidating soil."""
+        return self.pressures[0][0] if self.consolidating else None
 
     @property
     def linear_cells(self) -> np.ndarray:
@@ -300,7 +344,7 @@ class SoilBlock:
         bcs = [fem.dirichletbc(0.0, axis, Vr),                 # symmetry: u_r = 0 on r = 0
                fem.dirichletbc(zero, far, V)]                  # rigid far boundary
         return bcs + self.pins(V, [(pr.function_space, i) for i, (pr, _, _) in
-                                   zip(self.mixed_strata, self.pressures)])
+                                   zip(self.pressure_strata, self.pressures)])
 
     def pins(self, V, pressure_spaces) -> list[fem.DirichletBC]:
         """The supports that are not boundary conditions: the void's dofs of the
@@ -325,7 +369,7 @@ class SoilBlock:
     def dofs(self) -> dict[str, int]:
         out = {"soil": self.V.dofmap.index_map.size_global * self.V.dofmap.index_map_bs}
         if self.mixed:
-            out["soil_pressure"] = sum(pr.function_space.dofmap.index_map.size_global
+            out["pore_pressure" if self.consolidating else "soil_pressure"] = sum(pr.function_space.dofmap.index_map.size_global
                                        for pr, _, _ in self.pressures)
         return out
 
@@ -341,6 +385,8 @@ class SoilBlock:
         first harmonic, whose strain and pressures are amplitudes)."""
         if not self.mixed:
             return soil_forms.stress(eps, self.E, self.nu)
+        if self.consolidating:      # total stress: the skeleton's less the pore pressure
+            return soil_forms.stress(eps, self.E, self.nu) - pressures[0] * ufl.Identity(3)
         if self.n_strata == 1:
             return soil_forms.mixed_stress(eps, pressures[0], self.E, self.nu)
         # per cell the form of its stratum, by indicators (an expression valid in every
@@ -521,7 +567,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     mohr_coulomb = scene.interface.condition == "mohr_coulomb"
     # one factorisation: a linear soil under a bonded or smooth interface (its load stages
     # share the matrix)
-    one_shot = linear_soil and not mohr_coulomb
+    one_shot = linear_soil and not mohr_coulomb and scene.consolidation is None
     solver = make_solver(scene, model.a, model.L, model.bcs, model.unknowns,
                          entity_maps=model.entity_maps, name="tank",
                          symmetric=not mohr_coulomb, one_shot=one_shot,
@@ -555,11 +601,16 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         t = time.perf_counter()
         soil_iteration = None
         model.begin_stage()
+        consolidation = None
         if scene.soil.nonlinear:
             from .hyperbolic import HyperbolicIteration
 
             soil_iteration = HyperbolicIteration(model).run(
                 lambda: model.solve(solver, log, single_pass=not nested), log)
+        elif scene.consolidation is not None:
+            from .consolidation import TimeStepping
+
+            consolidation = TimeStepping(model, solver, log).run()
         else:
             model.solve(solver, log)
             if one_shot:
@@ -591,6 +642,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             "numpy_blas_threads": limit_blas_threads()}
         if scene.solver.method == "iterative":
             results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
+        if consolidation is not None:
+            results["consolidation"] = consolidation
         if load.overturning:
             rocking = _overturning(model, rocking, load, results, log, sigma_zz)
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,

@@ -23,7 +23,8 @@ __all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settl
            "stepped_wall_under_liquid", "stepped_plate", "gradient_surface_compliance",
            "gradient_surface_settlement", "antisymmetric_surface_settlement",
            "rigid_disc_rocking_stiffness", "rigid_disc_rocking_pressure", "ring_average",
-           "antisymmetric_vertical_stress"]
+           "antisymmetric_vertical_stress", "terzaghi_degree", "terzaghi_pore_pressure",
+           "terzaghi_settlement"]
 
 
 def flexible_centre_settlement(p, a, E, nu):
@@ -345,6 +346,52 @@ def one_dimensional_settlement(p, layers) -> float:
     [(thickness, E, nu), ...] on a rigid base: every layer compresses in confined
     (oedometric) strain, sum of p h / M with M = E (1 - nu) / ((1 + nu)(1 - 2 nu))."""
     return sum(p * h * (1.0 + nu) * (1.0 - 2.0 * nu) / (E * (1.0 - nu)) for h, E, nu in layers)
+
+
+# --------------------------------------------------------------------------- consolidation
+# Terzaghi's one-dimensional consolidation of a layer drained at its top (or at both faces,
+# with its half-height as the drainage path), under a load applied at once and held: the
+# excess pore pressure starts equal to the load everywhere and decays as a Fourier series
+# (Terzaghi 1943; e.g. Craig's Soil Mechanics, Eqs. 7.21-7.24).
+
+
+def _terzaghi_modes(Tv, terms: int):
+    m = np.arange(terms)[:, None]
+    M = 0.5 * math.pi * (2 * m + 1)
+    return M, np.exp(-M**2 * np.atleast_1d(np.asarray(Tv, dtype=float))[None, :])
+
+
+def terzaghi_degree(Tv, terms: int = 400) -> np.ndarray:
+    """Average degree of consolidation U(T_v) = 1 - sum 2 / M^2 exp(-M^2 T_v), M = pi (2m +
+    1) / 2, T_v = c_v t / H_dr^2 (H_dr the drainage path). At T_v -> 0 it tends to
+    2 sqrt(T_v / pi), which the series needs many terms to reach: below T_v = 1e-4 that
+    limit is used (its error there is below 1e-12)."""
+    Tv = np.atleast_1d(np.asarray(Tv, dtype=float))
+    M, decay = _terzaghi_modes(Tv, terms)
+    U = 1.0 - np.sum(2.0 / M**2 * decay, axis=0)
+    small = Tv < 1e-4
+    U[small] = 2.0 * np.sqrt(Tv[small] / math.pi)
+    return U
+
+
+def terzaghi_pore_pressure(q, depth_ratio, Tv, terms: int = 400) -> np.ndarray:
+    """Excess pore pressure u(Z, T_v) = sum 2 q / M sin(M Z) exp(-M^2 T_v), Z = depth below
+    the drained face / H_dr (0..1: 1 at an impervious base), for T_v > 0."""
+    M, decay = _terzaghi_modes(Tv, terms)
+    Z = np.atleast_1d(np.asarray(depth_ratio, dtype=float))
+    return np.sum((2.0 * q / M)[:, :, None] * np.sin(M[:, :, None] * Z[None, None, :])
+                  * decay[:, :, None], axis=0).squeeze()
+
+
+def terzaghi_settlement(q, height, E, nu, permeability, t, water_unit_weight=9810.0,
+                        drained_base: bool = False) -> np.ndarray:
+    """Settlement of a saturated layer of ``height`` (m) under q (Pa) at times t (s):
+    q H / E_oed U(c_v t / H_dr^2), with no immediate part (the confined column cannot
+    deform at constant volume)."""
+    E_oed = E * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    c_v = permeability * E_oed / water_unit_weight
+    H_dr = 0.5 * height if drained_base else height
+    return q * height / E_oed * terzaghi_degree(c_v * np.asarray(t, dtype=float) / H_dr**2)
 
 
 # --------------------------------------------------------------------------- stepped members

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 __all__ = ["SceneError", "Soil", "Layer", "Plate", "Wall", "Ringwall", "Interface", "Load",
-           "DomainSize",
+           "DomainSize", "Consolidation",
            "MeshOptions", "Scene", "load_scene", "plate_thickness_from_Kp", "Kp_from_thickness",
            "vertical_load"]
 
@@ -374,6 +374,23 @@ class Load:
 
 
 @dataclass(frozen=True)
+class Consolidation:
+    """Biot's consolidation of a saturated soil (tankfx.consolidation): the load is applied
+    at t = 0, when the soil answers undrained, and held while the excess pore pressure
+    drains; the soil's E and nu are then its drained (effective) constants."""
+
+    permeability: float                 #: m/s, Darcy's coefficient k (isotropic)
+    times: tuple[float, ...]            #: s, the times at which results are reported
+    water_unit_weight: float = 9810.0   #: N/m^3
+    #: the drained boundaries: "top" (the ground surface; a flexible load's loaded area
+    #: too) or "top_and_bottom" (also the domain's base: a clay on sand); the foundation,
+    #: the pit's sides and the far side are impervious
+    drainage: str = "top"
+    #: time steps per decade of time (BDF2; 10 keep Terzaghi's settlement within 0.6 %)
+    steps_per_decade: int = 10
+
+
+@dataclass(frozen=True)
 class DomainSize:
     radius: float   #: m, outer radius of the soil domain
     depth: float    #: m, depth of the rigid base
@@ -405,6 +422,8 @@ class Scene:
     interface: Interface = field(default_factory=Interface)
     ringwall: Ringwall | None = None
     solver: SolverOptions = field(default_factory=SolverOptions)
+    #: time-dependent settlement of a saturated soil (None: the soil answers at once)
+    consolidation: Consolidation | None = None
     title: str = "tankfx scene"
     #: a load path: the total loads analysed in order on one mesh, the interface's states
     #: carried from each to the next (``[[stages]]`` tables of a scene file, each the
@@ -471,7 +490,7 @@ class Scene:
         """The scene as a plain dict, re-readable by :meth:`from_dict` (resolved values)."""
         out: dict[str, Any] = {"title": self.title}
         for name in ("soil", "plate", "wall", "ringwall", "interface", "load", "domain",
-                     "mesh", "solver"):
+                     "mesh", "solver", "consolidation"):
             part = getattr(self, name)
             if part is not None:
                 out[name] = _plain(part)
@@ -623,6 +642,9 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
     "mesh": {"degree": (int, False), "edge_size": (float, False), "growth": (float, False),
              "near_size": (float, False)},
     "solver": {"method": (str, False), "rtol": (float, False), "max_iterations": (int, False)},
+    "consolidation": {"permeability": (float, True), "times": (list, True),
+                      "water_unit_weight": (float, False), "drainage": (str, False),
+                      "steps_per_decade": (int, False)},
 }
 #: the keys of one [[soil.layers]] table
 _LAYER_SPEC: dict[str, tuple[type, bool]] = {
@@ -644,6 +666,7 @@ ATMOSPHERIC_PRESSURE = 101325.0
 _CONDITIONS = ("bonded", "smooth", "mohr_coulomb")
 _ON_CYCLE = ("hold", "stop")
 _STATES = ("element", "node")
+_DRAINAGE = ("top", "top_and_bottom")
 
 
 def _suggest(name: str, valid) -> str:
@@ -735,6 +758,10 @@ def _parse(data: dict[str, Any]) -> Scene:
     if not isinstance(data, dict):
         raise SceneError([f"a scene must be a table of sections, got {type(data).__name__}"])
     if "stages" in data:
+        if "consolidation" in data:
+            raise SceneError(["[[stages]] with [consolidation]: a consolidation holds the one "
+                              "[load] from t = 0; a load path over time (filling, holding) "
+                              "is not modelled yet"])
         rest = {k: v for k, v in data.items() if k != "stages"}
         scene = _parse(rest)
         return replace(scene, stages=_parse_stages(rest, data["stages"], scene))
@@ -968,6 +995,8 @@ def _parse(data: dict[str, Any]) -> Scene:
 
     if secs["ringwall"] is not None:
         _check_ringwall(rd, secs["ringwall"], plate, wall, domain, a)
+    if secs["consolidation"] is not None:
+        _check_consolidation(rd, secs["consolidation"], data, soil or {}, layers, deg, method)
 
     if rd.problems:
         raise SceneError(rd.problems)
@@ -1051,6 +1080,9 @@ def _parse(data: dict[str, Any]) -> Scene:
     return Scene(soil=soil_dc, load=load_dc, domain=domain_dc, mesh=mesh_dc, plate=plate_dc,
                  wall=wall_dc, interface=interface_dc, solver=solver_dc,
                  ringwall=None if secs["ringwall"] is None else Ringwall(**secs["ringwall"]),
+                 consolidation=None if secs["consolidation"] is None else Consolidation(
+                     **{**secs["consolidation"],
+                        "times": tuple(float(t) for t in secs["consolidation"]["times"])}),
                  title=data.get("title", "tankfx scene"))
 
 
@@ -1128,6 +1160,62 @@ def _check_ringwall(rd: _Reader, ring: dict, plate: dict | None, wall: dict | No
         if D + depth >= base:
             rd.bad(f"ringwall.depth = {depth!r} m: reaches the rigid base ({base:g} m below "
                    f"the ground, the plate {D:g} m); make it shallower")
+
+
+def _check_consolidation(rd: _Reader, c: dict, data: dict, soil: dict, layers: list,
+                         degree, method) -> None:
+    """A consolidation needs a linear, compressible (drained) soil of one stratum, the
+    direct solver and Taylor-Hood elements; its times are positive and increasing."""
+    rd.positive(c, "consolidation", "permeability")
+    rd.positive(c, "consolidation", "water_unit_weight")
+    times = c.get("times")
+    if times is not None:
+        if not isinstance(times, (list, tuple)) or not times or any(
+                isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t)
+                for t in times):
+            rd.bad(f"consolidation.times = {times!r}: a list of the times (s) at which to "
+                   f"report, e.g. [86400, 2592000, 31536000] for a day, a month and a year")
+        elif min(times) <= 0 or any(b <= a for a, b in zip(times, times[1:])):
+            rd.bad(f"consolidation.times = {times!r}: must be positive and increasing (s "
+                   f"after the load is applied; t = 0, the undrained response, is always "
+                   f"reported)")
+    drainage = c.get("drainage", "top")
+    if drainage not in _DRAINAGE:
+        rd.bad(f"consolidation.drainage = {drainage!r}: unknown{_suggest(drainage, _DRAINAGE)}"
+               f" (\"top\": the ground surface drains; \"top_and_bottom\": the domain's base "
+               f"too)")
+    n = c.get("steps_per_decade")
+    if n is not None and n < 2:
+        rd.bad(f"consolidation.steps_per_decade = {n!r}: must be >= 2 (10 keep Terzaghi's "
+               f"settlement within 0.6 %; 20 within 0.2 %)")
+    model = soil.get("model", "linear")
+    if model != "linear":
+        rd.bad(f"[consolidation] with soil.model = {model!r}: consolidation is solved for a "
+               f"linear elastic skeleton (its E, nu the drained constants); use model = "
+               f"\"linear\" or remove [consolidation]")
+    nu = soil.get("nu")
+    if isinstance(nu, (int, float)) and nu > MIXED_FROM_NU:
+        rd.bad(f"soil.nu = {nu!r} with [consolidation]: nu is the drained (effective) "
+               f"Poisson's ratio, which must not exceed {MIXED_FROM_NU} (the undrained "
+               f"response, nu = 0.5, is consolidation's start; typical drained values "
+               f"0.2-0.35)")
+    if layers:
+        rd.bad("soil.layers with [consolidation]: a consolidating soil of several strata "
+               "(one permeability each) is not modelled yet; give one stratum")
+    if "ringwall" in data:
+        rd.bad("[ringwall] with [consolidation]: not modelled yet (the ringwall's cells "
+               "would need to be left out of the flow); remove one of them")
+    load = data.get("load") or {}
+    if isinstance(load, dict) and (load.get("overturning_moment") or load.get("base_shear")):
+        rd.bad("load.overturning_moment / base_shear with [consolidation]: the overturning "
+               "harmonic of a consolidating soil is not modelled; analyse it without "
+               "[consolidation] (drained or undrained constants)")
+    if method != "direct":
+        rd.bad(f"solver.method = {method!r} with [consolidation]: its saddle-point system "
+               f"is solved by MUMPS; use method = \"direct\"")
+    if degree == 1:
+        rd.bad("mesh.degree = 1 with [consolidation]: the displacement and pore pressure are "
+               "Taylor-Hood pairs (the pressure one degree lower), which need degree 2 or 3")
 
 
 def _check_annular_ring(rd: _Reader, plate: dict, wall: dict | None) -> None:

@@ -1,0 +1,210 @@
+"""Consolidation (Biot, tankfx.consolidation): Terzaghi's column, the undrained and drained
+limits of the flexible load and of a tank, a wide load on a thin layer, the scene's rules."""
+import math
+
+import numpy as np
+import pytest
+
+from conftest import COARSE, flexible_scene, small_tank
+from tankfx import Scene, analyse
+from tankfx import reference as ref
+from tankfx.consolidation import Oedometer, consolidation_coefficient, time_steps
+from tankfx.scene import SceneError
+
+E, NU, K = 5e6, 0.3, 1e-8          # Pa, -, m/s
+DAY = 86400.0
+
+
+def test_terzaghi_reference():
+    """The series against the textbook values: U = 50 % at T_v = 0.197, 90 % at 0.848; the
+    small-time limit 2 sqrt(T_v / pi) joins the series; the mean excess pore pressure over
+    the layer is q (1 - U)."""
+    U = ref.terzaghi_degree([0.19674, 0.84811])
+    np.testing.assert_allclose(U, [0.5, 0.9], atol=2e-5)
+    assert abs(ref.terzaghi_degree(1.0001e-4)[0] - 2 * math.sqrt(1e-4 / math.pi)) < 1e-6
+    Z = (np.arange(2000) + 0.5) / 2000
+    for Tv in (0.05, 0.3, 1.0):
+        mean = np.mean(ref.terzaghi_pore_pressure(1.0, Z, Tv))
+        assert abs(mean - (1.0 - ref.terzaghi_degree(Tv)[0])) < 1e-5
+
+
+def _column_errors(per_decade, second_order=True, cells=40, drained_base=False):
+    H, q = 10.0, 1e5
+    c_v = consolidation_coefficient(E, NU, K, 9810.0)
+    H_dr = H / 2 if drained_base else H
+    Tv = np.array([0.01, 0.05, 0.2, 0.5, 1.0])
+    times = Tv * H_dr**2 / c_v
+    oed = Oedometer(H, E, NU, K, q, cells=cells, drained_base=drained_base)
+    history = oed.run(time_steps(times, times[0] / 1000, per_decade), second_order)
+    t = np.array([h["t"] for h in history])
+    at = [int(np.argmin(abs(t - ti))) for ti in times]
+    s = np.array([history[i]["settlement"] for i in at])
+    final = q * H / (E * (1 - NU) / ((1 + NU) * (1 - 2 * NU)))
+    exact = ref.terzaghi_settlement(q, H, E, NU, K, times, drained_base=drained_base)
+    p_base = np.array([history[i]["base_pressure"] for i in at])
+    p_exact = ref.terzaghi_pore_pressure(q, 0.0 if drained_base else 1.0, Tv)
+    return history[0], (s - exact) / final, (p_base - p_exact) / q
+
+
+def test_oedometer_against_terzaghi():
+    """The column drained at its top: no settlement at t = 0 (Nitsche's drained boundary
+    leaves the undrained step undrained), then Terzaghi's settlement within 0.7 % of the
+    final one and the base's pore pressure within 1 % of the load at 10 steps a decade;
+    BDF2's error falls as the square of the step (measured 0.27 x for twice the steps),
+    backward Euler's as the step (0.52 x), four times larger to start with."""
+    start, err10, perr10 = _column_errors(10)
+    assert abs(start["settlement"]) < 1e-12 and abs(start["base_pressure"] / 1e5 - 1) < 1e-9
+    assert np.max(np.abs(err10)) < 7e-3 and np.max(np.abs(perr10)) < 1e-2
+    _, err20, _ = _column_errors(20)
+    assert np.max(np.abs(err20)) < 0.35 * np.max(np.abs(err10))
+    _, be10, _ = _column_errors(10, second_order=False)
+    _, be20, _ = _column_errors(20, second_order=False)
+    assert np.max(np.abs(be10)) > 3 * np.max(np.abs(err10))
+    assert 0.4 < np.max(np.abs(be20)) / np.max(np.abs(be10)) < 0.6
+
+
+def test_oedometer_drained_both_faces():
+    """Drained at the base too: the drainage path halves (T_v on H / 2) and the base's
+    pore pressure stays zero."""
+    _, err, perr = _column_errors(10, drained_base=True)
+    assert np.max(np.abs(err)) < 7e-3
+    assert np.max(np.abs(perr)) < 2e-3
+
+
+def _flexible(times_days, **consolidation):
+    return flexible_scene(consolidation={"permeability": 1e-9,
+                                         "times": [DAY * t for t in times_days],
+                                         **consolidation}).with_coarse_mesh()
+
+
+def test_flexible_load_undrained_and_drained_limits():
+    """Boussinesq's settlement at nu = 0.5 with the undrained modulus 3 G at t = 0, and at
+    nu' with E' in the drained limit (0.02 % on the coarse mesh); in between the degree of
+    consolidation rises from 0 towards 1 and the excess pore pressure falls; each reported
+    state is in equilibrium, and the results' top level is the last reported time."""
+    sol = analyse(_flexible([0.1, 10, 1000]))
+    r, c = sol.results, sol.results["consolidation"]
+    E_s, nu, p, a = 10e6, 0.3, 100e3, 1.0
+    G = E_s / (2 * (1 + nu))
+    undrained = ref.flexible_centre_settlement(p, a, 3 * G, 0.5)
+    drained = ref.flexible_centre_settlement(p, a, E_s, nu)
+    assert abs(c["undrained"]["w0"] / undrained - 1) < 2e-4
+    assert abs(c["drained"]["w0"] / drained - 1) < 2e-4
+    assert c["drained"]["max_pore_pressure"] < 1e-6 * p
+    U = [s["degree"] for s in c["at_times"]]
+    assert U[0] == 0.0 and all(0 < b - a_ for a_, b in zip(U, U[1:])) and U[-1] < 1
+    pmax = [s["max_pore_pressure"] for s in c["at_times"]]
+    assert all(b < a_ for a_, b in zip(pmax, pmax[1:]))
+    assert r["w0"] == c["at_times"][-1]["w0"]
+    assert r["equilibrium"]["relative_error"] < 1e-9
+    assert r["dofs"]["pore_pressure"] > 0
+    # the steps: 10 a decade from a hundredth of the first time through each reported one
+    assert c["steps"] == len(time_steps(c["times"], 1e-2 * c["times"][0], 10))
+
+
+def test_wide_load_on_a_thin_layer_is_terzaghi():
+    """A load ten times wider than the drained layer under it is one-dimensional at its
+    centre: the settlement there follows Terzaghi within 0.6 % of the final one, from an
+    undrained settlement of 0.2 % of it (the finite width)."""
+    E_s, nu, k, a, q, H = 10e6, 0.3, 1e-9, 10.0, 1e5, 1.0
+    c_v = consolidation_coefficient(E_s, nu, k, 9810.0)
+    times = list(np.array([0.02, 0.1, 0.3, 1.0]) * H**2 / c_v)
+    scene = Scene.from_dict({
+        "soil": {"E": E_s, "nu": nu}, "load": {"pressure": q, "load_radius": a},
+        "domain": {"radius": 3 * a, "depth": H},
+        "mesh": {"edge_size": 0.1, "near_size": 0.25, "growth": 0.3},
+        "consolidation": {"permeability": k, "times": times}})
+    c = analyse(scene).results["consolidation"]
+    final = q * H * (1 + nu) * (1 - 2 * nu) / (E_s * (1 - nu))
+    s = np.array([x["w0"] for x in c["at_times"][1:]])
+    err = (s - ref.terzaghi_settlement(q, H, E_s, nu, k, np.array(times))) / final
+    assert np.max(np.abs(err)) < 6e-3, err
+    assert 0 < c["undrained"]["w0"] < 3e-3 * final
+    assert abs(c["drained"]["w0"] / final - 1) < 1e-3
+
+
+@pytest.mark.parametrize("interface", [{"condition": "bonded"},
+                                       {"condition": "mohr_coulomb", "tan_phi": 0.5}])
+def test_tank_limits_are_the_undrained_and_drained_analyses(interface):
+    """An embedded tank (plate, wall, a Mohr-Coulomb interface iterated at every step): its
+    drained limit is the analysis with E', nu' (1e-6), its start the analysis of the
+    undrained soil, nu = 0.5 with the same shear modulus, in the mixed form (w0 1e-4, M0
+    1e-3; where the pit's wall slips and separates w0 5.7e-4 and M0 3.9e-3, 3.7e-4 and
+    2.5e-3 on a mesh twice as fine: Taylor-Hood enforces tr eps = 0 only weakly, and the
+    drained skeleton's lambda' (tr eps)^2 stiffens what it leaves, most beside the
+    separated band)."""
+    times = [DAY * t for t in (1, 100)]
+    # the same plate, wall and interface whatever the soil (Kp, Kt and the penalty
+    # stiffnesses would resolve on its E and nu)
+    tank = small_tank(interface=interface | {"normal_stiffness": 3e10,
+                                             "shear_stiffness": 3e10})
+    resolved = Scene.from_dict(tank)
+    tank["plate"] = {k: v for k, v in tank["plate"].items() if k != "Kp"} | {
+        "thickness": resolved.plate.thickness}
+    tank["wall"] = {k: v for k, v in tank["wall"].items() if k != "Kt"} | {
+        "thickness": resolved.wall.thickness}
+    sol = analyse(Scene.from_dict(tank | {"consolidation": {"permeability": 1e-9,
+                                                            "times": times}}))
+    c = sol.results["consolidation"]
+    drained = analyse(Scene.from_dict(tank)).results
+    G = 10e6 / (2 * 1.3)
+    undrained = analyse(Scene.from_dict(tank | {"soil": {"E": 3 * G, "nu": 0.5}})).results
+    for key, tol in (("w0", 1e-6), ("wd", 1e-5), ("M0", 1e-6)):
+        assert abs(c["drained"][key] / drained[key] - 1) < tol, key
+    slipping = interface["condition"] == "mohr_coulomb"
+    for key, tol in (("w0", 1e-3 if slipping else 1e-4), ("M0", 6e-3 if slipping else 1e-3)):
+        assert abs(c["undrained"][key] / undrained[key] - 1) < tol, \
+            (key, c["undrained"][key] / undrained[key] - 1)
+    w = [s["w0"] for s in c["at_times"]]
+    assert w[0] < w[1] < w[2] < c["drained"]["w0"]
+    assert sol.results["equilibrium"]["relative_error"] < 1e-8
+
+
+@pytest.mark.parametrize("changes, words", [
+    ({"soil": {"model": "hyperbolic", "hyperbolic_a": 1e-7, "hyperbolic_b": 1e-6,
+               "nu": 0.3}}, "linear elastic skeleton"),
+    ({"soil": {"E": 1e7, "nu": 0.49}}, "drained (effective) Poisson's ratio"),
+    ({"soil": {"E": 1e7, "nu": 0.3, "layers": [{"depth": 2.0, "E": 2e7, "nu": 0.3}]}},
+     "several strata"),
+    ({"solver": {"method": "iterative"}}, "solved by MUMPS"),
+    ({"mesh": {"degree": 1}}, "Taylor-Hood"),
+    ({"consolidation": {"permeability": 1e-9, "times": [10.0, 5.0]}}, "increasing"),
+    ({"consolidation": {"permeability": 1e-9, "times": [-1.0]}}, "positive"),
+    ({"consolidation": {"permeability": 1e-9, "times": []}}, "a list of the times"),
+    ({"consolidation": {"permeability": 1e-9, "times": ["a day"]}}, "a list of the times"),
+    ({"consolidation": {"permeability": 0.0, "times": [1.0]}}, "permeability = 0.0"),
+    ({"consolidation": {"permeability": 1e-9, "times": [1.0], "drainage": "bottom"}},
+     "consolidation.drainage = 'bottom'"),
+    ({"consolidation": {"permeability": 1e-9, "times": [1.0], "steps_per_decade": 1}},
+     "steps_per_decade = 1"),
+    ({"consolidation": {"times": [1.0]}}, "consolidation.permeability: missing"),
+    ({"consolidation": {"permeability": 1e-9, "times": [1.0], "k": 1}}, "unknown key"),
+])
+def test_refused_scenes(changes, words):
+    data = {"soil": {"E": 1e7, "nu": 0.3}, "load": {"pressure": 1e5, "load_radius": 1.0},
+            "consolidation": {"permeability": 1e-9, "times": [DAY]}} | changes
+    with pytest.raises(SceneError, match=None) as e:
+        Scene.from_dict(data)
+    assert any(words in p for p in e.value.problems), e.value.problems
+
+
+def test_refused_with_a_load_path_a_ringwall_or_overturning():
+    base = small_tank(consolidation={"permeability": 1e-9, "times": [DAY]})
+    with pytest.raises(SceneError, match="load path over time"):
+        Scene.from_dict(base | {"stages": [{}, {"pressure": 6e4}]})
+    with pytest.raises(SceneError) as e:
+        Scene.from_dict(base | {"load": {"pressure": 5e4, "overturning_moment": 1e5}})
+    assert any("overturning harmonic" in p for p in e.value.problems)
+    with pytest.raises(SceneError) as e:
+        Scene.from_dict(base | {"ringwall": {"inner_radius": 0.8, "outer_radius": 1.2,
+                                             "depth": 0.5, "E": 30e9}})
+    assert any("[ringwall] with [consolidation]" in p for p in e.value.problems)
+
+
+def test_scene_round_trip(tmp_path):
+    scene = _flexible([1, 30], drainage="top_and_bottom", steps_per_decade=5)
+    path = tmp_path / "s.toml"
+    path.write_text(scene.to_toml())
+    again = Scene.from_toml(path)
+    assert again == scene and again.consolidation.times == (DAY, 30 * DAY)
+    assert COARSE  # (the coarse mesh of the other tests)
