@@ -369,8 +369,9 @@ class SoilBlock:
     def dofs(self) -> dict[str, int]:
         out = {"soil": self.V.dofmap.index_map.size_global * self.V.dofmap.index_map_bs}
         if self.mixed:
-            out["pore_pressure" if self.consolidating else "soil_pressure"] = sum(pr.function_space.dofmap.index_map.size_global
-                                       for pr, _, _ in self.pressures)
+            name = "pore_pressure" if self.consolidating else "soil_pressure"
+            out[name] = sum(pr.function_space.dofmap.index_map.size_global
+                            for pr, _, _ in self.pressures)
         return out
 
     def stress(self, u=None):

@@ -232,6 +232,15 @@ def describe(scene) -> list[str]:
     if any(ld.overturning for ld in (scene.load, *scene.stages)):
         parts.append("the first harmonic (overturning: one more linear solve where a stage "
                      "has it)")
+    c = scene.consolidation
+    if c is not None:
+        from .consolidation import FIRST_STEP, time_steps
+
+        steps = len(time_steps(c.times, FIRST_STEP * c.times[0], c.steps_per_decade))
+        parts.append(f"the excess pore pressure (Biot's consolidation, k = "
+                     f"{c.permeability:g} m/s, drained at the {c.drainage.replace('_', ' ')})")
+        iterations.append(f"in time: the drained limit, the undrained start and {steps} "
+                          f"time steps to {c.times[-1] / 86400:.4g} days (a solve each)")
     out.append(f"  builds: {', '.join(parts)}; iterates: "
                f"{', '.join(iterations) if iterations else 'nothing (one linear solve a stage)'}")
     return out

@@ -258,7 +258,8 @@ class TimeStepping:
         # the drained limit first (it does not depend on the path), from rest
         soil.step_weights.set(1.0, 0.0, False)
         self._solve(DRAINED_STEP * self.time_scale)
-        drained = self._state(math.inf)
+        # (t = infinity: null in results.json, which takes no infinities)
+        drained = self._state(0.0) | {"t": None, "t_days": None}
         log.info("consolidation: drained limit w0 = %.4g m (c_v = %.3g m^2/s, a^2 / c_v = "
                  "%.3g days)", drained["w0"], self.c_v, self.time_scale / DAY)
         for f in (soil.u_n, soil.u_nn):
@@ -289,7 +290,7 @@ class TimeStepping:
             state["degree"] = degree(state)
             state["Tv"] = state["t"] / self.time_scale
         at_times = [history[0]] + [history[1 + i] for i in sorted(reported)]
-        drained["degree"], drained["Tv"] = 1.0, math.inf
+        drained["degree"], drained["Tv"] = 1.0, None
         return {"times": list(c.times), "undrained": history[0], "drained": drained,
                 "at_times": at_times, "history": history,
                 "c_v": self.c_v, "time_scale": self.time_scale,

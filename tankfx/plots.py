@@ -14,12 +14,13 @@ from dolfinx import fem, plot
 
 __all__ = ["gather_grid", "plot_section", "plot_surface_settlement", "plot_moment_diagrams",
            "plot_structure_profiles", "plot_contact", "plot_cutaway", "plot_sweep",
-           "plot_overturning", "plot_tilt", "FIGURES", "write_figures", "ringwall_outline"]
+           "plot_overturning", "plot_tilt", "plot_consolidation", "FIGURES", "write_figures",
+           "ringwall_outline"]
 
 #: The figures ``write_figures`` may write (which ones depends on the scene).
 FIGURES = ("section.png", "stress_level.png", "settlement.png", "moments.png", "profiles.png",
            "contact.png", "load_path.png", "overturning.png", "overturning_wall.png",
-           "tilt.png")
+           "tilt.png", "consolidation.png")
 
 if not os.environ.get("DISPLAY"):
     # no X server: render through EGL rather than let VTK try (and warn about) X first
@@ -402,10 +403,13 @@ def plot_sweep(rows: list[dict], axes: dict, path: str | Path, title: str = "") 
 
 
 def plot_curves(x, panels: dict[str, dict[str, np.ndarray]], path: str | Path,
-                x_label: str, title: str = "") -> Path | None:
+                x_label: str, title: str = "", log_x: bool = False,
+                legend_left: bool = False) -> Path | None:
     """Side-by-side line charts against one x: ``panels`` maps each panel's y label to its
     curves (label -> y values, NaN where a curve has none; a curve of one value is drawn
-    as a dashed level across the chart, e.g. a limit). Rank 0 writes the PNG."""
+    as a dashed level across the chart, e.g. a limit); ``log_x`` a logarithmic x axis,
+    ``legend_left`` the legends in the upper left corner (for curves that rise to the
+    right). Rank 0 writes the PNG."""
     from mpi4py import MPI
 
     if MPI.COMM_WORLD.rank != 0:
@@ -417,6 +421,10 @@ def plot_curves(x, panels: dict[str, dict[str, np.ndarray]], path: str | Path,
                    shape=(1, len(panels)))
     for col, (y_label, curves) in enumerate(panels.items()):
         chart = pv.Chart2D(x_label=x_label, y_label=y_label)
+        if log_x:
+            chart.x_axis.log_scale = True
+        if legend_left:
+            chart.legend.SetHorizontalAlignment(chart.legend.LEFT)
         chart.title = f"{title}: {y_label}" if col == 0 and title else y_label
         for k, (label, y) in enumerate(curves.items()):
             y = np.atleast_1d(np.asarray(y, dtype=float))
@@ -453,6 +461,32 @@ def plot_load_path(results: dict, path: str | Path, title: str = "") -> Path | N
     if stages[-1].get("M0") is not None:
         panels["M0 [kN m/m]"] = {"centre moment": curve("M0", 1e-3)}
     return plot_curves(x, panels, path, "applied vertical load [kN]", title=title)
+
+
+def plot_consolidation(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """A consolidation's settlements (and the plate's centre moment) and its largest excess
+    pore pressure against time (log scale, days), between the undrained start and the
+    drained limit (dashed). Rank 0 writes the PNG."""
+    c = results.get("consolidation")
+    if not c:
+        return None
+    steps = c["history"][1:]           # t > 0 (the undrained start is a dashed level)
+    x = np.array([s["t_days"] for s in steps])
+
+    def curve(key, scale):
+        return np.array([s[key] * scale for s in steps])
+
+    panels = {"settlement [mm]": {"w0 (centre)": curve("w0", 1e3),
+                                  "w_edge": curve("w_edge", 1e3),
+                                  "w0 undrained": [1e3 * c["undrained"]["w0"]],
+                                  "w0 drained": [1e3 * c["drained"]["w0"]]},
+              "largest excess pore pressure [kPa]": {"max": curve("max_pore_pressure", 1e-3)}}
+    if steps[-1].get("M0") is not None:
+        panels["M0 [kN m/m]"] = {"centre moment": curve("M0", 1e-3),
+                                 "undrained": [1e-3 * c["undrained"]["M0"]],
+                                 "drained": [1e-3 * c["drained"]["M0"]]}
+    return plot_curves(x, panels, path, "time [days]", title=title, log_x=True,
+                       legend_left=True)
 
 
 def plot_overturning(results: dict, path: str | Path, wall_path: str | Path | None = None,
@@ -635,6 +669,9 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
                     (plot_contact, (r, directory / "contact.png"), {"title": title})]
     else:
         figures.append((plot_surface_settlement, (r, directory / "settlement.png"),
+                        {"title": title}))
+    if "consolidation" in r:
+        figures.append((plot_consolidation, (r, directory / "consolidation.png"),
                         {"title": title}))
     if "overturning" in r:
         figures += [(plot_overturning, (r, directory / "overturning.png",

@@ -209,7 +209,7 @@ STATUS_CODES = {"none": 0, "stick": 1, "slip": 2, "separated": 3, "rebonded": 4}
 
 #: The profiles :func:`write_profiles` writes, one CSV file each where the results have it.
 PROFILE_FILES = ("surface.csv", "axis.csv", "plate.csv", "wall.csv", "overturning_plate.csv",
-                 "overturning_wall.csv", "overturning_soil_line.csv")
+                 "overturning_wall.csv", "overturning_soil_line.csv", "consolidation.csv")
 #: The SI unit of each profile column (results.json's ``conventions`` say the signs).
 PROFILE_UNITS = {"r": "m", "z": "m", "w": "m", "u_r": "m", "u_z": "m", "rotation": "rad",
                  "M_r": "N m/m", "M_theta": "N m/m", "M_z": "N m/m", "Q_r": "N/m", "Q": "N/m",
@@ -224,15 +224,31 @@ PROFILE_UNITS = {"r": "m", "z": "m", "w": "m", "u_r": "m", "u_z": "m", "rotation
                  "sigma_zz_heel": "Pa"}
 
 
+#: The unit of each column of a consolidation's history (``consolidation.csv``).
+HISTORY_UNITS = {"t": "s", "t_days": "days", "w0": "m", "w_edge": "m", "wd": "m",
+                 "w_mean": "m", "M0": "N m/m", "max_pore_pressure": "Pa"}
+
+
 def write_profiles(results: dict, directory) -> list[Path]:
     """The results' profiles (ground surface, axis, plate, wall, and an overturning load's
-    plate and wall) as CSV files in ``directory``, a column per quantity with its unit in
-    the header, for a spreadsheet (rank 0 only; the numbers are those of results.json)."""
+    plate and wall; a consolidation's history, ``consolidation.csv``) as CSV files in
+    ``directory``, a column per quantity with its unit in the header, for a spreadsheet
+    (rank 0 only; the numbers are those of results.json)."""
     import csv
 
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     written = []
+    if "consolidation" in results:
+        history = results["consolidation"]["history"]
+        keys = list(history[0])
+        path = directory / "consolidation.csv"
+        with path.open("w", newline="") as f:
+            out = csv.writer(f)
+            out.writerow([f"{k} [{HISTORY_UNITS[k]}]" if HISTORY_UNITS.get(k) else k
+                          for k in keys])
+            out.writerows([s[k] for k in keys] for s in history)
+        written.append(path)
     overturning = results.get("overturning", {}).get("profiles", {})
     for name in PROFILE_FILES:
         member = name.removesuffix(".csv")
@@ -284,6 +300,13 @@ def write_fields(solution, directory) -> list[Path]:
         amplitude.interpolate(fem.Expression(ufl.as_vector(cylindrical(solution.harmonic.u)),
                                              V1.element.interpolation_points))
         extra.append(amplitude)
+    pore = getattr(solution.model.soil, "pore_pressure", None) \
+        if solution.model is not None else None
+    if pore is not None:
+        # (on the nodes of sigma_zz's space: one VTK cell type for every nodal field)
+        p_w = fem.Function(solution.sigma_zz.function_space, name="excess_pore_pressure")
+        p_w.interpolate(pore)
+        extra.append(p_w)
     with io.VTKFile(comm, str(paths[0]), "w") as f:
         f.write_function([solution.u, solution.sigma_zz, *cells.values(), *extra], 0.0)
     profiles, base = solution.results["profiles"], -solution.scene.embedment
@@ -358,6 +381,16 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
                  ("settlement at the shell", f"{1e3 * ss['shell_settlement']:.2f} mm", ""),
                  ("centre-to-shell dish", f"{1e3 * ss['dish']:.2f} mm",
                   f"dish / radius = {ss['dish_over_radius']:.2e}")]
+    c = r.get("consolidation")
+    if c:
+        rows += [("consolidation: undrained w0 (t = 0)", f"{1e3 * c['undrained']['w0']:.2f} mm",
+                  f"c_v = {c['c_v']:.3g} m^2/s, a^2 / c_v = {c['time_scale'] / 86400:.4g} "
+                  f"days")]
+        rows += [(f"  w0 at t = {s['t_days']:.4g} days", f"{1e3 * s['w0']:.2f} mm",
+                  f"U = {s['degree']:.3f}, largest excess pore pressure "
+                  f"{s['max_pore_pressure'] / 1e3:.3g} kPa") for s in c["at_times"][1:]]
+        rows.append(("  drained limit w0 (t -> infinity)", f"{1e3 * c['drained']['w0']:.2f} mm",
+                     f"the results above: t = {c['at_times'][-1]['t_days']:.4g} days"))
     o = r.get("overturning")
     if o:
         # the first harmonic: toe = the side pressed down (theta = 0), heel = the other

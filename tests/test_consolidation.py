@@ -208,3 +208,39 @@ def test_scene_round_trip(tmp_path):
     again = Scene.from_toml(path)
     assert again == scene and again.consolidation.times == (DAY, 30 * DAY)
     assert COARSE  # (the coarse mesh of the other tests)
+
+
+def test_tankfx_run_writes_the_history_figure_and_pore_pressure(tmp_path):
+    """`tankfx run` on the demo's scene (coarse): the summary's consolidation rows, the
+    history as CSV (units in the header, every step), its figure, and the excess pore
+    pressure among the soil's fields for ParaView; `tankfx check` says what it builds."""
+    import csv
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from tankfx.cli import main
+
+    scene = Path(__file__).resolve().parents[1] / "demos" / "scenes" / "tank_on_clay.toml"
+    out = tmp_path / "out"
+    assert main(["run", str(scene), "--out", str(out), "--coarse"]) == 0
+    with (out / "profiles" / "consolidation.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    results = __import__("json").loads((out / "results.json").read_text())
+    c = results["consolidation"]
+    assert len(rows) == len(c["history"]) == c["steps"] + 1
+    assert float(rows[-1]["w0 [m]"]) == pytest.approx(results["w0"], rel=1e-12)
+    assert float(rows[0]["max_pore_pressure [Pa]"]) > 0 and rows[0]["t [s]"] == "0.0"
+    assert c["drained"]["t"] is None          # (infinity: null in JSON)
+    report = (out / "report.md").read_text()
+    assert "undrained w0 (t = 0)" in report and "drained limit w0" in report
+    assert (out / "consolidation.png").stat().st_size > 10_000
+    import pyvista
+
+    soil = pyvista.read(sorted((out / "fields").glob("soil*.vtu"))[0])
+    p = soil.point_data["excess_pore_pressure"]
+    assert 0 < p.max() < c["at_times"][-1]["max_pore_pressure"] * 1.01
+    check = subprocess.run([sys.executable, "-m", "tankfx", "check", str(scene)],
+                           capture_output=True, text=True)
+    assert check.returncode == 0 and "Biot's consolidation" in check.stdout
+    assert "time steps to 1095 days" in check.stdout

@@ -220,6 +220,25 @@ def test_overturning_parallel_equals_serial(condition):
 
 
 @needs_two_ranks
+def test_consolidation_parallel_equals_serial():
+    """Biot's consolidation of the embedded tank under a Mohr-Coulomb interface: its whole
+    history (the drained limit, the undrained start, every step) and the last state's
+    profiles the same on 2 ranks as serially."""
+    scene = Scene.from_dict(small_tank(
+        interface={"condition": "mohr_coulomb", "tan_phi": 0.5},
+        consolidation={"permeability": 1e-9, "times": [86400.0, 8640000.0],
+                       "steps_per_decade": 4}))
+    parallel, serial = _solve_both(scene)
+    _assert_same_numbers(parallel, serial)
+    p, s = parallel["consolidation"], serial["consolidation"]
+    assert len(p["history"]) == len(s["history"])
+    for key in ("w0", "wd", "M0", "max_pore_pressure", "degree"):
+        np.testing.assert_allclose([x[key] for x in p["history"]],
+                                   [x[key] for x in s["history"]], rtol=1e-7, err_msg=key)
+        assert p["drained"][key] == pytest.approx(s["drained"][key], rel=1e-7), key
+
+
+@needs_two_ranks
 def test_failed_unscaled_factorisation_redone_scaled_parallel_equals_serial():
     """An unscaled factorisation that fails (tankfx.solve) is redone scaled on all ranks
     together: the same solves and numbers as serially."""

@@ -1,0 +1,107 @@
+# # A tank on soft clay: settlement now, and over the months after the hydrotest
+#
+# A tank on saturated clay settles twice. When it is filled the water in the clay's pores
+# cannot leave at once: the clay deforms at constant volume (undrained), and the load is
+# carried partly by an *excess pore pressure*. Over the following months that pressure
+# drains away, to the ground surface and to any sand beneath, and the clay's skeleton takes
+# the load: the settlement grows to the drained one. Which share of the final settlement,
+# and of the differential settlement and the plate's moments, comes at once, and how soon
+# the rest follows, decides how a hydrotest is held and when the tank may be put into
+# service.
+#
+# tankfx solves Biot's consolidation (`[consolidation]` in a scene: the clay's permeability
+# and the times to report) on the same axisymmetric mesh as the tank's other analyses: the
+# undrained response at t = 0, time steps of BDF2, and the drained limit. Its forms are
+# verified against Terzaghi's column and its limits against the undrained (nu = 0.5) and
+# drained analyses of the same tank (tests/test_consolidation.py).
+#
+# Run: `python demos/tank_on_clay.py` (or under `mpiexec -n 2`); `--coarse` for a quick
+# run. Results and figures go to `results/tank_on_clay/`.
+
+# +
+import sys
+from pathlib import Path
+
+from mpi4py import MPI
+
+from tankfx import analyse, load_scene
+from tankfx import reference as ref
+from tankfx.cli import write_json
+from tankfx.plots import plot_consolidation, plot_section
+from tankfx.post import write_profiles
+
+comm = MPI.COMM_WORLD
+say = print if comm.rank == 0 else (lambda *a, **k: None)
+out = Path("results") / "tank_on_clay"
+if comm.rank == 0:
+    out.mkdir(parents=True, exist_ok=True)
+# -
+
+# ## The tank and the clay
+# `demos/scenes/tank_on_clay.toml`: a 30 m concrete tank filled with 10 m of water, on
+# 10 m of soft clay (drained E' = 5 MPa, nu' = 0.3, k = 1e-9 m/s) over sand, which drains
+# it from below as the ground surface does from above.
+
+scene = load_scene(Path(__file__).resolve().parent / "scenes" / "tank_on_clay.toml")
+if "--coarse" in sys.argv:
+    scene = scene.with_coarse_mesh()
+c = scene.consolidation
+solution = analyse(scene, comm)
+r = solution.results
+cons = r["consolidation"]
+DAY = 86400.0
+
+# ## Settlement against time
+# The clay's coefficient of consolidation c_v = k E_oed / gamma_w sets the pace. Terzaghi's
+# one-dimensional theory gives the classical estimates, and here two bounds: the concrete
+# plate is impervious, so the clay under it drains only downwards, a drainage path of the
+# whole 10 m; beyond the tank's edge it drains both ways, 5 m. The tank's degree of
+# consolidation (its settlement's progress from the undrained start to the drained limit)
+# lies between the two: the pore water under the plate also leaves sideways.
+
+H = scene.domain.depth
+say(f"{scene.title}: c_v = {cons['c_v']:.3g} m^2/s; undrained w0 = "
+    f"{1e3 * cons['undrained']['w0']:.1f} mm, drained limit "
+    f"{1e3 * cons['drained']['w0']:.1f} mm "
+    f"({cons['undrained']['w0'] / cons['drained']['w0']:.0%} at once)\n")
+say(f"{'t days':>8s} {'w0 mm':>8s} {'wd mm':>7s} {'M0 kNm/m':>9s} {'U tank':>7s} "
+    f"{'U 1D 10 m':>9s} {'U 1D 5 m':>9s} {'max u_e kPa':>11s}")
+bounds = []
+for s in cons["at_times"]:
+    U_slow, U_fast = (ref.terzaghi_degree(cons["c_v"] * s["t"] / H_dr**2)[0]
+                      if s["t"] > 0 else 0.0 for H_dr in (H, 0.5 * H))
+    bounds.append((U_slow, s["degree"], U_fast))
+    say(f"{s['t_days']:8.4g} {1e3 * s['w0']:8.2f} {1e3 * s['wd']:7.2f} {s['M0'] / 1e3:9.2f} "
+        f"{s['degree']:7.3f} {U_slow:9.3f} {U_fast:9.3f} {s['max_pore_pressure'] / 1e3:11.1f}")
+d = cons["drained"]
+say(f"{'drained':>8s} {1e3 * d['w0']:8.2f} {1e3 * d['wd']:7.2f} {d['M0'] / 1e3:9.2f} "
+    f"{1.0:7.3f} {1.0:9.3f} {1.0:9.3f} {0.0:11.1f}\n")
+# The plate's centre moment changes sign: hogging at once (the undrained clay is stiff
+# under the plate's middle against its edge, where the wall's weight and the water's
+# thrust meet), sagging as the clay under the middle consolidates.
+
+# ## Figures
+# The settlements, the plate's centre moment and the largest excess pore pressure against
+# time (log scale), between the undrained start and the drained limit; and the section at
+# the last reported time, coloured by the excess pore pressure that is still to drain.
+
+if comm.rank == 0:
+    write_json(out / "results.json", r)
+    write_profiles(r, out)
+plot_consolidation(r, out / "consolidation.png", title=scene.title)
+pore = solution.model.soil.pore_pressure
+plot_section(solution.u, pore, out / "pore_pressure.png", extent=1.6 * scene.plate.radius,
+             label="pore pressure [kPa]", soil_cells=solution.domain.cells("soil"),
+             structure=r, title=f"{scene.title}: t = {c.times[-1] / DAY:.4g} days")
+say(f"figures and results.json in {out}/")
+
+# ## Checks
+# The drained limit settles more than the undrained start, the consolidation rises
+# monotonically towards it between Terzaghi's two bounds, the excess pore pressure falls,
+# and the tank balances its load.
+
+U = [s["degree"] for s in cons["at_times"]]
+assert cons["drained"]["w0"] > cons["undrained"]["w0"] > 0
+assert all(b > a for a, b in zip(U, U[1:])) and U[-1] < 1.0
+assert all(slow < tank < fast for slow, tank, fast in bounds[1:]), bounds
+assert r["equilibrium"]["relative_error"] < 1e-8
