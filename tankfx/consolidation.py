@@ -33,7 +33,8 @@ from mpi4py import MPI
 from . import soil as soil_forms
 
 __all__ = ["oedometric_modulus", "consolidation_coefficient", "biot_forms",
-           "drainage_form", "previous_volume_load", "StepWeights", "time_steps", "Oedometer"]
+           "drainage_form", "previous_volume_load", "StepWeights", "time_steps", "Oedometer",
+           "MandelCylinder"]
 
 
 def oedometric_modulus(E, nu):
@@ -126,73 +127,61 @@ def time_steps(times, first: float, per_decade: int) -> np.ndarray:
     return np.array(grid)
 
 
-class Oedometer:
-    """A saturated column under a load q applied at t = 0 and held (Terzaghi's problem, in
-    the axisymmetric forms above): radius ``radius``, height ``height``, laterally confined
-    (u_r = 0 on both sides), fixed and impervious at the base, drained at the loaded top
-    (and at the base too with ``drained_base``). For verification against
-    :func:`tankfx.reference.terzaghi_settlement`, and for calibrating c_v."""
+class _Sample:
+    """A saturated sample on a rectangle of the meridian plane (r from 0 to ``radius``, z
+    from ``bottom`` to ``top``), in Biot's forms above: its supports and loads given by the
+    subclass (``_supports``, ``_load``, ``drained``: the drained edges), stepped in time by
+    :meth:`run`, which records :meth:`record` per time."""
 
-    def __init__(self, height, E, nu, permeability, q, water_unit_weight=9810.0,
-                 cells: int = 40, degree: int = 2, drained_base: bool = False,
-                 radius: float | None = None, comm=MPI.COMM_WORLD):
+    def __init__(self, radius, bottom, top, cells, E, nu, permeability, water_unit_weight,
+                 degree, comm):
         from .solve import DirectSolver
 
-        R = height / cells if radius is None else radius
+        self.radius, self.bottom, self.top = radius, bottom, top
         msh = self.mesh = dmesh.create_rectangle(
-            comm, [np.array([0.0, -height]), np.array([R, 0.0])], [1, cells],
+            comm, [np.array([0.0, bottom]), np.array([radius, top])], list(cells),
             dmesh.CellType.triangle)
-        self.height, self.q = height, q
         V = fem.functionspace(msh, ("Lagrange", degree, (2,)))
         Q = fem.functionspace(msh, ("Lagrange", degree - 1))
         self.u, self.p = fem.Function(V), fem.Function(Q)
         self.u_n, self.u_nn = fem.Function(V), fem.Function(V)
         u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
         p, s = ufl.TrialFunction(Q), ufl.TestFunction(Q)
-        r = soil_forms.radius(msh)
-        dx = ufl.Measure("dx", domain=msh, metadata={
+        self.r = r = soil_forms.radius(msh)
+        self.dx = dx = ufl.Measure("dx", domain=msh, metadata={
             "quadrature_degree": soil_forms.quadrature_degree(degree)})
+        self.E, self.nu = E, nu
         self.conductance = fem.Constant(msh, 0.0)
         a_uu, a_up, a_pu, a_pp = biot_forms(u, p, v, s, E, nu, self.conductance, r, dx)
         self._k_over_gamma = permeability / water_unit_weight
-        top = dmesh.locate_entities_boundary(msh, 1, lambda x: np.isclose(x[1], 0.0))
-        base = dmesh.locate_entities_boundary(msh, 1, lambda x: np.isclose(x[1], -height))
-        sides = dmesh.locate_entities_boundary(
-            msh, 1, lambda x: np.isclose(x[0], 0.0) | np.isclose(x[0], R))
-        tags = dmesh.meshtags(msh, 1, top, np.ones(len(top), dtype=np.int32))
-        ds = ufl.Measure("ds", domain=msh, subdomain_data=tags)
-        L_u = -q * v[1] * 2.0 * math.pi * r * ds(1)
         self.weights = StepWeights(msh)
         L_p = previous_volume_load([(self.weights.previous, self.u_n),
                                     (self.weights.before, self.u_nn)], s, r, dx)
-        Vr, Vz = V.sub(0), V.sub(1)
-        bcs = [fem.dirichletbc(0.0, fem.locate_dofs_topological(Vr, 1, sides), Vr),
-               fem.dirichletbc(0.0, fem.locate_dofs_topological(Vz, 1, base), Vz)]
-        drained = np.concatenate([top, base]) if drained_base else top
-        drained_tags = dmesh.meshtags(msh, 1, np.sort(drained),
-                                      np.ones(len(drained), dtype=np.int32))
+        drained = np.sort(np.concatenate([self.edge(name) for name in self.drained]))
+        tags = dmesh.meshtags(msh, 1, drained, np.ones(len(drained), dtype=np.int32))
         a_pp += drainage_form(p, s, self.conductance, r,
-                              ufl.Measure("ds", domain=msh, subdomain_data=drained_tags)(1),
-                              degree - 1)
-        self.solver = DirectSolver([[a_uu, a_up], [a_pu, a_pp]], [L_u, L_p], bcs,
-                                   [self.u, self.p], name="oedometer", symmetric=True)
-        self._top = np.array([[0.5 * R, 0.0]])
-        self._base = np.array([[0.5 * R, -height]])
+                              ufl.Measure("ds", domain=msh, subdomain_data=tags)(1), degree - 1)
+        self.solver = DirectSolver([[a_uu, a_up], [a_pu, a_pp]], [self._load(v), L_p],
+                                   self._supports(V), [self.u, self.p], name="sample",
+                                   symmetric=True)
 
-    def settlement(self) -> float:
-        from .post import evaluate_at
+    def edge(self, name: str) -> np.ndarray:
+        """The boundary facets of an edge: "axis", "side" (r = radius), "top", "bottom"."""
+        where = {"axis": (0, 0.0), "side": (0, self.radius), "top": (1, self.top),
+                 "bottom": (1, self.bottom)}[name]
+        return dmesh.locate_entities_boundary(self.mesh, 1,
+                                              lambda x: np.isclose(x[where[0]], where[1]))
 
-        return float(-evaluate_at(self.u, self._top)[0, 1])
-
-    def base_pressure(self) -> float:
-        from .post import evaluate_at
-
-        return float(evaluate_at(self.p, self._base)[0, 0])
+    def fix(self, V, component: int, edges, value: float = 0.0):
+        """A Dirichlet condition on one displacement component along the named edges."""
+        Vc = V.sub(component)
+        facets = np.concatenate([self.edge(e) for e in edges])
+        return fem.dirichletbc(value, fem.locate_dofs_topological(Vc, 1, facets), Vc)
 
     def run(self, steps, second_order: bool = True) -> list[dict]:
         """The undrained response at t = 0, then a step to each time in ``steps`` (s,
         increasing; BDF2, or backward Euler throughout without ``second_order``): per time,
-        settlement (m) and the excess pore pressure at the base (Pa)."""
+        ``t`` and what :meth:`record` gives."""
         out, t_prev, dt_prev = [], 0.0, 0.0
         for t in [0.0, *steps]:
             dt = t - t_prev
@@ -201,11 +190,83 @@ class Oedometer:
             self.solver.solve()
             self.u_nn.x.array[:] = self.u_n.x.array
             self.u_n.x.array[:] = self.u.x.array
-            dt_prev = dt
-            out.append({"t": t, "settlement": self.settlement(),
-                        "base_pressure": self.base_pressure()})
-            t_prev = t
+            out.append({"t": t, **self.record()})
+            t_prev, dt_prev = t, dt
         return out
+
+
+class Oedometer(_Sample):
+    """A saturated column under a load q applied at t = 0 and held (Terzaghi's problem, in
+    the axisymmetric forms above): ``height``, laterally confined (u_r = 0 on both sides),
+    fixed and impervious at the base, drained at the loaded top (and at the base too with
+    ``drained_base``). For verification against
+    :func:`tankfx.reference.terzaghi_settlement`, and for calibrating c_v."""
+
+    def __init__(self, height, E, nu, permeability, q, water_unit_weight=9810.0,
+                 cells: int = 40, degree: int = 2, drained_base: bool = False,
+                 comm=MPI.COMM_WORLD):
+        self.q = q
+        self.drained = ("top", "bottom") if drained_base else ("top",)
+        R = height / cells
+        super().__init__(R, -height, 0.0, (1, cells), E, nu, permeability, water_unit_weight,
+                         degree, comm)
+        self._top = np.array([[0.5 * R, 0.0]])
+        self._base = np.array([[0.5 * R, -height]])
+
+    def _load(self, v):
+        tags = dmesh.meshtags(self.mesh, 1, self.edge("top"),
+                              np.ones(len(self.edge("top")), dtype=np.int32))
+        ds = ufl.Measure("ds", domain=self.mesh, subdomain_data=tags)
+        return -self.q * v[1] * 2.0 * math.pi * self.r * ds(1)
+
+    def _supports(self, V):
+        return [self.fix(V, 0, ("axis", "side")), self.fix(V, 1, ("bottom",))]
+
+    def record(self) -> dict:
+        """The settlement (m) and the excess pore pressure at the base (Pa)."""
+        from .post import evaluate_at
+
+        return {"settlement": float(-evaluate_at(self.u, self._top)[0, 1]),
+                "base_pressure": float(evaluate_at(self.p, self._base)[0, 0])}
+
+
+class MandelCylinder(_Sample):
+    """A saturated cylinder of ``radius`` (and as high) between rigid, smooth, impervious
+    plates that shorten it by ``strain`` at t = 0 and hold it, drained and free on its side
+    (:func:`tankfx.reference.mandel_cylinder`): a check of the consolidation's coupling
+    in the hoop direction and through a drained side, where its excess pore pressure at the
+    centre first rises above its start (Mandel and Cryer's effect)."""
+
+    drained = ("side",)
+
+    def __init__(self, radius, E, nu, permeability, strain, water_unit_weight=9810.0,
+                 cells: int = 16, degree: int = 2, comm=MPI.COMM_WORLD):
+        self.strain = strain
+        super().__init__(radius, 0.0, radius, (cells, cells), E, nu, permeability,
+                         water_unit_weight, degree, comm)
+        w = 2.0 * math.pi * self.r
+        sigma = soil_forms.stress(soil_forms.strain(self.u, self.r), E, nu) - \
+            self.p * ufl.Identity(3)
+        self._force = fem.form(-sigma[1, 1] * w / radius * self.dx)     # (uniform in z)
+        self._mean = fem.form(self.p * w / (math.pi * radius**3) * self.dx)
+
+    def _load(self, v):
+        return ufl.inner(fem.Constant(self.mesh, (0.0, 0.0)), v) * self.dx
+
+    def _supports(self, V):
+        return [self.fix(V, 0, ("axis",)), self.fix(V, 1, ("bottom",)),
+                self.fix(V, 1, ("top",), self.strain * self.radius)]
+
+    def record(self) -> dict:
+        """The axial force (N, compression positive), the mean and the centre's excess pore
+        pressure (Pa)."""
+        from .post import evaluate_at
+
+        comm = self.mesh.comm
+        return {"force": comm.allreduce(fem.assemble_scalar(self._force)),
+                "mean_pressure": comm.allreduce(fem.assemble_scalar(self._mean)),
+                "centre_pressure": float(evaluate_at(
+                    self.p, np.array([[0.0, 0.5 * self.radius]]))[0, 0])}
 
 
 #: the drained limit: one step this many times the foundation's consolidation time a^2 / c_v
@@ -233,6 +294,13 @@ class TimeStepping:
         a = scene.foundation_radius
         #: a^2 / c_v, s: the foundation's consolidation time (surface soil's c_v)
         self.time_scale = a**2 / self.c_v
+        #: where the pore pressure is followed: on the axis, half a radius below the
+        #: foundation (halfway to the base where that is nearer). The largest excess pore
+        #: pressure is also reported, but at t = 0 it sits at the foundation's edge, where
+        #: the undrained stress is singular (it grows as the mesh is refined there)
+        D = scene.embedment
+        self.axis_depth = D + min(0.5 * a, 0.5 * (scene.domain.depth - D))
+        self._axis_point = np.array([[0.0, -self.axis_depth]])
 
     def _state(self, t: float) -> dict:
         found = self.model.foundation_results()
@@ -240,9 +308,14 @@ class TimeStepping:
         comm = p.function_space.mesh.comm
         n = p.function_space.dofmap.index_map.size_local
         local = float(np.max(p.x.array[:n])) if n else -np.inf
+        from .post import evaluate_at
+
+        axis = float(evaluate_at(p, self._axis_point,
+                                 cells=self.model.domain.cells("soil"))[0, 0])
         return {"t": t, "t_days": t / DAY, **{k: found[k] for k in ("w0", "w_edge", "wd",
                                                                      "w_mean", "M0")},
-                "max_pore_pressure": comm.allreduce(local, op=MPI.MAX)}
+                "max_pore_pressure": comm.allreduce(local, op=MPI.MAX),
+                "axis_pore_pressure": axis}
 
     def _solve(self, dt_eff: float) -> None:
         self.soil.conductance.value = dt_eff * self.k_over_gamma
@@ -293,7 +366,7 @@ class TimeStepping:
         drained["degree"], drained["Tv"] = 1.0, None
         return {"times": list(c.times), "undrained": history[0], "drained": drained,
                 "at_times": at_times, "history": history,
-                "c_v": self.c_v, "time_scale": self.time_scale,
+                "c_v": self.c_v, "time_scale": self.time_scale, "axis_depth": self.axis_depth,
                 "steps": len(grid), "permeability": c.permeability, "drainage": c.drainage,
                 "integrator": "undrained at t = 0, then backward Euler once and variable-step "
                               f"BDF2, {c.steps_per_decade} steps a decade from "

@@ -464,9 +464,9 @@ def plot_load_path(results: dict, path: str | Path, title: str = "") -> Path | N
 
 
 def plot_consolidation(results: dict, path: str | Path, title: str = "") -> Path | None:
-    """A consolidation's settlements (and the plate's centre moment) and its largest excess
-    pore pressure against time (log scale, days), between the undrained start and the
-    drained limit (dashed). Rank 0 writes the PNG."""
+    """A consolidation's settlements (and the plate's centre moment) and its excess pore
+    pressure (on the axis, and the largest) against time (log scale, days), between the
+    undrained start and the drained limit (dashed). Rank 0 writes the PNG."""
     c = results.get("consolidation")
     if not c:
         return None
@@ -480,7 +480,10 @@ def plot_consolidation(results: dict, path: str | Path, title: str = "") -> Path
                                   "w_edge": curve("w_edge", 1e3),
                                   "w0 undrained": [1e3 * c["undrained"]["w0"]],
                                   "w0 drained": [1e3 * c["drained"]["w0"]]},
-              "largest excess pore pressure [kPa]": {"max": curve("max_pore_pressure", 1e-3)}}
+              "excess pore pressure [kPa]": {
+                  f"on the axis, {c['axis_depth']:.3g} m deep": curve("axis_pore_pressure",
+                                                                       1e-3),
+                  "largest": curve("max_pore_pressure", 1e-3)}}
     if steps[-1].get("M0") is not None:
         panels["M0 [kN m/m]"] = {"centre moment": curve("M0", 1e-3),
                                  "undrained": [1e-3 * c["undrained"]["M0"]],

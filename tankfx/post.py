@@ -226,7 +226,8 @@ PROFILE_UNITS = {"r": "m", "z": "m", "w": "m", "u_r": "m", "u_z": "m", "rotation
 
 #: The unit of each column of a consolidation's history (``consolidation.csv``).
 HISTORY_UNITS = {"t": "s", "t_days": "days", "w0": "m", "w_edge": "m", "wd": "m",
-                 "w_mean": "m", "M0": "N m/m", "max_pore_pressure": "Pa"}
+                 "w_mean": "m", "M0": "N m/m", "max_pore_pressure": "Pa",
+                 "axis_pore_pressure": "Pa"}
 
 
 def write_profiles(results: dict, directory) -> list[Path]:
@@ -387,8 +388,8 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
                   f"c_v = {c['c_v']:.3g} m^2/s, a^2 / c_v = {c['time_scale'] / 86400:.4g} "
                   f"days")]
         rows += [(f"  w0 at t = {s['t_days']:.4g} days", f"{1e3 * s['w0']:.2f} mm",
-                  f"U = {s['degree']:.3f}, largest excess pore pressure "
-                  f"{s['max_pore_pressure'] / 1e3:.3g} kPa") for s in c["at_times"][1:]]
+                  f"U = {s['degree']:.3f}, excess pore pressure on the axis "
+                  f"{s['axis_pore_pressure'] / 1e3:.3g} kPa") for s in c["at_times"][1:]]
         rows.append(("  drained limit w0 (t -> infinity)", f"{1e3 * c['drained']['w0']:.2f} mm",
                      f"the results above: t = {c['at_times'][-1]['t_days']:.4g} days"))
     o = r.get("overturning")

@@ -24,7 +24,7 @@ __all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settl
            "gradient_surface_settlement", "antisymmetric_surface_settlement",
            "rigid_disc_rocking_stiffness", "rigid_disc_rocking_pressure", "ring_average",
            "antisymmetric_vertical_stress", "terzaghi_degree", "terzaghi_pore_pressure",
-           "terzaghi_settlement"]
+           "terzaghi_settlement", "mandel_cylinder"]
 
 
 def flexible_centre_settlement(p, a, E, nu):
@@ -392,6 +392,60 @@ def terzaghi_settlement(q, height, E, nu, permeability, t, water_unit_weight=981
     c_v = permeability * E_oed / water_unit_weight
     H_dr = 0.5 * height if drained_base else height
     return q * height / E_oed * terzaghi_degree(c_v * np.asarray(t, dtype=float) / H_dr**2)
+
+
+def _bisect_roots(f, x_max: float, step: float = 0.05, tol: float = 1e-14) -> np.ndarray:
+    """The positive roots of f below x_max, by sign changes on a grid refined by bisection."""
+    x = np.arange(step, x_max, step)
+    y = f(x)
+    lo, hi = x[:-1][np.sign(y[:-1]) * np.sign(y[1:]) < 0], x[1:][np.sign(y[:-1])
+                                                                  * np.sign(y[1:]) < 0]
+    f_lo = f(lo)
+    while np.max(hi - lo, initial=0.0) > tol * x_max:
+        mid = 0.5 * (lo + hi)
+        f_mid = f(mid)
+        left = np.sign(f_mid) == np.sign(f_lo)
+        lo, f_lo = np.where(left, mid, lo), np.where(left, f_mid, f_lo)
+        hi = np.where(left, hi, mid)
+    return 0.5 * (lo + hi)
+
+
+def mandel_cylinder(E, nu, permeability, radius, strain, t, water_unit_weight=9810.0,
+                    terms: int = 60) -> dict:
+    """A saturated cylinder (incompressible grains and water) between two rigid, smooth,
+    impervious plates that shorten it by an axial ``strain`` (negative: compression) at
+    t = 0 and hold it; its side is drained and free. (The axisymmetric form of Mandel's
+    problem, displacement-controlled.) Derived here by Laplace transform: with eta = 1 -
+    2 nu, c = k E_oed / gamma_w and the roots alpha_n of (1 - nu) alpha J0(alpha) =
+    (1 - 2 nu) J1(alpha), the excess pore pressure starts at p0 = -G strain everywhere and
+    decays as
+
+        p(r = 0)  = sum 2 p0 (1 + eta) (1 / J0(alpha_n) - 1) / (eta g'_n alpha_n) e_n,
+        mean p    = sum 2 p0 (1 + eta) / (eta^2 g'_n alpha_n) e_n,
+
+    e_n = exp(-c alpha_n^2 t / a^2), g' = 2 (alpha (J0^2 + J1^2) - 2 J0 J1) / (alpha J0)^2;
+    the axial force F = -pi a^2 (lambda e_mean + 2 G strain - p_mean) (compression
+    positive for a shortening), with (lambda + 2 G) e_mean = p_mean + f and f = G ((lambda
+    + 2 G) strain + p_mean) / (lambda + G): 3 G pi a^2 |strain| undrained, E pi a^2 |strain|
+    drained. Returns ``centre``, ``mean`` (Pa) and ``force`` (N) at the times ``t`` (s)."""
+    G = E / (2.0 * (1.0 + nu))
+    lam = 2.0 * G * nu / (1.0 - 2.0 * nu)
+    eta = 1.0 - 2.0 * nu
+    c = permeability * (lam + 2.0 * G) / water_unit_weight
+    alpha = _bisect_roots(lambda x: (1.0 - nu) * x * bessel_j(0, x) - eta * bessel_j(1, x),
+                          math.pi * (terms + 1))[:terms]
+    J0, J1 = bessel_j(0, alpha), bessel_j(1, alpha)
+    dg = 2.0 * (alpha * (J0**2 + J1**2) - 2.0 * J0 * J1) / (alpha * J0) ** 2
+    p0 = -G * strain
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    decay = np.exp(-c * alpha[:, None] ** 2 * t[None, :] / radius**2)
+    weight = 2.0 * p0 * (1.0 + eta) / (eta * dg * alpha)
+    centre = (weight * (1.0 / J0 - 1.0)) @ decay
+    mean = (weight / eta) @ decay
+    f = G * ((lam + 2.0 * G) * strain + mean) / (lam + G)
+    e_mean = (mean + f) / (lam + 2.0 * G)
+    force = -math.pi * radius**2 * (lam * e_mean + 2.0 * G * strain - mean)
+    return {"centre": centre, "mean": mean, "force": force, "p0": p0, "c": c}
 
 
 # --------------------------------------------------------------------------- stepped members
