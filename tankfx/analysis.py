@@ -262,15 +262,23 @@ class SoilBlock:
         c, deg = scene.consolidation, scene.mesh.degree
         Q = fem.functionspace(msh, ("Lagrange", deg - 1))
         p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
+        #: dt_eff / gamma_w (s m^3/N), times each stratum's permeability in the forms
         self.conductance = fem.Constant(msh, 0.0)
+        strata = scene.soil.strata
+        k = [c.permeability if st.permeability is None else st.permeability
+             for st in strata]
+        #: Darcy's k (m/s): one value, or per cell by stratum on layered ground
+        self.permeability = fem.Constant(msh, k[0]) if len(strata) == 1 else \
+            _cell_field(msh, np.array(k)[self.stratum], "permeability")
         self.step_weights = w = cf.StepWeights(msh)
         self.u_n, self.u_nn = (fem.Function(self.V, name=n) for n in ("u_n", "u_nn"))
+        flow = self.conductance * self.permeability
         a_uu, a_up, a_pu, a_pp = cf.biot_forms(self.trial, p, self.test, q, self.E, self.nu,
-                                               self.conductance, self.r, self.dx)
+                                               flow, self.r, self.dx)
         drained = ["surface"] + (["contact"] if scene.plate is None else []) + \
             (["bottom"] if c.drainage == "top_and_bottom" else [])
         ds = ufl.Measure("ds", domain=msh, subdomain_data=self.domain.facet_tags)
-        a_pp += cf.drainage_form(p, q, self.conductance, self.r,
+        a_pp += cf.drainage_form(p, q, flow, self.r,
                                  ds(tuple(FACET_TAGS[n] for n in drained)), deg - 1)
         if self.domain.has_void:
             # (the void's pressure dofs are pinned: see pins)
@@ -280,7 +288,8 @@ class SoilBlock:
                                cf.previous_volume_load([(w.previous, self.u_n),
                                                         (w.before, self.u_nn)],
                                                        q, self.r, self.dx)))
-        self.pressure_strata = [0]
+        # one pore pressure, continuous over the strata (its flux too, naturally)
+        self.pressure_strata = [tuple(range(len(strata)))]
 
     @property
     def pore_pressure(self) -> fem.Function | None:
@@ -329,10 +338,10 @@ class SoilBlock:
             ids.append(CELL_TAGS["void"])
         return self._dx_tagged(tuple(ids))
 
-    def stratum_cells(self, i: int) -> np.ndarray:
-        """Local soil cells (owned and ghost) of stratum i."""
+    def stratum_cells(self, i) -> np.ndarray:
+        """Local soil cells (owned and ghost) of stratum i (or of the strata in a tuple)."""
         soil = self.domain.cells("soil")
-        return soil if self.n_strata == 1 else soil[self.stratum[soil] == i]
+        return soil if self.n_strata == 1 else soil[np.isin(self.stratum[soil], i)]
 
     def _supports(self) -> list[fem.DirichletBC]:
         V, dom = self.V, self.domain

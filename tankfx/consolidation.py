@@ -287,13 +287,18 @@ class TimeStepping:
         scene = model.scene
         self.c = scene.consolidation
         self.soil = model.soil
-        self.k_over_gamma = self.c.permeability / self.c.water_unit_weight
-        s = scene.soil
-        self.c_v = consolidation_coefficient(s.E, s.nu, self.c.permeability,
-                                             self.c.water_unit_weight)
+        c = self.c
+        k = [c.permeability if st.permeability is None else st.permeability
+             for st in scene.soil.strata]
+        c_v = [consolidation_coefficient(st.E, st.nu, k_i, c.water_unit_weight)
+               for st, k_i in zip(scene.soil.strata, k)]
+        #: the surface soil's c_v, m^2/s
+        self.c_v = c_v[0]
         a = scene.foundation_radius
         #: a^2 / c_v, s: the foundation's consolidation time (surface soil's c_v)
         self.time_scale = a**2 / self.c_v
+        #: the slowest stratum's: the drained limit's step is a multiple of it
+        self.slowest_time_scale = a**2 / min(c_v)
         #: where the pore pressure is followed: on the axis, half a radius below the
         #: foundation (halfway to the base where that is nearer). The largest excess pore
         #: pressure is also reported, but at t = 0 it sits at the foundation's edge, where
@@ -318,7 +323,7 @@ class TimeStepping:
                 "axis_pore_pressure": axis}
 
     def _solve(self, dt_eff: float) -> None:
-        self.soil.conductance.value = dt_eff * self.k_over_gamma
+        self.soil.conductance.value = dt_eff / self.c.water_unit_weight
         self.model.solve(self.solver, self.log)
 
     def _advance(self) -> None:
@@ -330,7 +335,7 @@ class TimeStepping:
         soil, log, c = self.soil, self.log, self.c
         # the drained limit first (it does not depend on the path), from rest
         soil.step_weights.set(1.0, 0.0, False)
-        self._solve(DRAINED_STEP * self.time_scale)
+        self._solve(DRAINED_STEP * self.slowest_time_scale)
         # (t = infinity: null in results.json, which takes no infinities)
         drained = self._state(0.0) | {"t": None, "t_days": None}
         log.info("consolidation: drained limit w0 = %.4g m (c_v = %.3g m^2/s, a^2 / c_v = "

@@ -80,6 +80,8 @@ class Layer:
     friction_angle: float | None = None
     unit_weight: float | None = None
     K0: float | None = None
+    #: m/s, Darcy's k of the layer in a consolidation (None: [consolidation]'s)
+    permeability: float | None = None
 
 
 #: The [soil] (or layer) keys that set its E (1/a, K p_a): a change of one of them drops
@@ -648,7 +650,7 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
 }
 #: the keys of one [[soil.layers]] table
 _LAYER_SPEC: dict[str, tuple[type, bool]] = {
-    "depth": (float, True), "nu": (float, True),
+    "depth": (float, True), "nu": (float, True), "permeability": (float, False),
     **{key: (float, False) for key in ("E", "E_gradient", "hyperbolic_a", "hyperbolic_b",
                                        *STRATUM_DUNCAN_CHANG)}}
 _SOLVER_METHODS = ("direct", "iterative")
@@ -997,6 +999,11 @@ def _parse(data: dict[str, Any]) -> Scene:
         _check_ringwall(rd, secs["ringwall"], plate, wall, domain, a)
     if secs["consolidation"] is not None:
         _check_consolidation(rd, secs["consolidation"], data, soil or {}, layers, deg, method)
+    else:
+        for k, layer in enumerate(layers, start=1):
+            if "permeability" in layer:
+                rd.bad(f"soil.layers[{k}].permeability: only used with a [consolidation] "
+                       f"table; remove it or add [consolidation]")
 
     if rd.problems:
         raise SceneError(rd.problems)
@@ -1193,15 +1200,14 @@ def _check_consolidation(rd: _Reader, c: dict, data: dict, soil: dict, layers: l
         rd.bad(f"[consolidation] with soil.model = {model!r}: consolidation is solved for a "
                f"linear elastic skeleton (its E, nu the drained constants); use model = "
                f"\"linear\" or remove [consolidation]")
-    nu = soil.get("nu")
-    if isinstance(nu, (int, float)) and nu > MIXED_FROM_NU:
-        rd.bad(f"soil.nu = {nu!r} with [consolidation]: nu is the drained (effective) "
-               f"Poisson's ratio, which must not exceed {MIXED_FROM_NU} (the undrained "
-               f"response, nu = 0.5, is consolidation's start; typical drained values "
-               f"0.2-0.35)")
-    if layers:
-        rd.bad("soil.layers with [consolidation]: a consolidating soil of several strata "
-               "(one permeability each) is not modelled yet; give one stratum")
+    for name, table in (("soil", soil), *((f"soil.layers[{k}]", x)
+                                          for k, x in enumerate(layers, start=1))):
+        nu = table.get("nu")
+        if isinstance(nu, (int, float)) and nu > MIXED_FROM_NU:
+            rd.bad(f"{name}.nu = {nu!r} with [consolidation]: nu is the drained (effective) "
+                   f"Poisson's ratio, which must not exceed {MIXED_FROM_NU} (the undrained "
+                   f"response, nu = 0.5, is consolidation's start; typical drained values "
+                   f"0.2-0.35)")
     if "ringwall" in data:
         rd.bad("[ringwall] with [consolidation]: not modelled yet (the ringwall's cells "
                "would need to be left out of the flow); remove one of them")
@@ -1309,7 +1315,8 @@ def _layer(x: dict, hyperbolic: bool, dc: bool, dc_values: dict) -> Layer:
                      dc_values["atmospheric_pressure"], nu=x["nu"], **values)
     return Layer(depth=x["depth"], E=1.0 / x["hyperbolic_a"] if hyperbolic else x["E"],
                  nu=x["nu"], E_gradient=x.get("E_gradient", 0.0),
-                 hyperbolic_a=x.get("hyperbolic_a"), hyperbolic_b=x.get("hyperbolic_b"))
+                 hyperbolic_a=x.get("hyperbolic_a"), hyperbolic_b=x.get("hyperbolic_b"),
+                 permeability=x.get("permeability"))
 
 
 def _kondner(rd: _Reader, table: dict, given, name: str, what_E: str) -> None:
@@ -1390,6 +1397,7 @@ def _layers(rd: _Reader, raw, model: str, p_a: float | None = None) -> list[dict
         rd.positive(layer, name, "depth")
         rd.positive(layer, name, "E")
         rd.positive(layer, name, "E_gradient", allow_zero=True)
+        rd.positive(layer, name, "permeability")
         rd.poisson(layer, name, incompressible=True)
         for key in STRATUM_DUNCAN_CHANG:
             if key in raw_layer and model != "duncan_chang":

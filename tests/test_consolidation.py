@@ -202,8 +202,11 @@ def test_tank_limits_are_the_undrained_and_drained_analyses(interface):
     ({"soil": {"model": "hyperbolic", "hyperbolic_a": 1e-7, "hyperbolic_b": 1e-6,
                "nu": 0.3}}, "linear elastic skeleton"),
     ({"soil": {"E": 1e7, "nu": 0.49}}, "drained (effective) Poisson's ratio"),
-    ({"soil": {"E": 1e7, "nu": 0.3, "layers": [{"depth": 2.0, "E": 2e7, "nu": 0.3}]}},
-     "several strata"),
+    ({"soil": {"E": 1e7, "nu": 0.3, "layers": [{"depth": 2.0, "E": 2e7, "nu": 0.49}]}},
+     "soil.layers[1].nu = 0.49 with [consolidation]"),
+    ({"soil": {"E": 1e7, "nu": 0.3, "layers": [{"depth": 2.0, "E": 2e7, "nu": 0.3,
+                                                 "permeability": -1.0}]}},
+     "soil.layers[1].permeability = -1.0: must be > 0"),
     ({"solver": {"method": "iterative"}}, "solved by MUMPS"),
     ({"mesh": {"degree": 1}}, "Taylor-Hood"),
     ({"consolidation": {"permeability": 1e-9, "times": [10.0, 5.0]}}, "increasing"),
@@ -224,6 +227,53 @@ def test_refused_scenes(changes, words):
     with pytest.raises(SceneError, match=None) as e:
         Scene.from_dict(data)
     assert any(words in p for p in e.value.problems), e.value.problems
+
+
+def test_layer_permeability_needs_a_consolidation():
+    with pytest.raises(SceneError, match="only used with a \\[consolidation\\]"):
+        Scene.from_dict({"soil": {"E": 1e7, "nu": 0.3, "layers": [
+            {"depth": 2.0, "E": 2e7, "nu": 0.3, "permeability": 1e-5}]},
+            "load": {"pressure": 1e5, "load_radius": 1.0}})
+
+
+@pytest.mark.parametrize("sand_below", [True, False])
+def test_clay_and_sand_layers(sand_below):
+    """A load of 20 m radius on 1 m of clay and 0.5 m of sand (k 1e4 times the clay's;
+    with the stiff sand on top a narrower load spreads: 3.8 % of the final settlement at
+    once for 10 m, 0.6 % for 20 m): with the sand below and the base drained, the clay
+    drains at both faces (Terzaghi on half its thickness); with the sand above and the base
+    impervious, it drains upwards only, through the sand (on its whole thickness). The sand
+    drains at once either way and its compression is added; the pore pressure is one
+    field across the layers' boundary. Within 0.6 % of the final settlement, from T_v =
+    0.02."""
+    E_c, E_sand, nu, k, a, q = 5e6, 50e6, 0.3, 1e-9, 20.0, 1e5
+    H_c, H_s = 1.0, 0.5
+    c_v = consolidation_coefficient(E_c, nu, k, 9810.0)
+    H_dr = 0.5 * H_c if sand_below else H_c
+    times = np.array([0.02, 0.1, 0.3, 1.0]) * H_dr**2 / c_v
+    clay, sand = {"E": E_c, "nu": nu}, {"E": E_sand, "nu": nu, "permeability": 1e4 * k}
+    if sand_below:
+        soil = clay | {"layers": [sand | {"depth": H_c}]}
+    else:
+        soil = sand | {"layers": [clay | {"depth": H_s, "permeability": k}]}
+        soil.pop("permeability")
+    scene = Scene.from_dict({
+        "soil": soil, "load": {"pressure": q, "load_radius": a},
+        "domain": {"radius": 3 * a, "depth": H_c + H_s},
+        "mesh": {"edge_size": 0.1, "near_size": 0.25, "growth": 0.3},
+        "consolidation": {"permeability": 1e4 * k if not sand_below else k,
+                          "times": list(times),
+                          "drainage": "top_and_bottom" if sand_below else "top"}})
+    c = analyse(scene).results["consolidation"]
+    E_oed = E_c * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
+    sand_part = ref.one_dimensional_settlement(q, [(H_s, E_sand, nu)])
+    final = q * H_c / E_oed + sand_part
+    s = np.array([x["w0"] for x in c["at_times"][1:]])
+    exact = sand_part + ref.terzaghi_settlement(q, H_c, E_c, nu, k, times,
+                                                drained_base=sand_below)
+    err = (s - exact) / final
+    assert np.max(np.abs(err)) < 6e-3, err
+    assert abs(c["drained"]["w0"] / final - 1) < 1e-3
 
 
 def test_refused_with_a_load_path_a_ringwall_or_overturning():
