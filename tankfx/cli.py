@@ -179,6 +179,13 @@ def describe(scene) -> list[str]:
         where = "from the surface" if k == 0 else f"from {st.depth:g} m"
         form = "mixed u-p form" if k in s.mixed_strata else "displacement form"
         consts = stratum_constants(s.model, asdict(st))
+        if scene.consolidation is not None:
+            from .consolidation import consolidation_coefficient
+
+            k_st = st.permeability or scene.consolidation.permeability
+            c_v = consolidation_coefficient(st.E, st.nu, k_st,
+                                            scene.consolidation.water_unit_weight)
+            form = f"drained constants; k = {k_st:g} m/s, c_v = {c_v:.3g} m^2/s"
         if k == 0 and s.model == "duncan_chang":
             consts += f", p_a = {s.atmospheric_pressure:g} Pa"
         out.append(f"  soil {where}: E = {st.E:.4g} Pa, nu = {st.nu:g}, E_gradient = "
