@@ -369,7 +369,8 @@ class TimeStepping:
             state["Tv"] = state["t"] / self.time_scale
         at_times = [history[0]] + [history[1 + i] for i in sorted(reported)]
         drained["degree"], drained["Tv"] = 1.0, None
-        return {"times": list(c.times), "undrained": history[0], "drained": drained,
+        return {"times": list(c.times), "degree": at_times[-1]["degree"],
+                "undrained": history[0], "drained": drained,
                 "at_times": at_times, "history": history,
                 "c_v": self.c_v, "time_scale": self.time_scale, "axis_depth": self.axis_depth,
                 "steps": len(grid), "permeability": c.permeability, "drainage": c.drainage,

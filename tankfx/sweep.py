@@ -130,9 +130,16 @@ OVERTURNING_COLUMNS = ("overturning.tilt", "overturning.rocking_stiffness",
                        "overturning.heel.min_contact_normal", "overturning.uplift.onset_factor")
 
 
+#: ... and, for a consolidation, these (its top-level w0, M0 are the last reported time's)
+CONSOLIDATION_COLUMNS = ("consolidation.degree", "consolidation.undrained.w0",
+                         "consolidation.drained.w0", "consolidation.undrained.M0",
+                         "consolidation.drained.M0", "consolidation.c_v")
+
+
 def _flatten(results: dict) -> dict:
     out = {}
-    for col in COLUMNS + (OVERTURNING_COLUMNS if "overturning" in results else ()):
+    for col in COLUMNS + (OVERTURNING_COLUMNS if "overturning" in results else ()) + \
+            (CONSOLIDATION_COLUMNS if "consolidation" in results else ()):
         value = results
         for part in col.split("."):
             value = value.get(part) if isinstance(value, dict) else None

@@ -332,3 +332,28 @@ def test_tankfx_run_writes_the_history_figure_and_pore_pressure(tmp_path):
                            capture_output=True, text=True)
     assert check.returncode == 0 and "Biot's consolidation" in check.stdout
     assert "time steps to 1095 days" in check.stdout
+
+
+def test_a_sweep_over_the_permeability(tmp_path):
+    """A sweep's axis may be the permeability: its table has the degree of consolidation
+    reached at the last reported time (rising with k), and the undrained and drained
+    settlements (the same for every k)."""
+    import csv
+
+    from mpi4py import MPI
+
+    from tankfx.sweep import Sweep, _with, run_sweep
+
+    base = _flexible([30])
+    axis = [1e-10, 1e-9, 1e-8]
+    cases = [{"consolidation.permeability": k} for k in axis]
+    sweep = Sweep(base=base, axes={"consolidation.permeability": axis}, cases=cases,
+                  scenes=[_with(base, c) for c in cases])
+    run_sweep(sweep, tmp_path / "out", MPI.COMM_SELF)
+    with (tmp_path / "out" / "table.csv").open() as f:
+        table = list(csv.DictReader(f))
+    U = [float(r["consolidation.degree"]) for r in table]
+    assert 0 < U[0] < U[1] < U[2] < 1
+    for key in ("consolidation.undrained.w0", "consolidation.drained.w0"):
+        values = [float(r[key]) for r in table]
+        assert values == pytest.approx([values[0]] * 3, rel=1e-7), key
