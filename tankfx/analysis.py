@@ -552,6 +552,13 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     from dataclasses import replace
 
     stages = [ld if isinstance(ld, Load) else scene.with_changes(load=ld).load for ld in loads]
+    if scene.consolidation is not None:
+        # one analysis in time: its load path (scene.stages at scene.stage_times) is
+        # followed by the time stepping (tankfx.consolidation.load_path)
+        if stages not in ([scene.load], list(scene.stages)):
+            raise ValueError("a consolidation's load path is its scene's [[stages]], each "
+                             "with its time: give them in the scene, not as loads here")
+        stages = [scene.load]
     if scene.plate is None:
         for ld in stages:
             if ld.load_radius != scene.load.load_radius:
@@ -621,6 +628,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             from .consolidation import TimeStepping
 
             consolidation = TimeStepping(model, solver, log).run()
+            # (the load at the last reported time: a load path's may lie between stages)
+            stage_scene = replace(scene, load=model.scene.load)
         else:
             model.solve(solver, log)
             if one_shot:
@@ -741,7 +750,8 @@ def _results(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
         "profiles": {"surface": surface,
                      "axis": {"z": z_axis.tolist(), "sigma_zz": sz.tolist()}},
         "equilibrium": {"applied_load": applied, "reaction": reaction,
-                        "relative_error": abs(reaction - applied) / model.load_scale},
+                        "relative_error": abs(reaction - applied) / max(
+                            model.load_scale, getattr(model, "path_load_scale", 0.0))},
         "conventions": CONVENTIONS,
         "scene": scene.to_dict(),
     }

@@ -241,9 +241,9 @@ def describe(scene) -> list[str]:
                      "has it)")
     c = scene.consolidation
     if c is not None:
-        from .consolidation import FIRST_STEP, time_steps
+        from .consolidation import load_path, path_steps
 
-        steps = len(time_steps(c.times, FIRST_STEP * c.times[0], c.steps_per_decade))
+        steps = len(path_steps(load_path(scene), c.times, c.steps_per_decade)) - 1
         parts.append(f"the excess pore pressure (Biot's consolidation, k = "
                      f"{c.permeability:g} m/s, drained at the {c.drainage.replace('_', ' ')})")
         iterations.append(f"in time: the drained limit, the undrained start and {steps} "

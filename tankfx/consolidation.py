@@ -115,7 +115,9 @@ class StepWeights:
 def time_steps(times, first: float, per_decade: int) -> np.ndarray:
     """The ends of the time steps: ``per_decade`` steps per decade of time, geometric from
     ``first`` (s), through every time in ``times`` (s), ending at the last. Backward
-    Euler's error is that of its largest steps relative to the time: uniform in log t."""
+    Euler's error is that of its largest steps relative to the time: uniform in log t. A
+    step into a time that would be less than half the step before it is merged with that
+    one into two equal steps (BDF2 is zero-stable only for step ratios below 1 + sqrt 2)."""
     times = np.sort(np.asarray(times, dtype=float))
     grid = [first]
     ratio = 10.0 ** (1.0 / per_decade)
@@ -123,8 +125,64 @@ def time_steps(times, first: float, per_decade: int) -> np.ndarray:
         while grid[-1] * ratio < t * (1.0 - 1e-9):
             grid.append(grid[-1] * ratio)
         if t > grid[-1] * (1.0 + 1e-9):
+            if len(grid) > 1 and t - grid[-1] < 0.5 * (grid[-1] - grid[-2]):
+                grid.pop()
+                grid.append(0.5 * (grid[-1] + t))
             grid.append(t)
     return np.array(grid)
+
+
+def load_path(scene) -> list[tuple[float, object]]:
+    """The load as (time, Load) breakpoints, linear between them: [load] at t = 0 (at once)
+    without stages; with them, from no load at t = 0 (the structure's weight only, and
+    the liquid's unit weight: a tank fills) to each stage's load at its time (a time equal
+    to the one before: at once)."""
+    from dataclasses import replace
+
+    if not scene.stages:
+        return [(0.0, scene.load)]
+    first = scene.stages[0]
+    start = replace(first, pressure=0.0, liquid_height=0.0, roof_weight=0.0,
+                    gas_pressure=0.0)
+    return [(0.0, start), *zip(scene.stage_times, scene.stages)]
+
+
+def load_at(path, t: float):
+    """The Load at time t > 0 (s) on a path of :func:`load_path`: its limit from before t
+    (where the path jumps at t, the load before the jump: the jump is a step of its own)."""
+    from dataclasses import fields, replace
+
+    for (t0, a), (t1, b) in zip(path, path[1:]):
+        if t0 < t <= t1:
+            f = (t - t0) / (t1 - t0)
+            return replace(a, **{fd.name: (1.0 - f) * getattr(a, fd.name) + f * getattr(
+                b, fd.name) for fd in fields(a) if isinstance(getattr(a, fd.name), float)
+                and fd.name != "load_radius"})
+    return path[-1][1]
+
+
+def path_steps(path, times, per_decade: int) -> list[tuple[float, str, object]]:
+    """The steps of a consolidation along a load path: (t, kind, load), kind "jump" (the
+    load changes at once to ``load``: an undrained step of no time), "restart" (the first
+    step after a breakpoint of the path: backward Euler, the load's rate having changed) or
+    "step" (BDF2; these two with ``load`` None: the path's at t). Within each stretch
+    between breakpoints (and after the last, to the last reported time) the steps grow
+    geometrically from it, ``per_decade`` a decade, the
+    first FIRST_STEP times the shortest of the stretch, the stretch before and the time to
+    the next reported time, through every reported time."""
+    t_end = max(max(times), path[-1][0])
+    breaks = sorted({t for t, _ in path} | {t_end})
+    out = [(0.0, "jump", ld) for t, ld in path if t == 0.0]
+    for i, (b, e) in enumerate(zip(breaks, breaks[1:])):
+        scales = [e - b] + [t - b for t in times if t > b] + \
+            ([b - breaks[i - 1]] if i > 0 else [])
+        targets = [t - b for t in times if b < t <= e] + [e - b]
+        steps = time_steps(targets, FIRST_STEP * min(scales), per_decade)
+        out += [(b + dt, "restart" if k == 0 else "step", None)
+                for k, dt in enumerate(steps)]
+        # the stages reached at once at this stretch's end, in the path's order
+        out += [(e, "jump", ld) for (t0, _), (t, ld) in zip(path, path[1:]) if t == t0 == e]
+    return out
 
 
 class _Sample:
@@ -152,6 +210,7 @@ class _Sample:
             "quadrature_degree": soil_forms.quadrature_degree(degree)})
         self.E, self.nu = E, nu
         self.conductance = fem.Constant(msh, 0.0)
+        self.load_factor = fem.Constant(msh, 1.0)
         a_uu, a_up, a_pu, a_pp = biot_forms(u, p, v, s, E, nu, self.conductance, r, dx)
         self._k_over_gamma = permeability / water_unit_weight
         self.weights = StepWeights(msh)
@@ -178,12 +237,15 @@ class _Sample:
         facets = np.concatenate([self.edge(e) for e in edges])
         return fem.dirichletbc(value, fem.locate_dofs_topological(Vc, 1, facets), Vc)
 
-    def run(self, steps, second_order: bool = True) -> list[dict]:
+    def run(self, steps, second_order: bool = True, load_factor=None) -> list[dict]:
         """The undrained response at t = 0, then a step to each time in ``steps`` (s,
         increasing; BDF2, or backward Euler throughout without ``second_order``): per time,
-        ``t`` and what :meth:`record` gives."""
+        ``t`` and what :meth:`record` gives. ``load_factor(t)`` (default 1) scales the
+        load in time (a ramp: 0 at t = 0)."""
         out, t_prev, dt_prev = [], 0.0, 0.0
         for t in [0.0, *steps]:
+            if load_factor is not None:
+                self.load_factor.value = load_factor(t)
             dt = t - t_prev
             self.conductance.value = self.weights.set(dt, dt_prev, second_order) * \
                 self._k_over_gamma
@@ -217,7 +279,7 @@ class Oedometer(_Sample):
         tags = dmesh.meshtags(self.mesh, 1, self.edge("top"),
                               np.ones(len(self.edge("top")), dtype=np.int32))
         ds = ufl.Measure("ds", domain=self.mesh, subdomain_data=tags)
-        return -self.q * v[1] * 2.0 * math.pi * self.r * ds(1)
+        return -self.q * self.load_factor * v[1] * 2.0 * math.pi * self.r * ds(1)
 
     def _supports(self, V):
         return [self.fix(V, 0, ("axis", "side")), self.fix(V, 1, ("bottom",))]
@@ -331,35 +393,56 @@ class TimeStepping:
         soil.u_nn.x.array[:] = soil.u_n.x.array
         soil.u_n.x.array[:] = soil.u.x.array
 
+    def _set_loads(self, load) -> None:
+        model = self.model
+        model.set_loads(load)
+        # the equilibrium errors are relative to the path's largest load (its last may be
+        # none: a tank emptied)
+        model.path_load_scale = max(getattr(model, "path_load_scale", 0.0), model.load_scale)
+
     def run(self) -> dict:
-        soil, log, c = self.soil, self.log, self.c
-        # the drained limit first (it does not depend on the path), from rest
+        soil, log, c, model = self.soil, self.log, self.c, self.model
+        scene = model.scene
+        path = load_path(scene)
+        # the drained limit first, under the path's last load, from rest (it does not
+        # depend on the path: a linear skeleton)
+        self._set_loads(path[-1][1])
         soil.step_weights.set(1.0, 0.0, False)
         self._solve(DRAINED_STEP * self.slowest_time_scale)
         # (t = infinity: null in results.json, which takes no infinities)
         drained = self._state(0.0) | {"t": None, "t_days": None}
         log.info("consolidation: drained limit w0 = %.4g m (c_v = %.3g m^2/s, a^2 / c_v = "
                  "%.3g days)", drained["w0"], self.c_v, self.time_scale / DAY)
-        for f in (soil.u_n, soil.u_nn):
+        for f in (soil.u, soil.u_n, soil.u_nn):
             f.x.array[:] = 0.0
-        # t = 0: undrained (no flow in a step of no time)
-        self._solve(0.0)
-        history = [self._state(0.0)]
-        log.info("consolidation: undrained (t = 0) w0 = %.4g m", history[0]["w0"])
-        grid = time_steps(c.times, FIRST_STEP * c.times[0], c.steps_per_decade)
-        reported = set(np.searchsorted(grid, c.times))
-        t_prev, dt_prev = 0.0, 0.0
-        for k, t in enumerate(grid):
+        steps = path_steps(path, c.times, c.steps_per_decade)
+        reported = {float(t) for t in c.times}
+        history, at_times, t_prev, dt_prev = [], [], 0.0, 0.0
+        for k, (t, kind, load) in enumerate(steps):
             self._advance()
-            dt = t - t_prev
-            self._solve(soil.step_weights.set(dt, dt_prev, True))
-            history.append(self._state(float(t)))
-            if k in reported:
-                log.info("consolidation: t = %.4g days, w0 = %.4g m, largest excess pore "
-                         "pressure %.4g Pa (step %d of %d)", t / DAY, history[-1]["w0"],
-                         history[-1]["max_pore_pressure"], k + 1, len(grid))
+            if kind == "jump":
+                # the load changes at once: undrained (no flow in a step of no time)
+                self._set_loads(load)
+                soil.step_weights.set(1.0, 0.0, False)
+                self._solve(0.0)
+                dt = 0.0
+            else:
+                self._set_loads(load_at(path, t))
+                dt = t - t_prev
+                self._solve(soil.step_weights.set(dt, 0.0 if kind == "restart" else dt_prev,
+                                                  True))
+            state = self._state(float(t))
+            state["applied_load"] = model.applied_load
+            history.append(state)
+            last_at_t = k + 1 == len(steps) or steps[k + 1][0] != t
+            if last_at_t and (t in reported or t == 0.0):
+                at_times.append(state)
+                log.info("consolidation: t = %.4g days, w0 = %.4g m, excess pore pressure "
+                         "on the axis %.4g Pa (step %d of %d)", t / DAY, state["w0"],
+                         state["axis_pore_pressure"], k + 1, len(steps))
             t_prev, dt_prev = t, dt
-        w_u, w_d = history[0]["w0"], drained["w0"]
+        start = at_times[0]             # t = 0, after the loads applied at once
+        w_u, w_d = start["w0"], drained["w0"]
 
         def degree(state):
             return (state["w0"] - w_u) / (w_d - w_u) if w_d != w_u else 1.0
@@ -367,14 +450,22 @@ class TimeStepping:
         for state in history:
             state["degree"] = degree(state)
             state["Tv"] = state["t"] / self.time_scale
-        at_times = [history[0]] + [history[1 + i] for i in sorted(reported)]
         drained["degree"], drained["Tv"] = 1.0, None
-        return {"times": list(c.times), "degree": at_times[-1]["degree"],
-                "undrained": history[0], "drained": drained,
-                "at_times": at_times, "history": history,
-                "c_v": self.c_v, "time_scale": self.time_scale, "axis_depth": self.axis_depth,
-                "steps": len(grid), "permeability": c.permeability, "drainage": c.drainage,
-                "integrator": "undrained at t = 0, then backward Euler once and variable-step "
-                              f"BDF2, {c.steps_per_decade} steps a decade from "
-                              f"{FIRST_STEP:g} x the first reported time; the drained limit "
-                              f"as one step of {DRAINED_STEP:g} a^2 / c_v"}
+        drained["applied_load"] = None
+        out = {"times": list(c.times), "degree": at_times[-1]["degree"],
+               "undrained": start, "drained": drained,
+               "at_times": at_times, "history": history,
+               "c_v": self.c_v, "time_scale": self.time_scale, "axis_depth": self.axis_depth,
+               "steps": len(steps) - 1, "permeability": c.permeability,
+               "drainage": c.drainage,
+               "integrator": "undrained at t = 0 (and at each load applied at once), then "
+                             "backward Euler once and variable-step BDF2, "
+                             f"{c.steps_per_decade} steps a decade from {FIRST_STEP:g} x "
+                             "the first reported time (restarted at each breakpoint of a "
+                             "load path); the drained limit as one step of "
+                             f"{DRAINED_STEP:g} a^2 / c_v"}
+        if scene.stages:
+            # each stage's state when its load is reached (after any jump there)
+            out["at_stages"] = [[h for h in history if h["t"] == t][-1]
+                                for t in scene.stage_times]
+        return out

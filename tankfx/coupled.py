@@ -628,7 +628,9 @@ class TankModel:
         # what the interface carries: every load but a ringwall's weight, which its own
         # cells carry to the soil
         applied = vertical_load(s.load, s.plate, s.wall)
-        scale = vertical_load_scale(s.load, s.plate, s.wall)
+        # (along a consolidation's load path: the largest load's scale, the last may be 0)
+        scale = max(vertical_load_scale(s.load, s.plate, s.wall),
+                    getattr(self, "path_load_scale", 0.0))
         contact = self.contact_resultant()
         out = {"profiles": profiles,
                "equilibrium": {"contact_resultant": contact,

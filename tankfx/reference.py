@@ -24,7 +24,7 @@ __all__ = ["elliptic_K_E", "flexible_surface_settlement", "flexible_centre_settl
            "gradient_surface_settlement", "antisymmetric_surface_settlement",
            "rigid_disc_rocking_stiffness", "rigid_disc_rocking_pressure", "ring_average",
            "antisymmetric_vertical_stress", "terzaghi_degree", "terzaghi_pore_pressure",
-           "terzaghi_settlement", "mandel_cylinder"]
+           "terzaghi_settlement", "terzaghi_ramp_settlement", "mandel_cylinder"]
 
 
 def flexible_centre_settlement(p, a, E, nu):
@@ -392,6 +392,23 @@ def terzaghi_settlement(q, height, E, nu, permeability, t, water_unit_weight=981
     c_v = permeability * E_oed / water_unit_weight
     H_dr = 0.5 * height if drained_base else height
     return q * height / E_oed * terzaghi_degree(c_v * np.asarray(t, dtype=float) / H_dr**2)
+
+
+def terzaghi_ramp_settlement(q, height, E, nu, permeability, ramp_time, t,
+                             water_unit_weight=9810.0, drained_base: bool = False):
+    """Terzaghi's layer under a load rising linearly from 0 to q over ``ramp_time`` (s),
+    then held: by Duhamel's superposition of the step response, s(t) = (q H / E_oed) /
+    t_r [tau - sum 2 / (M^4 alpha) (exp(-M^2 alpha (t - tau)) - exp(-M^2 alpha t))], tau =
+    min(t, t_r), alpha = c_v / H_dr^2 (Olson's constant-rate loading, 1977)."""
+    E_oed = E * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu))
+    alpha = permeability * E_oed / water_unit_weight / \
+        (0.5 * height if drained_base else height) ** 2
+    t = np.atleast_1d(np.asarray(t, dtype=float))
+    tau = np.minimum(t, ramp_time)
+    M = 0.5 * math.pi * (2 * np.arange(400) + 1)[:, None]
+    series = np.sum(2.0 / (M**4 * alpha) * (np.exp(-M**2 * alpha * (t - tau))
+                                             - np.exp(-M**2 * alpha * t)), axis=0)
+    return q * height / E_oed * (tau - series) / ramp_time
 
 
 def _bisect_roots(f, x_max: float, step: float = 0.05, tol: float = 1e-14) -> np.ndarray:

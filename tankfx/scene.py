@@ -431,6 +431,10 @@ class Scene:
     #: carried from each to the next (``[[stages]]`` tables of a scene file, each the
     #: [load] keys that change); empty: the one load of [load]
     stages: tuple[Load, ...] = ()
+    #: with [consolidation]: the time (s) at which each stage's load is reached, linearly
+    #: from the stage before's (from no load at t = 0 for the first; a time equal to the
+    #: one before: at once); empty without stages or without a consolidation
+    stage_times: tuple[float, ...] = ()
 
     @property
     def foundation_radius(self) -> float:
@@ -522,6 +526,8 @@ class Scene:
             # that does not set that key itself
             out["stages"] = [{k: v for k, v in _plain(ld).items() if out["load"].get(k) != v}
                              for ld in self.stages]
+            for stage, t in zip(out["stages"], self.stage_times):
+                stage["time"] = t
         return out
 
     def to_toml(self) -> str:
@@ -756,17 +762,21 @@ class _Reader:
                      f"plate or wall (thin-shell theory; use e.g. 0.3)")
 
 
-def _parse(data: dict[str, Any]) -> Scene:
+def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
+    """The scene of a dict, checked; ``empty_load``: a [load] without any load is allowed
+    (a stage of a consolidation's load path: the tank emptied)."""
     if not isinstance(data, dict):
         raise SceneError([f"a scene must be a table of sections, got {type(data).__name__}"])
     if "stages" in data:
-        if "consolidation" in data:
-            raise SceneError(["[[stages]] with [consolidation]: a consolidation holds the one "
-                              "[load] from t = 0; a load path over time (filling, holding) "
-                              "is not modelled yet"])
         rest = {k: v for k, v in data.items() if k != "stages"}
+        raw, times = _stage_times(data["stages"], "consolidation" in data)
         scene = _parse(rest)
-        return replace(scene, stages=_parse_stages(rest, data["stages"], scene))
+        stages = _parse_stages(rest, raw, scene)
+        if times and len({ld.self_weight for ld in stages}) > 1:
+            raise SceneError(["stages: self_weight changes along a consolidation's load "
+                              "path; the structure's own weight acts from t = 0 (it is built "
+                              "before it is loaded): give every stage the same self_weight"])
+        return replace(scene, stages=stages, stage_times=times)
     soil_raw, raw_layers = data.get("soil"), None
     if isinstance(soil_raw, dict) and "layers" in soil_raw:
         raw_layers = soil_raw["layers"]
@@ -917,7 +927,8 @@ def _parse(data: dict[str, Any]) -> Scene:
         if load.get("pressure", 0.0) == 0.0 and load.get("liquid_height", 0.0) * \
                 load.get("liquid_unit_weight", 0.0) == 0.0 and not load.get("self_weight", False) \
                 and not load.get("roof_weight", 0.0) and not load.get("gas_pressure", 0.0) \
-                and not load.get("overturning_moment", 0.0) and not load.get("base_shear", 0.0):
+                and not load.get("overturning_moment", 0.0) and not load.get("base_shear", 0.0) \
+                and not empty_load:
             rd.bad("[load]: no load is applied; give load.pressure > 0 (Pa), a liquid, "
                    "self_weight = true, a roof_weight, a gas_pressure or an "
                    "overturning_moment")
@@ -1424,6 +1435,37 @@ def _layers(rd: _Reader, raw, model: str, p_a: float | None = None) -> list[dict
     return out
 
 
+def _stage_times(raw, consolidation: bool) -> tuple[Any, tuple[float, ...]]:
+    """The stages without their ``time`` keys, and the times: each stage's (s, from the
+    load's start) with a [consolidation], where every stage needs one (not before the
+    stage before's); none without (where a time is refused)."""
+    if not isinstance(raw, list) or not all(isinstance(st, dict) for st in raw):
+        return raw, ()                   # (refused by _parse_stages, with its message)
+    problems, times = [], []
+    for k, stage in enumerate(raw, start=1):
+        t = stage.get("time")
+        if not consolidation:
+            if t is not None:
+                problems.append(f"stages[{k}].time: only used with a [consolidation] (the "
+                                f"time at which the stage's load is reached); remove it")
+            continue
+        if t is None:
+            problems.append(f"stages[{k}].time: missing; with a [consolidation] each stage "
+                            f"says when its load is reached (s after the path starts, from "
+                            f"no load at t = 0; 0 for a load applied at once)")
+        elif isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t) \
+                or t < 0:
+            problems.append(f"stages[{k}].time = {t!r}: a time in s, >= 0")
+        elif times and t < times[-1]:
+            problems.append(f"stages[{k}].time = {t!r} s is before stages[{k - 1}].time = "
+                            f"{times[-1]!r} s: list the stages in the order of their times")
+        else:
+            times.append(float(t))
+    if problems:
+        raise SceneError(problems)
+    return [{key: v for key, v in st.items() if key != "time"} for st in raw], tuple(times)
+
+
 def _parse_stages(data: dict[str, Any], raw, scene: Scene) -> tuple[Load, ...]:
     """Each stage is the scene with its [load] keys changed, and checked as such (every
     load rule applies to every stage)."""
@@ -1434,7 +1476,8 @@ def _parse_stages(data: dict[str, Any], raw, scene: Scene) -> tuple[Load, ...]:
     problems, loads = [], []
     for k, stage in enumerate(raw, start=1):
         try:
-            load = _parse({**data, "load": {**data.get("load", {}), **stage}}).load
+            load = _parse({**data, "load": {**data.get("load", {}), **stage}},
+                          empty_load="consolidation" in data).load
         except SceneError as e:
             problems += [f"stages[{k}] (the [load] with its keys changed): {p}"
                          for p in e.problems]

@@ -276,10 +276,135 @@ def test_clay_and_sand_layers(sand_below):
     assert abs(c["drained"]["w0"] / final - 1) < 1e-3
 
 
-def test_refused_with_a_load_path_a_ringwall_or_overturning():
+def test_ramp_reference_and_the_column_filled_over_time():
+    """Olson's constant-rate loading (Duhamel on Terzaghi: reference.
+    terzaghi_ramp_settlement) tends to the step response for a short ramp (1e-6); the column
+    loaded over T_v = 0.2 then held follows it within 0.4 % of the final settlement at 10
+    steps a decade, 0.09 % at 20."""
+    H, q = 10.0, 1e5
+    c_v = consolidation_coefficient(E, NU, K, 9810.0)
+    ramp = 0.2 * H**2 / c_v
+    times = np.array([0.05, 0.2, 0.5, 1.0]) * H**2 / c_v
+    step = ref.terzaghi_settlement(q, H, E, NU, K, times)
+    short = ref.terzaghi_ramp_settlement(q, H, E, NU, K, 1e-6 * ramp, times)
+    assert np.max(np.abs(short / step - 1)) < 2e-6
+    final = q * H * (1 + NU) * (1 - 2 * NU) / (E * (1 - NU))
+    exact = ref.terzaghi_ramp_settlement(q, H, E, NU, K, ramp, times)
+    errors = []
+    for per_decade in (10, 20):
+        grid = np.unique(np.concatenate([
+            time_steps([ramp], ramp / 100, per_decade),
+            ramp + time_steps(times[times > ramp] - ramp, ramp / 100, per_decade)]))
+        history = Oedometer(H, E, NU, K, q).run(grid, load_factor=lambda t: min(t / ramp, 1))
+        t = np.array([h["t"] for h in history])
+        s = np.array([history[int(np.argmin(abs(t - ti)))]["settlement"] for ti in times])
+        errors.append(np.max(np.abs(s - exact)) / final)
+    assert errors[0] < 4.5e-3 and errors[1] < 1e-3, errors
+
+
+def _wide(stages=None, times=(0.05, 0.2, 0.5, 1.0), **consolidation):
+    """The wide load on a thin drained layer, as a scene dict with a load path."""
+    E_s, nu, k, a, H = 10e6, 0.3, 1e-9, 10.0, 1.0
+    c_v = consolidation_coefficient(E_s, nu, k, 9810.0)
+    data = {"soil": {"E": E_s, "nu": nu}, "load": {"pressure": 1e5, "load_radius": a},
+            "domain": {"radius": 3 * a, "depth": H},
+            "mesh": {"edge_size": 0.1, "near_size": 0.25, "growth": 0.3},
+            "consolidation": {"permeability": k, "times": [T * H**2 / c_v for T in times],
+                              **consolidation}}
+    if stages is not None:
+        data["stages"] = [{k_: (v * H**2 / c_v if k_ == "time" else v)
+                           for k_, v in st.items()} for st in stages]
+    return data, H**2 / c_v
+
+
+def test_a_load_path_in_time_fills_and_holds():
+    """[[stages]] with times: the wide load reached linearly at T_v = 0.2 and held follows
+    Olson's ramp within 0.6 % of the final settlement; each step balances its own load;
+    the state at the stage's time is reported; a stage at t = 0 is the load at once (the
+    same numbers as without stages)."""
+    data, scale = _wide([{"time": 0.2}])
+    r = analyse(Scene.from_dict(data)).results
+    c = r["consolidation"]
+    q, H, E_s, nu, k = 1e5, 1.0, 10e6, 0.3, 1e-9
+    final = q * H * (1 + nu) * (1 - 2 * nu) / (E_s * (1 - nu))
+    times = np.array(c["times"])
+    s = np.array([x["w0"] for x in c["at_times"][1:]])
+    exact = ref.terzaghi_ramp_settlement(q, H, E_s, nu, k, 0.2 * scale, times)
+    assert np.max(np.abs(s - exact)) < 6e-3 * final
+    loads = [x["applied_load"] for x in c["at_times"]]
+    assert loads[0] == 0.0 and loads[1] == pytest.approx(0.25 * math.pi * 1e7, rel=1e-12)
+    assert c["at_stages"][0]["t"] == pytest.approx(0.2 * scale)
+    assert r["equilibrium"]["relative_error"] < 1e-9
+    at_once = analyse(Scene.from_dict(_wide([{"time": 0.0}])[0])).results["consolidation"]
+    plain = analyse(Scene.from_dict(_wide()[0])).results["consolidation"]
+    assert [x["w0"] for x in at_once["at_times"]] == pytest.approx(
+        [x["w0"] for x in plain["at_times"]], rel=1e-10)
+
+
+def test_loads_at_once_along_a_path_superpose():
+    """Half the load at t = 0, the other half at once at T_v = 0.1, and all of it taken off
+    at once at T_v = 0.5: a linear soil superposes the responses to each change alone
+    (within 2e-3 of the settlement, the steps of the histories differing: 1.1e-3 measured,
+    after the unloading; a change at t1 on an unloaded soil alone is the response at t -
+    t1 to 6e-5, the grids differing only by the other run's reported times); after the
+    unloading the soil swells back towards zero, its drained limit."""
+    t1, t2 = 0.1, 0.5
+    report = (0.05, 0.2, 0.4, 0.7, 1.0)
+    # (a stage is reached linearly from the one before: a change at once is two stages at
+    # one time, a hold two of one load)
+    path, scale = _wide([{"pressure": 5e4, "time": 0.0}, {"pressure": 5e4, "time": t1},
+                         {"pressure": 1e5, "time": t1}, {"pressure": 1e5, "time": t2},
+                         {"pressure": 0.0, "time": t2}], report, steps_per_decade=20)
+    c = analyse(Scene.from_dict(path)).results["consolidation"]
+    shifted = sorted({T - d for T in report for d in (0.0, t1, t2) if T > d})
+    single, _ = _wide(None, shifted, steps_per_decade=20)
+    single["load"]["pressure"] = 5e4
+    h = analyse(Scene.from_dict(single)).results["consolidation"]["at_times"]
+    w = {round(x["t"] / scale * 1e6): x["w0"] for x in h}
+
+    def unit(T):     # the settlement T (in H^2 / c_v) after a change of 50 kPa
+        return 0.0 if T < 0 else w[round(T * 1e6)]
+
+    for state in c["at_times"][1:]:
+        T = state["t"] / scale
+        expected = unit(T) + unit(T - t1) - 2 * unit(T - t2)
+        assert state["w0"] == pytest.approx(expected, abs=2e-3 * unit(1.0)), T
+    assert abs(c["drained"]["w0"]) < 1e-12
+    assert c["at_times"][-1]["w0"] < c["at_times"][-2]["w0"]    # swelling back
+    # the load at once at t1 = 0.1 on the unloaded soil: the response at t - t1
+    late, _ = _wide([{"pressure": 0.0, "time": 0.0}, {"pressure": 0.0, "time": t1},
+                     {"pressure": 5e4, "time": t1}], (0.15, 0.2, 0.4), steps_per_decade=20)
+    c = analyse(Scene.from_dict(late)).results["consolidation"]
+    assert [x["w0"] for x in c["at_times"][1:]] == pytest.approx(
+        [unit(T - t1) for T in (0.15, 0.2, 0.4)], rel=1e-4)
+
+
+@pytest.mark.parametrize("stages, words", [
+    ([{"pressure": 1e5}], "stages[1].time: missing"),
+    ([{"pressure": 1e5, "time": -1.0}], "stages[1].time = -1.0"),
+    ([{"time": 10.0}, {"pressure": 2e5, "time": 5.0}], "is before stages[1].time"),
+])
+def test_refused_load_paths(stages, words):
+    data = {"soil": {"E": 1e7, "nu": 0.3}, "load": {"pressure": 1e5, "load_radius": 1.0},
+            "consolidation": {"permeability": 1e-9, "times": [DAY]}, "stages": stages}
+    with pytest.raises(SceneError) as e:
+        Scene.from_dict(data)
+    assert any(words in p for p in e.value.problems), e.value.problems
+
+
+def test_a_stage_time_needs_a_consolidation_and_one_self_weight():
+    with pytest.raises(SceneError, match="only used with a \\[consolidation\\]"):
+        Scene.from_dict({"soil": {"E": 1e7, "nu": 0.3}, "load": {"pressure": 1e5,
+                                                                 "load_radius": 1.0},
+                         "stages": [{"time": 1.0}]})
+    with pytest.raises(SceneError, match="self_weight changes"):
+        Scene.from_dict(small_tank(consolidation={"permeability": 1e-9, "times": [DAY]},
+                                   stages=[{"time": 0.0}, {"time": DAY,
+                                                           "self_weight": True}]))
+
+
+def test_refused_with_a_ringwall_or_overturning():
     base = small_tank(consolidation={"permeability": 1e-9, "times": [DAY]})
-    with pytest.raises(SceneError, match="load path over time"):
-        Scene.from_dict(base | {"stages": [{}, {"pressure": 6e4}]})
     with pytest.raises(SceneError) as e:
         Scene.from_dict(base | {"load": {"pressure": 5e4, "overturning_moment": 1e5}})
     assert any("overturning harmonic" in p for p in e.value.problems)
