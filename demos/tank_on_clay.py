@@ -96,6 +96,34 @@ plot_section(solution.u, pore, out / "pore_pressure.png", extent=1.6 * scene.pla
              structure=r, title=f"{scene.title}: t = {c.times[-1] / DAY:.4g} days")
 say(f"figures and results.json in {out}/")
 
+# ## The hydrotest: filled over ten days, held, emptied
+# A tank is not filled at once: a hydrotest fills it at about a metre a day, holds it full
+# while the settlement is watched, and empties it. As a load path in time, each stage the
+# [load] keys that change and the time its load is reached (linearly from the stage
+# before): full on day 10, still full on day 60, empty on day 65. The clay consolidates
+# while the tank fills, so the settlement at day 10 lies above the undrained response to
+# the full tank; emptied, the clay swells back only as its pore water returns: the
+# settlement recovered at once is the undrained response, the rest comes over years.
+
+day = 86400.0
+hydrotest = scene.with_changes(
+    stages=[{"liquid_height": 10.0, "time": 10 * day},
+            {"liquid_height": 10.0, "time": 60 * day},
+            {"liquid_height": 0.0, "time": 65 * day}],
+    consolidation={"times": [d * day for d in (5, 10, 30, 60, 65, 365, 1095)]})
+path = analyse(hydrotest, comm).results
+hc = path["consolidation"]
+say(f"\nhydrotest: {'t days':>8s} {'load MN':>8s} {'w0 mm':>8s} {'wd mm':>7s} "
+    f"{'u_e kPa':>8s}")
+for s in hc["at_times"]:
+    say(f"           {s['t_days']:8.4g} {s['applied_load'] / 1e6:8.2f} {1e3 * s['w0']:8.2f} "
+        f"{1e3 * s['wd']:7.2f} {s['axis_pore_pressure'] / 1e3:8.1f}")
+full, emptied = hc["at_stages"][1], hc["at_stages"][2]
+say(f"held full 50 days: w0 {1e3 * hc['at_stages'][0]['w0']:.1f} -> {1e3 * full['w0']:.1f} mm; "
+    f"emptied: {1e3 * emptied['w0']:.1f} mm left, {1e3 * hc['at_times'][-1]['w0']:.1f} mm "
+    f"after three years")
+plot_consolidation(path, out / "hydrotest.png", title=f"{scene.title}: hydrotest")
+
 # ## Checks
 # The drained limit settles more than the undrained start, the consolidation rises
 # monotonically towards it between Terzaghi's two bounds, the excess pore pressure falls,
@@ -109,3 +137,12 @@ u_e = [s["axis_pore_pressure"] for s in cons["at_times"]]
 assert all(b < a for a, b in zip(u_e, u_e[1:])) and abs(cons["drained"]["axis_pore_pressure"]) \
     < 1e-6 * u_e[0]
 assert r["equilibrium"]["relative_error"] < 1e-8
+# the hydrotest: filled over ten days, it settles more by day 10 than the full tank does at
+# once, and less than the full tank after ten days; it keeps settling while held full;
+# emptied, it rebounds, then swells back towards nothing (its drained limit: no load)
+at_once = {round(s["t_days"], 6): s["w0"] for s in cons["history"]}
+w10 = hc["at_stages"][0]["w0"]
+assert cons["undrained"]["w0"] < w10 < min(w for t, w in at_once.items() if t >= 10.0)
+assert full["w0"] > w10 and emptied["w0"] < full["w0"]
+assert 0 < hc["at_times"][-1]["w0"] < emptied["w0"] and abs(hc["drained"]["w0"]) < 1e-12
+assert path["equilibrium"]["relative_error"] < 1e-8

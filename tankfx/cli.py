@@ -213,6 +213,12 @@ def describe(scene) -> list[str]:
              for k, v in vars(ld).items() if v not in (0.0, False, None) and k != "load_radius"]
     out.append(f"  load: {', '.join(loads)}"
                + (f"; {len(scene.stages)} load stages" if scene.stages else ""))
+    for k, (t, st) in enumerate(zip(scene.stage_times, scene.stages), start=1):
+        # a consolidation's load path: what each stage reaches, and when
+        changed = [f"{key} = {v:g}" for key, v in vars(st).items()
+                   if isinstance(v, float) and v != getattr(ld, key) and key != "load_radius"]
+        out.append(f"    stage {k} reached at t = {t / 86400:.4g} days"
+                   + (f": {', '.join(changed)}" if changed else " ([load])"))
     m, d = scene.mesh, scene.domain
     out.append(f"  mesh: soil P{m.degree}, edge {m.edge_size:.4g} m ({m.edge_size / a:.3g} a), "
                f"near field {m.near_size:.4g} m, growth {m.growth:g}; domain {d.radius:g} x "

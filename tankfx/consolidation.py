@@ -339,6 +339,13 @@ FIRST_STEP = 1e-2
 DAY = 86400.0
 
 
+class _AtDebug:
+    """A logger's info at debug level, its warnings as they are."""
+
+    def __init__(self, log):
+        self.info, self.warning = log.debug, log.warning
+
+
 class TimeStepping:
     """Consolidation of a model whose soil block has a pore pressure (SoilBlock with a
     scene's [consolidation]): its drained limit, the undrained response at t = 0, then the
@@ -346,6 +353,8 @@ class TimeStepping:
 
     def __init__(self, model, solver, log):
         self.model, self.solver, self.log = model, solver, log
+        # (a step of the path with no load left: see the solver's relative_to_largest_load)
+        solver.relative_to_largest_load = True
         scene = model.scene
         self.c = scene.consolidation
         self.soil = model.soil
@@ -384,9 +393,19 @@ class TimeStepping:
                 "max_pore_pressure": comm.allreduce(local, op=MPI.MAX),
                 "axis_pore_pressure": axis}
 
-    def _solve(self, dt_eff: float) -> None:
+    def _solve(self, dt_eff: float, t: float | None = None) -> None:
+        """One step (a Mohr-Coulomb interface converged in it, its table logged at debug
+        level: a table a step would drown the log); a step that does not converge says
+        when, with the interface's history."""
+        from .solve import SolveError
+
         self.soil.conductance.value = dt_eff / self.c.water_unit_weight
-        self.model.solve(self.solver, self.log)
+        try:
+            self.model.solve(self.solver, _AtDebug(self.log))
+        except SolveError as e:
+            when = "the drained limit" if t is None else f"t = {t / DAY:.6g} days"
+            raise SolveError(f"consolidation, at {when} (load {self.model.applied_load:.6g} "
+                             f"N): {e}", e.history) from None
 
     def _advance(self) -> None:
         soil = self.soil
@@ -424,13 +443,13 @@ class TimeStepping:
                 # the load changes at once: undrained (no flow in a step of no time)
                 self._set_loads(load)
                 soil.step_weights.set(1.0, 0.0, False)
-                self._solve(0.0)
+                self._solve(0.0, t)
                 dt = 0.0
             else:
                 self._set_loads(load_at(path, t))
                 dt = t - t_prev
                 self._solve(soil.step_weights.set(dt, 0.0 if kind == "restart" else dt_prev,
-                                                  True))
+                                                  True), t)
             state = self._state(float(t))
             state["applied_load"] = model.applied_load
             history.append(state)

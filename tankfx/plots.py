@@ -466,7 +466,8 @@ def plot_load_path(results: dict, path: str | Path, title: str = "") -> Path | N
 def plot_consolidation(results: dict, path: str | Path, title: str = "") -> Path | None:
     """A consolidation's settlements (and the plate's centre moment) and its excess pore
     pressure (on the axis, and the largest) against time (log scale, days), between the
-    undrained start and the drained limit (dashed). Rank 0 writes the PNG."""
+    undrained start and the drained limit (dashed); along a load path, the load too. Rank 0
+    writes the PNG."""
     c = results.get("consolidation")
     if not c:
         return None
@@ -476,18 +477,23 @@ def plot_consolidation(results: dict, path: str | Path, title: str = "") -> Path
     def curve(key, scale):
         return np.array([s[key] * scale for s in steps])
 
+    # (the undrained start and the drained limit as dashed levels: those of the load, not
+    # of a load path's, which starts from none and may end with none)
+    on_path = "at_stages" in c
+    levels = {} if on_path else {"w0 undrained": [1e3 * c["undrained"]["w0"]],
+                              "w0 drained": [1e3 * c["drained"]["w0"]]}
     panels = {"settlement [mm]": {"w0 (centre)": curve("w0", 1e3),
-                                  "w_edge": curve("w_edge", 1e3),
-                                  "w0 undrained": [1e3 * c["undrained"]["w0"]],
-                                  "w0 drained": [1e3 * c["drained"]["w0"]]},
+                                  "w_edge": curve("w_edge", 1e3), **levels},
               "excess pore pressure [kPa]": {
                   f"on the axis, {c['axis_depth']:.3g} m deep": curve("axis_pore_pressure",
                                                                        1e-3),
                   "largest": curve("max_pore_pressure", 1e-3)}}
     if steps[-1].get("M0") is not None:
-        panels["M0 [kN m/m]"] = {"centre moment": curve("M0", 1e-3),
-                                 "undrained": [1e-3 * c["undrained"]["M0"]],
-                                 "drained": [1e-3 * c["drained"]["M0"]]}
+        panels["M0 [kN m/m]"] = {"centre moment": curve("M0", 1e-3), **({} if on_path else {
+            "undrained": [1e-3 * c["undrained"]["M0"]],
+            "drained": [1e-3 * c["drained"]["M0"]]})}
+    if on_path:                      # the load against time too
+        panels["applied vertical load [MN]"] = {"load": curve("applied_load", 1e-6)}
     return plot_curves(x, panels, path, "time [days]", title=title, log_x=True,
                        legend_left=True)
 

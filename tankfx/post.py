@@ -227,7 +227,7 @@ PROFILE_UNITS = {"r": "m", "z": "m", "w": "m", "u_r": "m", "u_z": "m", "rotation
 #: The unit of each column of a consolidation's history (``consolidation.csv``).
 HISTORY_UNITS = {"t": "s", "t_days": "days", "w0": "m", "w_edge": "m", "wd": "m",
                  "w_mean": "m", "M0": "N m/m", "max_pore_pressure": "Pa",
-                 "axis_pore_pressure": "Pa"}
+                 "axis_pore_pressure": "Pa", "applied_load": "N"}
 
 
 def write_profiles(results: dict, directory) -> list[Path]:

@@ -93,6 +93,11 @@ class _LinearSolver:
 
     #: MUMPS's scaling (direct solver; None for the iterative one)
     scaling: str | None = None
+    #: the residual checked relative to the largest right-hand side solved so far, not the
+    #: current one (a consolidation: a step of no load still has the pore water's volume
+    #: terms, tiny beside the forces whose round-off the residual then carries)
+    relative_to_largest_load: bool = False
+    reference_norm: float = 0.0
 
     def _start(self, name: str) -> str:
         self.prefix = f"tankfx_{name}_{next(_ids)}_"
@@ -236,9 +241,12 @@ class DirectSolver(_LinearSolver):
             raise SolveError(f"the linear solver failed (PETSc KSP reason {reason}): the "
                              "system is singular (check the supports of the scene) or the "
                              "data overflowed")
-        return _checked_residual(
+        rel = _checked_residual(
             self.problem, f"after {REFINEMENT_STEPS} refinement steps: the system is too "
-                          f"ill-conditioned for these stiffness contrasts")
+                          f"ill-conditioned for these stiffness contrasts",
+            self.reference_norm if self.relative_to_largest_load else 0.0)
+        self.reference_norm = max(self.reference_norm, self.problem.b.norm())
+        return rel
 
     def _rescale(self):
         """Factorise the same matrix again with MUMPS's scaling, solve the same right-hand
@@ -466,14 +474,15 @@ class IterativeSolver(_LinearSolver):
         return u
 
 
-def _checked_residual(problem, why: str) -> float:
-    """||b - A x|| / ||b|| of a solved LinearProblem; above MAX_RELATIVE_RESIDUAL the
-    numbers are refused (SolveError), never reported."""
+def _checked_residual(problem, why: str, reference: float = 0.0) -> float:
+    """||b - A x|| / ||b|| of a solved LinearProblem (or relative to ``reference``, where
+    that is larger); above MAX_RELATIVE_RESIDUAL the numbers are refused (SolveError),
+    never reported."""
     x, b, A = problem.x, problem.b, problem.A
     r = b.duplicate()
     A.mult(x, r)
     r.axpy(-1.0, b)
-    bnorm = b.norm()
+    bnorm = max(b.norm(), reference)
     rel = r.norm() / bnorm if bnorm > 0 else r.norm()
     r.destroy()
     if rel > MAX_RELATIVE_RESIDUAL:

@@ -482,3 +482,21 @@ def test_a_sweep_over_the_permeability(tmp_path):
     for key in ("consolidation.undrained.w0", "consolidation.drained.w0"):
         values = [float(r[key]) for r in table]
         assert values == pytest.approx([values[0]] * 3, rel=1e-7), key
+
+
+def test_a_load_path_in_time_round_trips_and_is_described(tmp_path):
+    """A hydrotest as a scene file: read back equal (each stage with its time), and
+    `tankfx check` says what each stage reaches and when."""
+    from tankfx.cli import describe
+
+    data = small_tank(consolidation={"permeability": 1e-9, "times": [DAY, 100 * DAY]},
+                      stages=[{"time": 10 * DAY}, {"time": 60 * DAY},
+                              {"pressure": 1e4, "time": 65 * DAY}])
+    scene = Scene.from_dict(data)
+    assert scene.stage_times == (10 * DAY, 60 * DAY, 65 * DAY)
+    path = tmp_path / "hydrotest.toml"
+    path.write_text(scene.to_toml())
+    assert Scene.from_toml(path) == scene
+    text = "\n".join(describe(scene))
+    assert "stage 1 reached at t = 10 days ([load])" in text
+    assert "stage 3 reached at t = 65 days: pressure = 10000" in text
