@@ -712,6 +712,18 @@ def _stage_summary(r: dict) -> dict:
     return out
 
 
+def _axis_pore_pressure(model, domain: Domain, z_axis, sigma_zz) -> dict:
+    """A consolidating soil's excess pore pressure down the axis and the effective vertical
+    stress sigma_zz - p (both compression positive; the total sigma_zz less the pore
+    water's share): what an engineer's hand calculation of consolidation starts from."""
+    p = model.soil.pore_pressure
+    if p is None:
+        return {}
+    pw = evaluate_at(p, np.column_stack([np.zeros_like(z_axis), -z_axis]),
+                     cells=domain.cells("soil"))[:, 0]
+    return {"pore_pressure": pw.tolist(), "sigma_zz_effective": (sigma_zz - pw).tolist()}
+
+
 def _results(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
     a = scene.foundation_radius
     D = scene.embedment
@@ -748,7 +760,8 @@ def _results(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
                    "Kp": scene.Kp, "Kt": scene.Kt},
         "reference_pressure": p,
         "profiles": {"surface": surface,
-                     "axis": {"z": z_axis.tolist(), "sigma_zz": sz.tolist()}},
+                     "axis": {"z": z_axis.tolist(), "sigma_zz": sz.tolist(),
+                              **_axis_pore_pressure(model, domain, z_axis, sz)}},
         "equilibrium": {"applied_load": applied, "reaction": reaction,
                         "relative_error": abs(reaction - applied) / max(
                             model.load_scale, getattr(model, "path_load_scale", 0.0))},

@@ -221,7 +221,7 @@ PROFILE_UNITS = {"r": "m", "z": "m", "w": "m", "u_r": "m", "u_z": "m", "rotation
                  "contact_normal_toe": "Pa", "contact_normal_heel": "Pa", "N_z_toe": "N/m",
                  "N_z_heel": "N/m", "axial_stress_toe": "Pa", "axial_stress_heel": "Pa",
                  "depth": "m", "sigma_zz_axisymmetric": "Pa", "sigma_zz_toe": "Pa",
-                 "sigma_zz_heel": "Pa"}
+                 "sigma_zz_heel": "Pa", "pore_pressure": "Pa", "sigma_zz_effective": "Pa"}
 
 
 #: The unit of each column of a consolidation's history (``consolidation.csv``).

@@ -221,13 +221,14 @@ def test_overturning_parallel_equals_serial(condition):
 
 @needs_two_ranks
 def test_consolidation_parallel_equals_serial():
-    """Biot's consolidation of the embedded tank under a Mohr-Coulomb interface: its whole
-    history (the drained limit, the undrained start, every step) and the last state's
-    profiles the same on 2 ranks as serially."""
+    """Biot's consolidation of the embedded tank under a Mohr-Coulomb interface, loaded
+    over half a day and held: its whole history (the drained limit, the undrained start,
+    every step) and the last state's profiles the same on 2 ranks as serially."""
     scene = Scene.from_dict(small_tank(
         interface={"condition": "mohr_coulomb", "tan_phi": 0.5},
         consolidation={"permeability": 1e-9, "times": [86400.0, 8640000.0],
-                       "steps_per_decade": 4}))
+                       "steps_per_decade": 4},
+        stages=[{"time": 43200.0}]))
     parallel, serial = _solve_both(scene)
     _assert_same_numbers(parallel, serial)
     p, s = parallel["consolidation"], serial["consolidation"]
