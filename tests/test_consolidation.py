@@ -512,3 +512,22 @@ def test_a_load_path_in_time_round_trips_and_is_described(tmp_path):
     text = "\n".join(describe(scene))
     assert "stage 1 reached at t = 10 days ([load])" in text
     assert "stage 3 reached at t = 65 days: pressure = 10000" in text
+
+
+@pytest.mark.parametrize("k, degrees", [(1e-16, (0.0, 1e-5, 0.1)), (1e-2, (0.8, 1.0 - 1e-3,
+                                                                         1.0 + 1e-5))])
+def test_extreme_permeabilities(k, degrees):
+    """k = 1e-16 m/s (a clay that hardly drains in ten thousand years) and 1e-2 m/s (a
+    gravel, drained within seconds): the degree of consolidation stays near 0, or is near
+    1 after a second, and never leaves [0, 1] by more than round-off; the residual stays
+    at its floor."""
+    r = analyse(Scene.from_dict(small_tank(consolidation={
+        "permeability": k, "times": [1.0, DAY, 1e4 * 365 * DAY],
+        "steps_per_decade": 2}))).results
+    U = [x["degree"] for x in r["consolidation"]["at_times"][1:]]
+    lo, mid, hi = degrees
+    if k < 1e-10:
+        assert abs(U[0]) < 1e-6 and abs(U[1]) < mid and 0 < U[2] < hi
+    else:
+        assert lo < U[0] < 1 and mid < U[1] < hi and abs(U[2] - 1) < 1e-5
+    assert r["linear_solver"]["last_relative_residual"] < 1e-8
