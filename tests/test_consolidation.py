@@ -64,6 +64,21 @@ def test_oedometer_against_terzaghi():
     assert 0.4 < np.max(np.abs(be20)) / np.max(np.abs(be10)) < 0.6
 
 
+def test_nitsche_penalty_does_not_matter(monkeypatch):
+    """The drained boundary's Nitsche penalty (10 k^2 / h by default) from 5 to 1000: the
+    column's settlement the same to 9e-6 of the final at T_v = 0.01, where the drained
+    boundary's layer is thinnest, and 1.5e-8 at T_v = 1 (consistent terms: the penalty
+    only has to be large enough)."""
+    import tankfx.consolidation as cf
+
+    errors = []
+    for penalty in (5.0, 1e3):
+        monkeypatch.setattr(cf, "NITSCHE_PENALTY", penalty)
+        errors.append(_column_errors(10)[1])
+    gap = np.abs(errors[0] - errors[1])
+    assert gap[0] < 2e-5 and gap[-1] < 1e-7, gap
+
+
 def test_oedometer_drained_both_faces():
     """Drained at the base too: the drainage path halves (T_v on H / 2) and the base's
     pore pressure stays zero."""
