@@ -166,10 +166,10 @@ def path_steps(path, times, per_decade: int) -> list[tuple[float, str, object]]:
     load changes at once to ``load``: an undrained step of no time), "restart" (the first
     step after a breakpoint of the path: backward Euler, the load's rate having changed) or
     "step" (BDF2; these two with ``load`` None: the path's at t). Within each stretch
-    between breakpoints (and after the last, to the last reported time) the steps grow
-    geometrically from it, ``per_decade`` a decade, the
-    first FIRST_STEP times the shortest of the stretch, the stretch before and the time to
-    the next reported time, through every reported time."""
+    between breakpoints (and after the last, to the last reported time, which the scene
+    keeps at or after the last stage's) the steps grow geometrically from it,
+    ``per_decade`` a decade, the first FIRST_STEP times the shortest of the stretch, the
+    stretch before and the time to the next reported time, through every reported time."""
     t_end = max(max(times), path[-1][0])
     breaks = sorted({t for t, _ in path} | {t_end})
     out = [(0.0, "jump", ld) for t, ld in path if t == 0.0]

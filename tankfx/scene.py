@@ -772,6 +772,10 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
         raw, times = _stage_times(data["stages"], "consolidation" in data)
         scene = _parse(rest)
         stages = _parse_stages(rest, raw, scene)
+        if times and max(scene.consolidation.times) < times[-1]:
+            raise SceneError([f"consolidation.times: the last, {max(scene.consolidation.times)!r}"
+                              f" s, is before the load path's end (the last stage's time, "
+                              f"{times[-1]!r} s); report at least to the end of the path"])
         if times and len({ld.self_weight for ld in stages}) > 1:
             raise SceneError(["stages: self_weight changes along a consolidation's load "
                               "path; the structure's own weight acts from t = 0 (it is built "

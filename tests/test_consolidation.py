@@ -410,6 +410,7 @@ def test_loads_at_once_along_a_path_superpose():
     ([{"pressure": 1e5}], "stages[1].time: missing"),
     ([{"pressure": 1e5, "time": -1.0}], "stages[1].time = -1.0"),
     ([{"time": 10.0}, {"pressure": 2e5, "time": 5.0}], "is before stages[1].time"),
+    ([{"time": 2 * DAY}], "before the load path's end"),
 ])
 def test_refused_load_paths(stages, words):
     data = {"soil": {"E": 1e7, "nu": 0.3}, "load": {"pressure": 1e5, "load_radius": 1.0},
