@@ -663,6 +663,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
         if consolidation is not None:
             results["consolidation"] = consolidation
+        # (a consolidation's: the load at its last reported time, on the state then)
+        load = stage_scene.load
         if load.overturning:
             rocking = _overturning(model, rocking, load, results, log, sigma_zz)
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,

@@ -57,16 +57,25 @@ class RockingModel:
         U, W = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
         r = soil.r
         # soil: the axisymmetric soil's materials (a nonlinear soil's converged secant
-        # moduli), per stratum the displacement or the mixed form
+        # moduli), per stratum the displacement or the mixed form; a consolidating soil
+        # rocks undrained (wind and earthquake load it in seconds): its shear modulus, nu =
+        # 0.5, every stratum in the mixed form
+        self.undrained = soil.consolidating
+        if self.undrained:
+            self.E = soil.E * 1.5 / (1.0 + soil.nu)         # E_u = 3 G
+            self.nu = fem.Constant(msh, 0.5)
+            mixed = list(range(soil.n_materials))
+        else:
+            self.E, self.nu, mixed = soil.E, soil.nu, soil.mixed_strata
         self.pressures = []
-        displacement = [i for i in range(soil.n_materials) if i not in soil.mixed_strata]
+        displacement = [i for i in range(soil.n_materials) if i not in mixed]
         a_ss = 0
         if displacement:
-            a_ss = hm.soil_stiffness(U, W, soil.E, soil.nu, r, soil.dx_strata(displacement))
-        for i in soil.mixed_strata:
+            a_ss = hm.soil_stiffness(U, W, self.E, self.nu, r, soil.dx_strata(displacement))
+        for i in mixed:
             Q = fem.functionspace(msh, ("Lagrange", s.mesh.degree - 1))
             p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
-            a_uu, a_up, a_pu, a_pp = hm.mixed_soil_forms(U, p, W, q, soil.E, soil.nu, r,
+            a_uu, a_up, a_pu, a_pp = hm.mixed_soil_forms(U, p, W, q, self.E, self.nu, r,
                                                          soil.dx_strata([i]))
             a_ss += a_uu
             others = soil.dx_outside(i)
@@ -259,8 +268,16 @@ class RockingModel:
         """The amplitude of sigma_zz (compression positive, cos theta), projected as the
         axisymmetric one is (:meth:`tankfx.analysis.SoilBlock.vertical_stress`)."""
         soil = self.tank.soil
-        stress = soil.stress_of(hm.soil_strain(self.u, soil.r),
-                                [p for p, _, _, _ in self.pressures])
+        eps = hm.soil_strain(self.u, soil.r)
+        pressures = [p for p, _, _, _ in self.pressures]
+        if self.undrained:
+            # 2 G eps - p I, each stratum with its own pressure (pinned to 0 outside its
+            # cells: their sum is each cell's)
+            from .soil import mixed_stress
+
+            stress = mixed_stress(eps, sum(pressures), self.E, self.nu)
+        else:
+            stress = soil.stress_of(eps, pressures)
         return soil.vertical_stress(stress, name="sigma_zz_overturning")
 
     def stress_line(self) -> np.ndarray:

@@ -1226,11 +1226,6 @@ def _check_consolidation(rd: _Reader, c: dict, data: dict, soil: dict, layers: l
     if "ringwall" in data:
         rd.bad("[ringwall] with [consolidation]: not modelled yet (the ringwall's cells "
                "would need to be left out of the flow); remove one of them")
-    load = data.get("load") or {}
-    if isinstance(load, dict) and (load.get("overturning_moment") or load.get("base_shear")):
-        rd.bad("load.overturning_moment / base_shear with [consolidation]: the overturning "
-               "harmonic of a consolidating soil is not modelled; analyse it without "
-               "[consolidation] (drained or undrained constants)")
     if method != "direct":
         rd.bad(f"solver.method = {method!r} with [consolidation]: its saddle-point system "
                f"is solved by MUMPS; use method = \"direct\"")
