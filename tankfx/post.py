@@ -387,9 +387,12 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
         rows += [("consolidation: undrained w0 (t = 0)", f"{1e3 * c['undrained']['w0']:.2f} mm",
                   f"c_v = {c['c_v']:.3g} m^2/s, a^2 / c_v = {c['time_scale'] / 86400:.4g} "
                   f"days")]
+        path = "at_stages" in c        # a load path: each time's load too
         rows += [(f"  w0 at t = {s['t_days']:.4g} days", f"{1e3 * s['w0']:.2f} mm",
                   f"U = {s['degree']:.3f}, excess pore pressure on the axis "
-                  f"{s['axis_pore_pressure'] / 1e3:.3g} kPa") for s in c["at_times"][1:]]
+                  f"{s['axis_pore_pressure'] / 1e3:.3g} kPa"
+                  + (f", load {s['applied_load'] / 1e6:.4g} MN" if path else ""))
+                 for s in c["at_times"][1:]]
         rows.append(("  drained limit w0 (t -> infinity)", f"{1e3 * c['drained']['w0']:.2f} mm",
                      f"the results above: t = {c['at_times'][-1]['t_days']:.4g} days"))
     o = r.get("overturning")
