@@ -267,29 +267,42 @@ class SoilBlock:
         strata = scene.soil.strata
         k = [c.permeability if st.permeability is None else st.permeability
              for st in strata]
-        #: Darcy's k (m/s): one value, or per cell by stratum on layered ground
-        self.permeability = fem.Constant(msh, k[0]) if len(strata) == 1 else \
+        # a ringwall (and its fill) has no pore pressure: k 0 there (its own materials
+        # follow the ground's strata)
+        k += [0.0] * (self.n_materials - len(strata))
+        #: Darcy's k (m/s): one value, or per cell by stratum (layers, a ringwall)
+        self.permeability = fem.Constant(msh, k[0]) if self.n_materials == 1 else \
             _cell_field(msh, np.array(k)[self.stratum], "permeability")
         self.step_weights = w = cf.StepWeights(msh)
         self.u_n, self.u_nn = (fem.Function(self.V, name=n) for n in ("u_n", "u_nn"))
         flow = self.conductance * self.permeability
-        a_uu, a_up, a_pu, a_pp = cf.biot_forms(self.trial, p, self.test, q, self.E, self.nu,
-                                               flow, self.r, self.dx)
+        #: the ground's strata: where the pore water is (not a ringwall's concrete, nor
+        #: its fill, which drains)
+        self.ground = tuple(range(len(strata)))
+        dx_ground = self.dx_strata(self.ground)
+        _, a_up, a_pu, a_pp = cf.biot_forms(self.trial, p, self.test, q, self.E, self.nu,
+                                            flow, self.r, dx_ground)
+        a_uu = soil_forms.stiffness_form(self.trial, self.test, self.E, self.nu, self.r,
+                                         self.dx)
         drained = ["surface"] + (["contact"] if scene.plate is None else []) + \
             (["bottom"] if c.drainage == "top_and_bottom" else [])
         ds = ufl.Measure("ds", domain=msh, subdomain_data=self.domain.facet_tags)
         a_pp += cf.drainage_form(p, q, flow, self.r,
                                  ds(tuple(FACET_TAGS[n] for n in drained)), deg - 1)
-        if self.domain.has_void:
-            # (the void's pressure dofs are pinned: see pins)
-            a_pp += fem.Constant(msh, 0.0) * p * q * self.dx_void
+        others = self.dx_outside(self.ground)
+        if others is not None:
+            # (the pressure dofs there are pinned, see pins: a zero term gives their
+            # Dirichlet rows a diagonal)
+            a_pp += fem.Constant(msh, 0.0) * p * q * others
         self.a = a_uu
         self.pressures.append((fem.Function(Q, name="pore_pressure"), (a_up, a_pu, a_pp),
                                cf.previous_volume_load([(w.previous, self.u_n),
                                                         (w.before, self.u_nn)],
-                                                       q, self.r, self.dx)))
-        # one pore pressure, continuous over the strata (its flux too, naturally)
-        self.pressure_strata = [tuple(range(len(strata)))]
+                                                       q, self.r, dx_ground)))
+        # one pore pressure, continuous over the strata (its flux too, naturally); none
+        # in a ringwall (no flow across its faces) and none in its fill (drained: the
+        # ground drains into it)
+        self.pressure_strata = [self.ground]
 
     @property
     def pore_pressure(self) -> fem.Function | None:
@@ -329,11 +342,13 @@ class SoilBlock:
             return self.dx
         return self._dx_tagged(tuple(STRATUM_TAG + int(i) for i in strata))
 
-    def dx_outside(self, i: int):
-        """The measure of every cell but stratum i's soil (None where there is none)."""
-        if self.n_strata == 1:
+    def dx_outside(self, i):
+        """The measure of every cell but stratum i's soil (or the strata in a tuple's; None
+        where there is none)."""
+        inside = {i} if isinstance(i, (int, np.integer)) else set(i)
+        if self.n_strata == 1 or inside >= set(range(self.n_strata)):
             return self.dx_void if self.domain.has_void else None
-        ids = [STRATUM_TAG + j for j in range(self.n_strata) if j != i]
+        ids = [STRATUM_TAG + j for j in range(self.n_strata) if j not in inside]
         if self.domain.has_void:
             ids.append(CELL_TAGS["void"])
         return self._dx_tagged(tuple(ids))
@@ -352,8 +367,15 @@ class SoilBlock:
         zero = np.zeros(2, dtype=np.float64)
         bcs = [fem.dirichletbc(0.0, axis, Vr),                 # symmetry: u_r = 0 on r = 0
                fem.dirichletbc(zero, far, V)]                  # rigid far boundary
-        return bcs + self.pins(V, [(pr.function_space, i) for i, (pr, _, _) in
-                                   zip(self.pressure_strata, self.pressures)])
+        bcs += self.pins(V, [(pr.function_space, i) for i, (pr, _, _) in
+                             zip(self.pressure_strata, self.pressures)])
+        if self.consolidating and self.domain.mesh.comm.allreduce(
+                bool(self.fill_cells.any()), op=MPI.LOR):
+            # a ringwall's fill drains: the pore pressure is 0 on it, its faces too
+            Q = self.pressures[0][0].function_space
+            bcs.append(fem.dirichletbc(0.0, fem.locate_dofs_topological(
+                Q, 2, np.flatnonzero(self.fill_cells).astype(np.int32)), Q))
+        return bcs
 
     def pins(self, V, pressure_spaces) -> list[fem.DirichletBC]:
         """The supports that are not boundary conditions: the void's dofs of the
@@ -396,7 +418,11 @@ class SoilBlock:
         if not self.mixed:
             return soil_forms.stress(eps, self.E, self.nu)
         if self.consolidating:      # total stress: the skeleton's less the pore pressure
-            return soil_forms.stress(eps, self.E, self.nu) - pressures[0] * ufl.Identity(3)
+            p = pressures[0]
+            if self.n_materials > len(self.ground):     # (none in a ringwall, its fill)
+                p = p * _cell_field(self.domain.mesh, np.isin(self.stratum, self.ground)
+                                    .astype(float), "in_ground")
+            return soil_forms.stress(eps, self.E, self.nu) - p * ufl.Identity(3)
         if self.n_strata == 1:
             return soil_forms.mixed_stress(eps, pressures[0], self.E, self.nu)
         # per cell the form of its stratum, by indicators (an expression valid in every

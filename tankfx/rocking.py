@@ -62,9 +62,19 @@ class RockingModel:
         # 0.5, every stratum in the mixed form
         self.undrained = soil.consolidating
         if self.undrained:
-            self.E = soil.E * 1.5 / (1.0 + soil.nu)         # E_u = 3 G
-            self.nu = fem.Constant(msh, 0.5)
-            mixed = list(range(soil.n_materials))
+            # E_u = 3 G and nu = 0.5 in the ground; a ringwall and its fill keep theirs
+            mixed = list(soil.ground)
+            self._ground = None
+            if soil.n_materials > len(mixed):
+                from .analysis import _cell_field
+
+                chi = self._ground = _cell_field(msh, np.isin(soil.stratum, mixed)
+                                                 .astype(float), "ground")
+                self.E = soil.E * (1.0 + chi * (1.5 / (1.0 + soil.nu) - 1.0))
+                self.nu = soil.nu + chi * (0.5 - soil.nu)
+            else:
+                self.E = soil.E * 1.5 / (1.0 + soil.nu)
+                self.nu = fem.Constant(msh, 0.5)
         else:
             self.E, self.nu, mixed = soil.E, soil.nu, soil.mixed_strata
         self.pressures = []
@@ -276,6 +286,14 @@ class RockingModel:
             from .soil import mixed_stress
 
             stress = mixed_stress(eps, sum(pressures), self.E, self.nu)
+            chi = self._ground
+            if chi is not None:
+                # a ringwall's cells in the displacement form (with nu 0 in the ground,
+                # where its lambda would be infinite and the indicator zero)
+                from .soil import stress as elastic
+
+                stress = chi * stress + (1.0 - chi) * elastic(eps, soil.E,
+                                                              soil.nu * (1.0 - chi))
         else:
             stress = soil.stress_of(eps, pressures)
         return soil.vertical_stress(stress, name="sigma_zz_overturning")

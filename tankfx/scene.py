@@ -1223,9 +1223,6 @@ def _check_consolidation(rd: _Reader, c: dict, data: dict, soil: dict, layers: l
                    f"Poisson's ratio, which must not exceed {MIXED_FROM_NU} (the undrained "
                    f"response, nu = 0.5, is consolidation's start; typical drained values "
                    f"0.2-0.35)")
-    if "ringwall" in data:
-        rd.bad("[ringwall] with [consolidation]: not modelled yet (the ringwall's cells "
-               "would need to be left out of the flow); remove one of them")
     if method != "direct":
         rd.bad(f"solver.method = {method!r} with [consolidation]: its saddle-point system "
                f"is solved by MUMPS; use method = \"direct\"")
