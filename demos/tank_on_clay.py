@@ -27,7 +27,7 @@ from mpi4py import MPI
 from tankfx import analyse, load_scene
 from tankfx import reference as ref
 from tankfx.cli import write_json
-from tankfx.plots import plot_consolidation, plot_section
+from tankfx.plots import plot_consolidation, plot_isochrones, plot_section
 from tankfx.post import write_profiles
 
 comm = MPI.COMM_WORLD
@@ -83,13 +83,16 @@ say(f"(u_e: the excess pore pressure on the axis, {cons['axis_depth']:.3g} m bel
 
 # ## Figures
 # The settlements, the plate's centre moment and the largest excess pore pressure against
-# time (log scale), between the undrained start and the drained limit; and the section at
-# the last reported time, coloured by the excess pore pressure that is still to drain.
+# time (log scale), between the undrained start and the drained limit; the isochrones (the
+# excess pore pressure down the axis at each reported time: the clay drains to the sand at
+# 10 m as well as upwards); and the section at the last reported time, coloured by the
+# excess pore pressure that is still to drain.
 
 if comm.rank == 0:
     write_json(out / "results.json", r)
     write_profiles(r, out)
 plot_consolidation(r, out / "consolidation.png", title=scene.title)
+plot_isochrones(r, out / "isochrones.png", title=scene.title)
 pore = solution.model.soil.pore_pressure
 plot_section(solution.u, pore, out / "pore_pressure.png", extent=1.6 * scene.plate.radius,
              label="pore pressure [kPa]", soil_cells=solution.domain.cells("soil"),

@@ -377,6 +377,16 @@ class TimeStepping:
         D = scene.embedment
         self.axis_depth = D + min(0.5 * a, 0.5 * (scene.domain.depth - D))
         self._axis_point = np.array([[0.0, -self.axis_depth]])
+        #: the depths (m below the ground) of the isochrones: the pore pressure down the
+        #: axis at each reported time, to 3 radii below the foundation (or the base)
+        self.isochrone_depths = np.linspace(D, min(D + 3.0 * a, scene.domain.depth), 61)
+
+    def _isochrone(self) -> list[float]:
+        from .post import evaluate_at
+
+        z = self.isochrone_depths
+        return evaluate_at(self.soil.pore_pressure, np.column_stack([np.zeros_like(z), -z]),
+                           cells=self.model.domain.cells("soil"))[:, 0].tolist()
 
     def _state(self, t: float) -> dict:
         found = self.model.foundation_results()
@@ -436,7 +446,7 @@ class TimeStepping:
             f.x.array[:] = 0.0
         steps = path_steps(path, c.times, c.steps_per_decade)
         reported = {float(t) for t in c.times}
-        history, at_times, t_prev, dt_prev = [], [], 0.0, 0.0
+        history, at_times, isochrones, t_prev, dt_prev = [], [], [], 0.0, 0.0
         for k, (t, kind, load) in enumerate(steps):
             self._advance()
             if kind == "jump":
@@ -456,6 +466,7 @@ class TimeStepping:
             last_at_t = k + 1 == len(steps) or steps[k + 1][0] != t
             if last_at_t and (t in reported or t == 0.0):
                 at_times.append(state)
+                isochrones.append(self._isochrone())
                 log.info("consolidation: t = %.4g days, w0 = %.4g m, excess pore pressure "
                          "on the axis %.4g Pa (step %d of %d)", t / DAY, state["w0"],
                          state["axis_pore_pressure"], k + 1, len(steps))
@@ -475,6 +486,9 @@ class TimeStepping:
                "undrained": start, "drained": drained,
                "at_times": at_times, "history": history,
                "c_v": self.c_v, "time_scale": self.time_scale, "axis_depth": self.axis_depth,
+               "isochrones": {"z": self.isochrone_depths.tolist(),
+                              "t_days": [s["t_days"] for s in at_times],
+                              "pore_pressure": isochrones},
                "steps": len(steps) - 1, "permeability": c.permeability,
                "drainage": c.drainage,
                "integrator": "undrained at t = 0 (and at each load applied at once), then "

@@ -14,13 +14,13 @@ from dolfinx import fem, plot
 
 __all__ = ["gather_grid", "plot_section", "plot_surface_settlement", "plot_moment_diagrams",
            "plot_structure_profiles", "plot_contact", "plot_cutaway", "plot_sweep",
-           "plot_overturning", "plot_tilt", "plot_consolidation", "FIGURES", "write_figures",
-           "ringwall_outline"]
+           "plot_overturning", "plot_tilt", "plot_consolidation", "plot_isochrones", "FIGURES",
+           "write_figures", "ringwall_outline"]
 
 #: The figures ``write_figures`` may write (which ones depends on the scene).
 FIGURES = ("section.png", "stress_level.png", "settlement.png", "moments.png", "profiles.png",
            "contact.png", "load_path.png", "overturning.png", "overturning_wall.png",
-           "tilt.png", "consolidation.png")
+           "tilt.png", "consolidation.png", "isochrones.png")
 
 if not os.environ.get("DISPLAY"):
     # no X server: render through EGL rather than let VTK try (and warn about) X first
@@ -416,7 +416,8 @@ def plot_curves(x, panels: dict[str, dict[str, np.ndarray]], path: str | Path,
         return None
     pv = _pyvista()
     x = np.asarray(x, dtype=float)
-    colors = ["tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple", "tab:brown"]
+    colors = ["tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple", "tab:brown",
+              "tab:pink", "tab:gray", "tab:olive", "tab:cyan"]
     p = pv.Plotter(off_screen=True, window_size=(600 * len(panels), 550),
                    shape=(1, len(panels)))
     for col, (y_label, curves) in enumerate(panels.items()):
@@ -496,6 +497,20 @@ def plot_consolidation(results: dict, path: str | Path, title: str = "") -> Path
         panels["applied vertical load [MN]"] = {"load": curve("applied_load", 1e-6)}
     return plot_curves(x, panels, path, "time [days]", title=title, log_x=True,
                        legend_left=True)
+
+
+def plot_isochrones(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """A consolidation's isochrones: the excess pore pressure down the axis at each
+    reported time (depth below the ground surface along the horizontal axis). Rank 0
+    writes the PNG."""
+    c = results.get("consolidation")
+    if not c or "isochrones" not in c:
+        return None
+    iso = c["isochrones"]
+    curves = {f"t = {t:.4g} d": 1e-3 * np.asarray(p)
+              for t, p in zip(iso["t_days"], iso["pore_pressure"])}
+    return plot_curves(iso["z"], {"excess pore pressure on the axis [kPa]": curves}, path,
+                       "depth below the ground surface [m]", title=title)
 
 
 def plot_overturning(results: dict, path: str | Path, wall_path: str | Path | None = None,
@@ -680,8 +695,9 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
         figures.append((plot_surface_settlement, (r, directory / "settlement.png"),
                         {"title": title}))
     if "consolidation" in r:
-        figures.append((plot_consolidation, (r, directory / "consolidation.png"),
-                        {"title": title}))
+        figures += [(plot_consolidation, (r, directory / "consolidation.png"),
+                     {"title": title}),
+                    (plot_isochrones, (r, directory / "isochrones.png"), {"title": title})]
     if "overturning" in r:
         figures += [(plot_overturning, (r, directory / "overturning.png",
                                         directory / "overturning_wall.png"),

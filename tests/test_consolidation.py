@@ -528,7 +528,13 @@ def test_tankfx_run_writes_the_history_figure_and_pore_pressure(tmp_path):
     assert c["drained"]["t"] is None          # (infinity: null in JSON)
     report = (out / "report.md").read_text()
     assert "undrained w0 (t = 0)" in report and "drained limit w0" in report
-    assert (out / "consolidation.png").stat().st_size > 10_000
+    for name in ("consolidation.png", "isochrones.png"):
+        assert (out / name).stat().st_size > 10_000, name
+    # the isochrones: at t = 0 and each reported time, the last the axis profile's
+    iso = c["isochrones"]
+    assert len(iso["pore_pressure"]) == len(c["times"]) + 1 == len(iso["t_days"])
+    assert np.interp(results["profiles"]["axis"]["z"][40], iso["z"], iso["pore_pressure"][-1]) \
+        == pytest.approx(results["profiles"]["axis"]["pore_pressure"][40], rel=2e-2, abs=1.0)
     import pyvista
 
     soil = pyvista.read(sorted((out / "fields").glob("soil*.vtu"))[0])
