@@ -289,6 +289,15 @@ class SoilBlock:
         ds = ufl.Measure("ds", domain=msh, subdomain_data=self.domain.facet_tags)
         a_pp += cf.drainage_form(p, q, flow, self.r,
                                  ds(tuple(FACET_TAGS[n] for n in drained)), deg - 1)
+        fill_faces = self._fill_faces(msh)
+        if fill_faces is not None:
+            # a ringwall's fill drains: the ground's faces on it are drained boundaries,
+            # from the ground's side (the fill's own pore pressure is pinned to 0)
+            chi = _cell_field(msh, np.isin(self.stratum, self.ground).astype(float),
+                              "in_ground")
+            a_pp += sum(cf.drainage_form(p(side), q(side), flow(side), self.r,
+                                         fill_faces, deg - 1, side=side, weight=chi(side))
+                        for side in ("+", "-"))
         others = self.dx_outside(self.ground)
         if others is not None:
             # (the pressure dofs there are pinned, see pins: a zero term gives their
@@ -303,6 +312,30 @@ class SoilBlock:
         # in a ringwall (no flow across its faces) and none in its fill (drained: the
         # ground drains into it)
         self.pressure_strata = [self.ground]
+
+    def _fill_faces(self, msh):
+        """The interior-facet measure of the faces between a ringwall's fill and the ground
+        (None without a fill, on every rank alike)."""
+        if not msh.comm.allreduce(bool(self.fill_cells.any()), op=MPI.LOR):
+            return None
+        tdim = msh.topology.dim
+        msh.topology.create_connectivity(tdim - 1, tdim)
+        f2c = msh.topology.connectivity(tdim - 1, tdim)
+        n = msh.topology.index_map(tdim - 1).size_local + \
+            msh.topology.index_map(tdim - 1).num_ghosts
+        ground = np.isin(self.stratum, self.ground) & ~self.domain_void_cells()
+        fill, start = self.fill_cells, f2c.offsets[:n]
+        two = np.flatnonzero(np.diff(f2c.offsets)[:n] == 2)     # interior facets
+        c0, c1 = f2c.array[start[two]], f2c.array[start[two] + 1]
+        faces = two[(fill[c0] & ground[c1]) | (fill[c1] & ground[c0])].astype(np.int32)
+        tags = dmesh.meshtags(msh, tdim - 1, faces, np.ones(len(faces), dtype=np.int32))
+        return ufl.Measure("dS", domain=msh, subdomain_data=tags)(1)
+
+    def domain_void_cells(self) -> np.ndarray:
+        """Per local cell, whether it is the tank's void."""
+        out = np.zeros(len(self.stratum), dtype=bool)
+        out[self.domain.cells("void")] = True
+        return out
 
     @property
     def pore_pressure(self) -> fem.Function | None:
@@ -369,12 +402,6 @@ class SoilBlock:
                fem.dirichletbc(zero, far, V)]                  # rigid far boundary
         bcs += self.pins(V, [(pr.function_space, i) for i, (pr, _, _) in
                              zip(self.pressure_strata, self.pressures)])
-        if self.consolidating and self.domain.mesh.comm.allreduce(
-                bool(self.fill_cells.any()), op=MPI.LOR):
-            # a ringwall's fill drains: the pore pressure is 0 on it, its faces too
-            Q = self.pressures[0][0].function_space
-            bcs.append(fem.dirichletbc(0.0, fem.locate_dofs_topological(
-                Q, 2, np.flatnonzero(self.fill_cells).astype(np.int32)), Q))
         return bcs
 
     def pins(self, V, pressure_spaces) -> list[fem.DirichletBC]:

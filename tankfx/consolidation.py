@@ -65,18 +65,24 @@ def biot_forms(u, p, v, q, E, nu, conductance, r, dx):
 NITSCHE_PENALTY = 10.0
 
 
-def drainage_form(p, q, conductance, r, ds, degree: int):
+def drainage_form(p, q, conductance, r, ds, degree: int, side: str | None = None,
+                  weight=1.0):
     """A drained boundary (p = 0) by Nitsche's method: its terms scale with the
     conductance like the flow's, so the undrained step (dt = 0) has none. A Dirichlet
     condition would drain the boundary's elements at t = 0 already (an immediate settlement
     of a confined column of about one element's thickness of drained strain: 0.7 % of the
-    final one with 40 elements over the height)."""
-    msh = p.ufl_function_space().mesh
+    final one with 40 elements over the height). On interior facets (``ds`` a dS), the
+    terms of one ``side`` ("+" or "-": p, q, the conductance restricted to it by the
+    caller), times ``weight`` (an indicator of the side that drains)."""
+    msh = ufl.domain.extract_unique_domain(r)
     n, h = ufl.FacetNormal(msh), ufl.CellDiameter(msh)
+    if side is not None:
+        n, h, r = n(side), h(side), r(side)
     w = 2.0 * math.pi * r
     penalty = NITSCHE_PENALTY * max(degree, 1) ** 2 / h
-    return conductance * (ufl.inner(ufl.grad(p), n) * q + ufl.inner(ufl.grad(q), n) * p
-                          - penalty * p * q) * w * ds
+    grad = ufl.grad
+    return weight * conductance * (ufl.inner(grad(p), n) * q + ufl.inner(grad(q), n) * p
+                                   - penalty * p * q) * w * ds
 
 
 def previous_volume_load(history, q, r, dx):

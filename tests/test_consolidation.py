@@ -459,13 +459,15 @@ def test_overturning_on_a_consolidating_soil_is_undrained():
 def test_a_ringwall_on_consolidating_ground(fill):
     """A concrete ringwall (and a compacted fill inside it, which drains) under the wall
     of a surface tank on consolidating clay: the drained limit is the drained analysis of
-    the same ringwall (2.4e-7), the start the undrained one (the ground at nu = 0.5 and
-    its shear modulus, the ring and fill their own: w0 1.1e-4, M0 7.6e-5; with the fill
-    8.5e-4 and 5.3e-3, its faces drained from t = 0 on, as a Dirichlet condition drains
-    the clay's elements beside it at once); the pore pressure is none in the ring's and
-    the fill's cells and on the fill's faces; an overturning moment balances."""
-    tank = small_tank(interface={"condition": "bonded", "normal_stiffness": 3e10,
-                                 "shear_stiffness": 3e10},
+    the same ringwall (2.5e-7), the start the undrained one (the ground at nu = 0.5 and
+    its shear modulus, the ring and fill their own: w0 1.1e-4, M0 2.3e-4, with the fill
+    1.1e-4 and 1.8e-4: its faces drain by Nitsche's terms, none at t = 0; with a Dirichlet
+    condition there, as first written, 8.5e-4 and 5.3e-3); no pore pressure inside the
+    ring's and the fill's cells, little on the fill's faces (median 0.016 % of the largest,
+    1.5 % at a corner with the ring); an overturning moment
+    balances. (The interface's default stiffness, by each cell's E: the undrained
+    analysis's is 1.15 times the consolidation's in the ground.)"""
+    tank = small_tank(interface={"condition": "bonded"},
                       ringwall={"inner_radius": 0.8, "outer_radius": 1.1, "depth": 0.4,
                                 "E": 30e9, "nu": 0.2, **({"fill_E": 50e6, "fill_nu": 0.3}
                                                          if fill else {})})
@@ -479,7 +481,7 @@ def test_a_ringwall_on_consolidating_ground(fill):
     undrained = analyse(Scene.from_dict(tank | {"soil": {"E": 3e7 / 2.6, "nu": 0.5}})).results
     for key in ("w0", "wd", "M0"):
         assert c["drained"][key] == pytest.approx(drained[key], rel=1e-6), key
-    for key, tol in (("w0", 2e-3 if fill else 2e-4), ("M0", 1e-2 if fill else 2e-4)):
+    for key, tol in (("w0", 2e-4), ("M0", 4e-4)):
         assert c["undrained"][key] == pytest.approx(undrained[key], rel=tol), key
     soil = sol.model.soil
     p = soil.pore_pressure
@@ -490,8 +492,11 @@ def test_a_ringwall_on_consolidating_ground(fill):
     assert scale > 0
     assert np.max(np.abs(p.x.array[np.setdiff1d(inside, ground)]), initial=0.0) == 0.0
     if fill:
-        filled = np.unique(dofs.list[np.flatnonzero(soil.fill_cells)])
-        assert np.max(np.abs(p.x.array[filled])) == 0.0
+        faces = np.intersect1d(np.unique(dofs.list[np.flatnonzero(soil.fill_cells)]),
+                               ground)
+        # (weakly 0: 1.5 % of the largest at one node, a corner with the impervious ring)
+        assert 0 < np.max(np.abs(p.x.array[faces])) < 3e-2 * scale
+        assert np.median(np.abs(p.x.array[faces])) < 2e-3 * scale
     assert sol.results["overturning"]["equilibrium"]["moment_relative_error"] < 1e-8
 
 
