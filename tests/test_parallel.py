@@ -240,6 +240,27 @@ def test_consolidation_parallel_equals_serial():
 
 
 @needs_two_ranks
+def test_consolidation_around_a_ringwall_and_its_fill_parallel_equals_serial():
+    """Consolidation with a ringwall and a draining fill (Nitsche's terms on interior
+    facets, which a partition may cut) and an undrained overturning moment: the same on 2
+    ranks as serially."""
+    tank = small_tank(ringwall={"inner_radius": 0.8, "outer_radius": 1.1, "depth": 0.4,
+                                "E": 30e9, "nu": 0.2, "fill_E": 50e6, "fill_nu": 0.3},
+                      consolidation={"permeability": 1e-9, "times": [86400.0],
+                                     "steps_per_decade": 2},
+                      load={"pressure": 50e3, "overturning_moment": 1e4})
+    tank["plate"] = {"radius": 1.0, "thickness": 0.2, "E": 30e9, "nu": 0.2}
+    tank["wall"] = {"radius": 1.0, "thickness": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2}
+    parallel, serial = _solve_both(Scene.from_dict(tank))
+    _assert_same_numbers(parallel, serial)
+    for key in ("w0", "M0", "axis_pore_pressure"):
+        assert parallel["consolidation"]["undrained"][key] == pytest.approx(
+            serial["consolidation"]["undrained"][key], rel=1e-7), key
+    assert parallel["overturning"]["tilt"] == pytest.approx(serial["overturning"]["tilt"],
+                                                            rel=1e-7)
+
+
+@needs_two_ranks
 def test_failed_unscaled_factorisation_redone_scaled_parallel_equals_serial():
     """An unscaled factorisation that fails (tankfx.solve) is redone scaled on all ranks
     together: the same solves and numbers as serially."""
