@@ -12,6 +12,7 @@ import math
 import platform
 import time
 from dataclasses import dataclass
+from functools import cached_property
 from importlib import metadata
 
 import dolfinx_solver  # noqa: F401  (loads MPI before dolfinx / petsc4py)
@@ -265,8 +266,7 @@ class SoilBlock:
         #: dt_eff / gamma_w (s m^3/N), times each stratum's permeability in the forms
         self.conductance = fem.Constant(msh, 0.0)
         strata = scene.soil.strata
-        k = [c.permeability if st.permeability is None else st.permeability
-             for st in strata]
+        k, _ = cf.stratum_coefficients(scene)
         # a ringwall (and its fill) has no pore pressure: k 0 there (its own materials
         # follow the ground's strata)
         k += [0.0] * (self.n_materials - len(strata))
@@ -293,8 +293,7 @@ class SoilBlock:
         if fill_faces is not None:
             # a ringwall's fill drains: the ground's faces on it are drained boundaries,
             # from the ground's side (the fill's own pore pressure is pinned to 0)
-            chi = _cell_field(msh, np.isin(self.stratum, self.ground).astype(float),
-                              "in_ground")
+            chi = self.in_ground
             a_pp += sum(cf.drainage_form(p(side), q(side), flow(side), self.r,
                                          fill_faces, deg - 1, side=side, weight=chi(side))
                         for side in ("+", "-"))
@@ -323,7 +322,8 @@ class SoilBlock:
         f2c = msh.topology.connectivity(tdim - 1, tdim)
         n = msh.topology.index_map(tdim - 1).size_local + \
             msh.topology.index_map(tdim - 1).num_ghosts
-        ground = np.isin(self.stratum, self.ground) & ~self.domain_void_cells()
+        ground = np.isin(self.stratum, self.ground)
+        ground[self.domain.cells("void")] = False
         fill, start = self.fill_cells, f2c.offsets[:n]
         two = np.flatnonzero(np.diff(f2c.offsets)[:n] == 2)     # interior facets
         c0, c1 = f2c.array[start[two]], f2c.array[start[two] + 1]
@@ -331,11 +331,12 @@ class SoilBlock:
         tags = dmesh.meshtags(msh, tdim - 1, faces, np.ones(len(faces), dtype=np.int32))
         return ufl.Measure("dS", domain=msh, subdomain_data=tags)(1)
 
-    def domain_void_cells(self) -> np.ndarray:
-        """Per local cell, whether it is the tank's void."""
-        out = np.zeros(len(self.stratum), dtype=bool)
-        out[self.domain.cells("void")] = True
-        return out
+    @cached_property
+    def in_ground(self) -> fem.Function:
+        """DG0: 1 in the consolidating ground's cells, 0 in a ringwall's and its fill's
+        (where there is no pore pressure)."""
+        return _cell_field(self.domain.mesh, np.isin(self.stratum, self.ground)
+                           .astype(float), "in_ground")
 
     @property
     def pore_pressure(self) -> fem.Function | None:
@@ -447,8 +448,7 @@ class SoilBlock:
         if self.consolidating:      # total stress: the skeleton's less the pore pressure
             p = pressures[0]
             if self.n_materials > len(self.ground):     # (none in a ringwall, its fill)
-                p = p * _cell_field(self.domain.mesh, np.isin(self.stratum, self.ground)
-                                    .astype(float), "in_ground")
+                p = p * self.in_ground
             return soil_forms.stress(eps, self.E, self.nu) - p * ufl.Identity(3)
         if self.n_strata == 1:
             return soil_forms.mixed_stress(eps, pressures[0], self.E, self.nu)
@@ -538,10 +538,13 @@ class FlexibleLoad:
     def reference_pressure(self) -> float:
         return self.scene.load.pressure
 
+    #: as TankModel's: a consolidation's load path's largest load scale so far, N
+    path_load_scale = 0.0
+
     @property
     def load_scale(self) -> float:
         """The size of the vertical loads, N, for the relative equilibrium error."""
-        return abs(self.applied_load)
+        return max(abs(self.applied_load), self.path_load_scale)
 
     def dofs(self) -> dict[str, int]:
         return self.soil.dofs()
@@ -818,8 +821,7 @@ def _results(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
                      "axis": {"z": z_axis.tolist(), "sigma_zz": sz.tolist(),
                               **_axis_pore_pressure(model, domain, z_axis, sz)}},
         "equilibrium": {"applied_load": applied, "reaction": reaction,
-                        "relative_error": abs(reaction - applied) / max(
-                            model.load_scale, getattr(model, "path_load_scale", 0.0))},
+                        "relative_error": abs(reaction - applied) / model.load_scale},
         "conventions": CONVENTIONS,
         "scene": scene.to_dict(),
     }

@@ -175,17 +175,17 @@ def describe(scene) -> list[str]:
 
     s, a = scene.soil, scene.foundation_radius
     out = [f"scene: {scene.title}"]
+    if scene.consolidation is not None:
+        from .consolidation import stratum_coefficients
+
+        permeability, c_v = stratum_coefficients(scene)
     for k, st in enumerate(s.strata):
         where = "from the surface" if k == 0 else f"from {st.depth:g} m"
         form = "mixed u-p form" if k in s.mixed_strata else "displacement form"
         consts = stratum_constants(s.model, asdict(st))
         if scene.consolidation is not None:
-            from .consolidation import consolidation_coefficient
-
-            k_st = st.permeability or scene.consolidation.permeability
-            c_v = consolidation_coefficient(st.E, st.nu, k_st,
-                                            scene.consolidation.water_unit_weight)
-            form = f"drained constants; k = {k_st:g} m/s, c_v = {c_v:.3g} m^2/s"
+            form = (f"drained constants; k = {permeability[k]:g} m/s, c_v = {c_v[k]:.3g} "
+                    f"m^2/s")
         if k == 0 and s.model == "duncan_chang":
             consts += f", p_a = {s.atmospheric_pressure:g} Pa"
         out.append(f"  soil {where}: E = {st.E:.4g} Pa, nu = {st.nu:g}, E_gradient = "

@@ -32,7 +32,8 @@ from mpi4py import MPI
 
 from . import soil as soil_forms
 
-__all__ = ["oedometric_modulus", "consolidation_coefficient", "biot_forms",
+__all__ = ["oedometric_modulus", "consolidation_coefficient", "stratum_coefficients",
+           "biot_forms",
            "drainage_form", "previous_volume_load", "StepWeights", "time_steps", "Oedometer",
            "MandelCylinder"]
 
@@ -45,6 +46,16 @@ def oedometric_modulus(E, nu):
 def consolidation_coefficient(E, nu, permeability, water_unit_weight):
     """Terzaghi's c_v = k E_oed / gamma_w, m^2/s."""
     return permeability * oedometric_modulus(E, nu) / water_unit_weight
+
+
+def stratum_coefficients(scene) -> tuple[list[float], list[float]]:
+    """Per stratum of a consolidating scene's ground, top down: its permeability k (m/s:
+    its own, else [consolidation]'s) and its c_v (m^2/s)."""
+    c = scene.consolidation
+    k = [c.permeability if st.permeability is None else st.permeability
+         for st in scene.soil.strata]
+    return k, [consolidation_coefficient(st.E, st.nu, k_i, c.water_unit_weight)
+               for st, k_i in zip(scene.soil.strata, k)]
 
 
 def biot_forms(u, p, v, q, E, nu, conductance, r, dx):
@@ -364,11 +375,7 @@ class TimeStepping:
         scene = model.scene
         self.c = scene.consolidation
         self.soil = model.soil
-        c = self.c
-        k = [c.permeability if st.permeability is None else st.permeability
-             for st in scene.soil.strata]
-        c_v = [consolidation_coefficient(st.E, st.nu, k_i, c.water_unit_weight)
-               for st, k_i in zip(scene.soil.strata, k)]
+        _, c_v = stratum_coefficients(scene)
         #: the surface soil's c_v, m^2/s
         self.c_v = c_v[0]
         a = scene.foundation_radius
@@ -433,7 +440,7 @@ class TimeStepping:
         model.set_loads(load)
         # the equilibrium errors are relative to the path's largest load (its last may be
         # none: a tank emptied)
-        model.path_load_scale = max(getattr(model, "path_load_scale", 0.0), model.load_scale)
+        model.path_load_scale = model.load_scale      # (the largest so far: see load_scale)
 
     def run(self) -> dict:
         soil, log, c, model = self.soil, self.log, self.c, self.model

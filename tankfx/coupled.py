@@ -383,11 +383,17 @@ class TankModel:
         s = self.scene
         return vertical_load(s.load, s.plate, s.wall, s.ringwall)
 
+    #: the largest load scale of a consolidation's load path so far, N (its last load may
+    #: be none: a tank emptied); 0 otherwise
+    path_load_scale = 0.0
+
     @property
     def load_scale(self) -> float:
-        """The size of the vertical loads, N, for the relative equilibrium error."""
+        """The size of the vertical loads, N, for the relative equilibrium error (along a
+        consolidation's load path, its largest so far)."""
         s = self.scene
-        return vertical_load_scale(s.load, s.plate, s.wall, s.ringwall)
+        return max(vertical_load_scale(s.load, s.plate, s.wall, s.ringwall),
+                   self.path_load_scale)
 
     def dofs(self) -> dict[str, int]:
         im = self.W.dofmap.index_map
@@ -628,9 +634,7 @@ class TankModel:
         # what the interface carries: every load but a ringwall's weight, which its own
         # cells carry to the soil
         applied = vertical_load(s.load, s.plate, s.wall)
-        # (along a consolidation's load path: the largest load's scale, the last may be 0)
-        scale = max(vertical_load_scale(s.load, s.plate, s.wall),
-                    getattr(self, "path_load_scale", 0.0))
+        scale = max(vertical_load_scale(s.load, s.plate, s.wall), self.path_load_scale)
         contact = self.contact_resultant()
         out = {"profiles": profiles,
                "equilibrium": {"contact_resultant": contact,

@@ -66,10 +66,7 @@ class RockingModel:
             mixed = list(soil.ground)
             self._ground = None
             if soil.n_materials > len(mixed):
-                from .analysis import _cell_field
-
-                chi = self._ground = _cell_field(msh, np.isin(soil.stratum, mixed)
-                                                 .astype(float), "ground")
+                chi = self._ground = soil.in_ground
                 self.E = soil.E * (1.0 + chi * (1.5 / (1.0 + soil.nu) - 1.0))
                 self.nu = soil.nu + chi * (0.5 - soil.nu)
             else:
