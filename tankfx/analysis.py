@@ -210,6 +210,13 @@ class SoilBlock:
                 modulus = fem.Function(Q0, name="secant_modulus")
                 modulus.interpolate(fem.Expression(self.E, Q0.element.interpolation_points))
             self.E = modulus
+        #: each cell's most loaded state and unloading line along a load path (Kondner's
+        #: soil with an unloading modulus), else None
+        self.memory = None
+        if s.unloading_modulus_ratio is not None:
+            from .hyperbolic import UnloadingMemory
+
+            self.memory = UnloadingMemory(self.E, scene.mesh.degree, s.unloading_modulus_ratio)
         self.trial, self.test = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
         self._cell_measures(self.n_materials)
         self.unknowns = [self.u]
@@ -435,9 +442,13 @@ class SoilBlock:
 
     def stress(self, u=None):
         """The soil stress (3 x 3, tension positive) of a displacement (default: the
-        solution), with the solution's pressure in the mixed form."""
-        return self.stress_of(soil_forms.strain(self.u if u is None else u, self.r),
-                              [pr for pr, _, _ in self.pressures])
+        solution, with the stress its unloading cells keep), with the solution's pressure
+        in the mixed form."""
+        out = self.stress_of(soil_forms.strain(self.u if u is None else u, self.r),
+                             [pr for pr, _, _ in self.pressures])
+        if u is None and self.memory is not None:
+            out += self.memory.initial_stress(self.E, self.nu, self.r)
+        return out
 
     def stress_of(self, eps, pressures):
         """The stress of a strain tensor ``eps`` with the mixed strata's ``pressures`` (one
@@ -477,7 +488,12 @@ class SoilBlock:
         return rows
 
     def load_rows(self, L_u):
-        """The soil's rows of a block load vector: [L_u] or, mixed, [L_u, L_p_1, ...]."""
+        """The soil's rows of a block load vector: [L_u] or, mixed, [L_u, L_p_1, ...]; the
+        stress the unloading cells keep is a load of the displacement row."""
+        if self.memory is not None:
+            sigma_0 = self.memory.initial_stress(self.E, self.nu, self.r)
+            L_u = L_u - ufl.inner(sigma_0, soil_forms.strain(self.test, self.r)) * \
+                2.0 * math.pi * self.r * self.dx
         return [L_u] + [L_p for _, _, L_p in self.pressures]
 
     def residual(self, a_uu, L_u):
@@ -521,13 +537,14 @@ class FlexibleLoad:
         ds = ufl.Measure("ds", domain=domain.mesh, subdomain_data=domain.facet_tags)
         self.L = -self.pressure * soil.test[1] * 2.0 * math.pi * soil.r * ds(
             FACET_TAGS["contact"])
-        self.L_u = self.L
+        rows = soil.load_rows(self.L)
+        self.L_u = rows[0]
         self.bcs, self.entity_maps = soil.bcs, None
         if soil.mixed:
-            self.a, self.L = soil.matrix_rows(soil.a), soil.load_rows(self.L)
+            self.a, self.L = soil.matrix_rows(soil.a), rows
             self.unknowns = soil.unknowns
         else:
-            self.a, self.unknowns = soil.a, soil.u
+            self.a, self.L, self.unknowns = soil.a, self.L_u, soil.u
 
     @property
     def applied_load(self) -> float:
@@ -653,12 +670,14 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     if grading:
         warnings.append(grading)
     unloading = scene.unloading_stages() if scene.soil.nonlinear else []
-    if unloading:
+    if unloading and scene.soil.unloading_modulus_ratio is None:
         warnings.append(
             f"stages {', '.join(map(str, unloading))}: less vertical load than an earlier "
             f"stage; Kondner's secant law (the paper's) is nonlinear elastic, so the soil "
             f"unloads along its loading curve and keeps no permanent settlement: read "
-            f"these stages as the same load applied afresh, not as unloading")
+            f"these stages as the same load applied afresh, not as unloading"
+            + ("" if scene.soil.model == "duncan_chang" else
+               " (give [soil] unloading_modulus_ratio for a soil that remembers)"))
     for w in warnings:
         log.warning("warning: %s", w)
     dofs = model.dofs()
@@ -764,6 +783,8 @@ def _stage_summary(r: dict) -> dict:
            **{k: r[k] for k in ("w0", "w_edge", "wd", "w_mean", "M0", "nondim")},
            "soil_iterations": r["soil"]["iterations"], "linear_solves": r["linear_solves"],
            "tilt": r["overturning"]["tilt"] if "overturning" in r else None}
+    if "unloading_cells" in r["soil"]:
+        out["unloading_cells"] = r["soil"]["unloading_cells"]
     if "interface" in r:
         out["interface"] = {k: v for k, v in r["interface"].items()
                             if k.endswith("_length") or k in ("converged", "iterations")}

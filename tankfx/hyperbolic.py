@@ -58,7 +58,8 @@ __all__ = ["kondner_deviator", "principal_strains", "major_strain", "kondner_par
            "secant_update",
            "HyperbolicIteration", "SoilFailure", "ULTIMATE_FRACTION", "first_order_excess",
            "geostatic_stress", "duncan_chang_parameters", "initial_modulus",
-           "MIN_CONFINEMENT", "failed_moduli", "duncan_chang_secant"]
+           "MIN_CONFINEMENT", "failed_moduli", "duncan_chang_secant", "unloading_cells",
+           "UnloadingMemory", "RELOADING_MARGIN"]
 
 #: Duncan & Chang's confining stress is held at this fraction of p_a at least: at the
 #: ground surface, and where the tank's stress puts a cell in tension, sigma_3 would give no
@@ -225,6 +226,79 @@ def _moduli(G, K, nu):
     return np.where(failed, E_f, 2.0 * (1.0 + nu) * G), np.where(failed, nu_f, nu)
 
 
+# --------------------------------------------------------------------- unloading memory
+# Kondner's secant law is nonlinear elastic: a cell unloads along its loading curve and
+# keeps nothing. With ``[soil] unloading_modulus_ratio`` a cell remembers its most loaded
+# state (the largest eps_p it has had, its secant modulus E_p and its displacement then,
+# u_p) and below it follows a line of the unloading modulus E_ur through that state:
+#     sigma = D(E_p) eps(u_p) + D(E_ur) (eps(u) - eps(u_p))
+#           = D(E_ur) eps(u) + D(E_p - E_ur) eps(u_p),
+# so that emptied it keeps the permanent strain (1 - E_p / E_ur) eps(u_p), and reloaded it
+# comes back along the same line to the state it left. The second term is a stress fixed in
+# the cell: it goes to the right-hand side. Past its largest eps_p the cell is on the
+# loading curve again (the secant of its total strain, as the paper's). D is linear in E at
+# a fixed nu, which Kondner's soil keeps.
+
+#: A reloading cell rejoins the loading curve once its eps_p passes its largest by this
+#: fraction: without the margin a cell reloaded to its old state (which it reaches only to
+#: the solver's precision) would flip between the two laws.
+RELOADING_MARGIN = 1e-3
+
+
+def unloading_cells(eps_p, eps_p_max, unloading):
+    """Per cell, whether it follows its unloading line: a cell on the loading curve unloads
+    where its eps_p falls below its largest so far; an unloading cell stays on its line
+    until eps_p passes that largest by RELOADING_MARGIN (a cell never loaded stays on the
+    curve)."""
+    below = eps_p < eps_p_max * np.where(unloading, 1.0 + RELOADING_MARGIN, 1.0)
+    return below & (eps_p_max > 0.0)
+
+
+class UnloadingMemory:
+    """Each soil cell's most loaded state along a load path, and the fields that put its
+    unloading line into the forms (see above): ``peak_modulus`` E_p and ``unloading`` (1
+    on the line, 0 on the loading curve) as DG0 fields, ``peak_u`` the displacement of each
+    cell's most loaded state (discontinuous: cells reach theirs at different stages)."""
+
+    def __init__(self, modulus: fem.Function, degree: int, ratio: float):
+        Q = modulus.function_space
+        msh = Q.mesh
+        self.ratio = ratio
+        self.peak_modulus = fem.Function(Q, name="peak_secant_modulus")
+        self.unloading = fem.Function(Q, name="unloading")
+        V = fem.functionspace(msh, ("DG", degree, (2,)))
+        self.peak_u = fem.Function(V, name="peak_displacement")
+        self._u = fem.Function(V)
+        n = msh.topology.index_map(2).size_local + msh.topology.index_map(2).num_ghosts
+        #: per local cell (cell order): the largest eps_p so far
+        self.peak_strain = np.zeros(n)
+        self._dof_Q = Q.dofmap.list[:, 0]
+        bs = V.dofmap.index_map_bs
+        self._dofs_V = (bs * V.dofmap.list[:, :, None] + np.arange(bs)).reshape(n, -1)
+
+    def initial_stress(self, E, nu, r):
+        """The stress fixed in the unloading cells, D(E_p - E) eps(u_p) (E: the cells'
+        current modulus, E_ur on the line; zero elsewhere)."""
+        return soil_forms.stress(soil_forms.strain(self.peak_u, r),
+                                 self.unloading * (self.peak_modulus - E), nu)
+
+    @property
+    def unloading_mask(self) -> np.ndarray:
+        return self.unloading.x.array[self._dof_Q] > 0.5
+
+    def set_unloading(self, mask: np.ndarray) -> None:
+        self.unloading.x.array[self._dof_Q] = mask.astype(float)
+
+    def commit(self, u: fem.Function, eps_p: np.ndarray, E: np.ndarray, cells) -> None:
+        """A converged stage: the cells ``cells`` (bool, cell order) on the loading curve
+        have reached their most loaded state so far; remember it."""
+        self._u.interpolate(u)
+        self.peak_strain[cells] = eps_p[cells]
+        self.peak_modulus.x.array[self._dof_Q[cells]] = E[cells]
+        dofs = self._dofs_V[cells].reshape(-1)
+        self.peak_u.x.array[dofs] = self._u.x.array[dofs]
+
+
 def stress_level(eps_min, eps_max, nu, a, b):
     """The deviator Kondner's law gives the strain (Eq. 17) over the ultimate 1/b: 1 at
     failure."""
@@ -294,6 +368,8 @@ class HyperbolicIteration:
             self.stress = fem.Function(T)
             self.stress_expr = fem.Expression(soil_forms.tensor_components(soil.stress()),
                                               T.element.interpolation_points)
+        #: the cells' unloading memory along a load path (None: the paper's law)
+        self.memory = soil.memory
         self.history: list[dict] = []
         self.anderson_depth = (DUNCAN_CHANG_ANDERSON_DEPTH if self.duncan_chang else
                                ANDERSON_DEPTH)
@@ -341,7 +417,19 @@ class HyperbolicIteration:
             else:
                 _, _, misfit, E_new, ultimate = secant_update(E, self.nu, eps_min, eps_max,
                                                               self.a, self.b)
+            switched = unloading = None
+            if self.memory is not None:
+                # cells below their most loaded state follow their unloading line: E_ur
+                was = self.memory.unloading_mask
+                unloading = self.is_soil & unloading_cells(
+                    major_strain(eps_min, eps_max, self.nu), self.memory.peak_strain, was)
+                switched = unloading != was
+                E_new = np.where(unloading, self.memory.ratio * self.E_initial, E_new)
+                misfit = np.abs(E - E_new) / E
+                ultimate = ultimate & ~unloading
             changing = (misfit > tol) & self.is_soil
+            if switched is not None:
+                changing |= switched
             n_changing = comm.allreduce(int(changing[own].sum()))
             n_ult = comm.allreduce(int((ultimate & self.is_soil)[own].sum()))
             worst = comm.allreduce(float(misfit[own].max(initial=0.0)), op=MPI.MAX)
@@ -351,6 +439,8 @@ class HyperbolicIteration:
             previous = u.x.array[:n_u].copy()
             w0_hist.append(-evaluate_at(u, centre)[0, 1])
             row = {"iteration": it, "changing": n_changing, "interface_changed": unsettled,
+                   **({} if unloading is None else
+                      {"unloading": comm.allreduce(int(unloading[own].sum()))}),
                    "max_misfit": worst,
                    "at_ultimate": n_ult, "displacement_update": du_rel, "w0": w0_hist[-1],
                    "time_s": time.perf_counter() - t0}
@@ -361,7 +451,15 @@ class HyperbolicIteration:
                 # the converged Kondner constants of each cell, for the stress level
                 self.model.soil.kondner = (self.a, self.b, self.nu_intact if
                                            self.duncan_chang else self.nu)
+                extra = {}
+                if self.memory is not None:
+                    # the cells on the loading curve are at their most loaded state so far
+                    self.memory.commit(u, major_strain(eps_min, eps_max, self.nu), E,
+                                       self.is_soil & ~unloading)
+                    extra = {"unloading_cells": row["unloading"],
+                             "unloading_modulus_ratio": self.memory.ratio}
                 return {"converged": True, "iterations": it, "history": self.history,
+                        **extra,
                         "criterion": f"no cell's deviator misfit exceeds {tol:g} (Eq. 20; "
                                      f"largest {worst:.2e}) and the displacement update is "
                                      f"{du_rel:.1e} <= {du_tol:g}",
@@ -384,8 +482,15 @@ class HyperbolicIteration:
                 self.nu_field.x.array[self.dof_nu] = self.nu
             else:
                 new = np.maximum(E_new, floor)
+                if switched is not None and comm.allreduce(int(switched[own].sum())):
+                    # the map itself changed: its history no longer fits it
+                    del self._x_hist[:], self._f_hist[:], self._g_hist[:]
                 if self.anderson_depth:
                     new = self._anderson(E, new, floor, own, ceiling=self.E_initial)
+                if unloading is not None:
+                    # (E_ur lies above the loading curve's ceiling, 1/a)
+                    new = np.where(unloading, E_new, new)
+                    self.memory.set_unloading(unloading)
             self.modulus.x.array[self.dof_E] = np.where(self.is_soil, new, E)
         if n_ult > 0 and self.duncan_chang:
             raise SoilFailure(

@@ -449,8 +449,8 @@ def plot_load_path(results: dict, path: str | Path, title: str = "") -> Path | N
     stages = results.get("stages")
     if not stages:
         return None
-    # from the unloaded state: every soil model here is elastic (total loads), so nothing
-    # moves without load
+    # from the unloaded state (before the first stage nothing is loaded; a soil with an
+    # unloading modulus comes back along its unloading lines, not to the origin)
     x = np.array([0.0] + [st["applied_load"] for st in stages]) / 1e3
 
     def curve(key, scale):

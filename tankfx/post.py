@@ -151,7 +151,9 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
     ``deviator``: sigma_1 - sigma_3, Pa; ``mean_stress``: -(sigma_rr + sigma_zz +
     sigma_theta) / 3, Pa, compression positive like ``sigma_zz``; for a hyperbolic soil
     ``stress_level``: the deviator Kondner's law gives the cell's strain (Eq. 17) over the
-    ultimate 1/b, 1 at failure (converged, it equals deviator x b to the Eq. 18 tolerance);
+    ultimate 1/b, 1 at failure (converged, it equals deviator x b to the Eq. 18 tolerance;
+    a cell on its unloading line, its deviator x b), and with an unloading modulus
+    ``unloading``: 1 on the cells that follow their unloading line;
     ``soil``: 1 on soil cells, 0 where the foundation took the soil's place; on layered
     ground ``stratum``: 0 in the surface soil, k in the k-th layer; with a ringwall
     ``ringwall``: 1 in its cells, 2 in its fill's (which the other fields cover too: their
@@ -180,6 +182,11 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
                                                         eps[:, 3])
         # (Kondner's law is the soil's: nothing to say of a ringwall's concrete)
         level = hyperbolic.stress_level(eps_min, eps_max, nu, a, b)
+        if block.memory is not None:
+            # a cell on its unloading line is below its loading curve: its deviator's
+            unloading = _cellwise(block.memory.unloading, Q0)[:, 0] > 0.5
+            level = np.where(unloading, (s_max - s_min) * b, level)
+            values["unloading"] = unloading.astype(float)
         values["stress_level"] = np.where(block.linear_cells, 0.0, level)
     if s.layers:
         # which stratum each cell is in (0: the surface soil, k: the k-th layer)
@@ -448,6 +455,9 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
         note = ", ".join(f"{state} {sum(lengths[f'{state}_length'].values()):.2f} m"
                          for state in ("slip", "separated", "rebonded")
                          if f"{state}_length" in lengths)
+        if st.get("unloading_cells"):
+            note = ", ".join(x for x in (note, f"{st['unloading_cells']} soil cells unloading")
+                             if x)
         rows.append((f"stage {st['stage']}: w0", f"{1e3 * st['w0']:.2f} mm", note))
     return rows
 

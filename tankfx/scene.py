@@ -164,6 +164,11 @@ class Soil:
     #: the strata below the surface soil (which the keys above describe, from the surface
     #: down to the first layer's top), top down
     layers: tuple[Layer, ...] = ()
+    #: E_ur / E_i of Kondner's soil along a load path: a cell whose strain falls below the
+    #: largest it has had unloads (and reloads) linearly with E_ur = this times its initial
+    #: modulus and keeps its permanent strain; None: the paper's nonlinear elastic secant
+    #: law, which unloads along its loading curve
+    unloading_modulus_ratio: float | None = None
 
     @property
     def strata(self) -> tuple[Layer, ...]:
@@ -548,7 +553,7 @@ class Scene:
 
     @staticmethod
     def from_dict(data: dict[str, Any]) -> "Scene":
-        return _parse(data)
+        return _parse_scene(data)
 
     @staticmethod
     def from_toml(path: str | Path) -> "Scene":
@@ -625,7 +630,7 @@ _SPEC: dict[str, dict[str, tuple[type, bool]]] = {
              "cohesion": (float, False), "friction_angle": (float, False),
              "unit_weight": (float, False), "K0": (float, False),
              "atmospheric_pressure": (float, False), "water_table": (float, False),
-             "water_unit_weight": (float, False)},
+             "water_unit_weight": (float, False), "unloading_modulus_ratio": (float, False)},
     "plate": {"radius": (float, True), "thickness": (float, False), "Kp": (float, False),
               "E": (float, True), "nu": (float, True), "embedment": (float, False),
               "unit_weight": (float, False), "annular_width": (float, False),
@@ -1044,6 +1049,7 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
                    # (Duncan & Chang's failed zones settle slowly: 10-64 iterations measured)
                    max_iterations=(soil.get("max_iterations", 80 if dc else 40)
                                    if hyperbolic or dc else None),
+                   unloading_modulus_ratio=soil.get("unloading_modulus_ratio"),
                    layers=tuple(_layer(x, hyperbolic, dc, dc_values) for x in layers))
     plate_dc = None
     if plate is not None:
@@ -1284,6 +1290,7 @@ def _check_soil(rd: _Reader, soil: dict | None, raw_layers) -> list[dict[str, An
                    f"lie in (0, 1) (the paper's 0.05 is the default)")
         if soil.get("max_iterations", 1) < 1:
             rd.bad("soil.max_iterations: must be >= 1")
+        _check_unloading(rd, soil, raw_layers)
     layers = _layers(rd, raw_layers, (soil or {}).get("model", "linear"),
                      (soil or {}).get("atmospheric_pressure")) \
         if raw_layers is not None else []
@@ -1324,6 +1331,30 @@ def _layer(x: dict, hyperbolic: bool, dc: bool, dc_values: dict) -> Layer:
                  nu=x["nu"], E_gradient=x.get("E_gradient", 0.0),
                  hyperbolic_a=x.get("hyperbolic_a"), hyperbolic_b=x.get("hyperbolic_b"),
                  permeability=x.get("permeability"))
+
+
+def _check_unloading(rd: _Reader, soil: dict, raw_layers) -> None:
+    """soil.unloading_modulus_ratio: Kondner's soil, displacement form, E_ur >= E_i."""
+    ratio = soil.get("unloading_modulus_ratio")
+    if ratio is None:
+        return
+    if soil.get("model", "linear") != "hyperbolic":
+        rd.bad(f"soil.unloading_modulus_ratio: only used with model = \"hyperbolic\" "
+               f"(Kondner's soil; not with {soil.get('model', 'linear')!r}: a linear soil "
+               f"unloads as it loads, and Duncan & Chang's unloading modulus is not "
+               f"modelled); remove it")
+        return
+    if isinstance(ratio, float) and not (math.isfinite(ratio) and ratio >= 1.0):
+        rd.bad(f"soil.unloading_modulus_ratio = {ratio!r}: E_ur / E_i must be a number >= 1 "
+               f"(unloading is stiffer than the loading curve's start; 1 is Masing's rule, "
+               f"1-3 usual); a smaller E_ur would lift the soil above where it started")
+    nus = [soil.get("nu")] + [x.get("nu", soil.get("nu")) for x in (raw_layers or [])
+                              if isinstance(x, dict)]
+    if any(isinstance(v, float) and v > MIXED_FROM_NU for v in nus):
+        rd.bad(f"soil.unloading_modulus_ratio: needs every stratum's nu <= {MIXED_FROM_NU} "
+               f"(the unloading law is written for the displacement form; the mixed form "
+               f"of a nearly incompressible stratum carries no memory); lower nu or remove "
+               f"the key")
 
 
 def _kondner(rd: _Reader, table: dict, given, name: str, what_E: str) -> None:
@@ -1498,5 +1529,16 @@ def load_scene(path: str | Path) -> Scene:
             data = tomllib.load(f)
     except tomllib.TOMLDecodeError as e:
         raise SceneError([f"{p}: not valid TOML: {e}"]) from None
-    return _parse(data)
+    return _parse_scene(data)
+
+
+def _parse_scene(data: dict[str, Any]) -> Scene:
+    """A whole scene (:func:`_parse`), with the checks that need its load path."""
+    scene = _parse(data)
+    ratio = scene.soil.unloading_modulus_ratio
+    if ratio is not None and len(scene.stages) < 2:
+        raise SceneError([f"soil.unloading_modulus_ratio = {ratio!r}: acts only along a load "
+                          f"path of two stages or more (one load never unloads); add "
+                          f"[[stages]] or remove the key"])
+    return scene
 
