@@ -196,6 +196,28 @@ def test_load_stages_sharing_one_factorisation_parallel_equals_serial():
 
 
 @needs_two_ranks
+def test_unloading_memory_parallel_equals_serial():
+    """Kondner's soil with an unloading modulus under a Mohr-Coulomb interface, filled,
+    emptied and filled again: each cell's most loaded state (kept on ghost cells too) gives
+    the same path on 2 ranks as serially, stage by stage."""
+    from tankfx.analysis import analyse_path
+
+    d = small_tank(soil=HYPERBOLIC_SOIL | {"unloading_modulus_ratio": 3.0},
+                   interface={"condition": "mohr_coulomb", "tan_phi": 0.5},
+                   load=WATER_LOAD | {"self_weight": True})
+    d["plate"]["unit_weight"] = d["wall"]["unit_weight"] = 24e3
+    d["stages"] = [{}, {"pressure": 0.0, "liquid_height": 0.0}, {}]
+    scene = Scene.from_dict(d)
+    parallel = analyse_path(scene, list(scene.stages), MPI.COMM_WORLD)
+    serial = analyse_path(scene, list(scene.stages), MPI.COMM_SELF)
+    for p, s in zip(parallel, serial):
+        assert p.results["soil"]["unloading_cells"] == s.results["soil"]["unloading_cells"]
+        assert p.results["soil"]["iterations"] == s.results["soil"]["iterations"]
+        _assert_same_numbers(p.results, s.results)
+    assert serial[1].results["soil"]["unloading_cells"] > 0
+
+
+@needs_two_ranks
 @pytest.mark.parametrize("condition", ["bonded", "mohr_coulomb"])
 def test_overturning_parallel_equals_serial(condition):
     """The first harmonic (overturning moment and shear) of the embedded tank: every
