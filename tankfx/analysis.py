@@ -726,7 +726,14 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         results["soil"] = soil_iteration or {"model": "linear", "iterations": 0}
         results["soil"]["model"] = scene.soil.model
         results["linear_solves"] = solver.solves
-        results["warnings"] = warnings
+        results["warnings"] = list(warnings)
+        held = results["soil"].get("held_on_loading_curve")
+        if held:
+            results["warnings"].append(
+                f"{held} soil cells at their largest strain so far changed between their "
+                f"loading curve and their unloading line at every iteration and were held on "
+                f"the curve (the paper's law) to converge")
+            log.warning("warning: %s", results["warnings"][-1])
         results["linear_solver"] = {
             "method": scene.solver.method, "solves": solver.solves,
             "factorisation": solver.factorisation, "assembly": solver.assembly,

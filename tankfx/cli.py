@@ -190,6 +190,9 @@ def describe(scene) -> list[str]:
             consts += f", p_a = {s.atmospheric_pressure:g} Pa"
         out.append(f"  soil {where}: E = {st.E:.4g} Pa, nu = {st.nu:g}, E_gradient = "
                    f"{st.E_gradient:g} /m{consts} ({form})")
+    if s.unloading_modulus_ratio is not None:
+        out.append(f"  unloading along the load path: E_ur = {s.unloading_modulus_ratio:g} x "
+                   f"each cell's initial modulus, below its most loaded state")
     if s.model == "duncan_chang" and s.water_table is not None:
         out.append(f"  water table {s.water_table:g} m down: the confinement below it is "
                    f"effective (gamma_w = {s.water_unit_weight:g} N/m^3)")

@@ -480,7 +480,9 @@ def write_report(results: dict, figures: list[Path], path) -> Path:
     lines = [f"# {r['title']}", ""]
     model = soil.get("model", "linear")
     scene_rows = [("soil", f"{model}, E_s = {soil['E']:.4g} Pa, nu = {soil['nu']:g}, lambda = "
-                           f"{soil.get('E_gradient', 0.0):g} /m{stratum_constants(model, soil)}")]
+                           f"{soil.get('E_gradient', 0.0):g} /m{stratum_constants(model, soil)}"
+                           + (f"; unloads with E_ur = {soil['unloading_modulus_ratio']:g} x E_i"
+                              if soil.get("unloading_modulus_ratio") else ""))]
     for k, layer in enumerate(soil.get("layers", []), start=1):
         scene_rows.append((f"layer {k}", f"from {layer['depth']:g} m down: E = "
                                          f"{layer['E']:.4g} Pa, nu = {layer['nu']:g}, lambda = "

@@ -138,6 +138,30 @@ def test_a_load_path_scene_file(tmp_path):
     assert r["stages"][1]["applied_load"] > r["stages"][0]["applied_load"] > 0
 
 
+def test_hydrotest_scene_file_remembers_through_the_command_line(tmp_path):
+    """demos/scenes/hydrotest.toml (Kondner's soil with an unloading modulus, ten stages):
+    `tankfx check` says how it unloads; `tankfx run` writes each stage's unloading cells in
+    results.json and the log, the report names E_ur, and the stage table's emptied tank
+    keeps most of its settlement; the fields file has the cells' unloading state."""
+    scene = ROOT / "demos" / "scenes" / "hydrotest.toml"
+    proc = _run("check", scene)
+    assert proc.returncode == 0, proc.stderr
+    assert "E_ur = 3 x each cell's initial modulus" in proc.stdout
+    out = tmp_path / "out"
+    proc = _run("run", scene, "--out", out, "--coarse", "--no-figures")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    r = json.loads((out / "results.json").read_text())
+    stages = r["stages"]
+    assert len(stages) == 10 and stages[0]["unloading_cells"] == 0
+    assert stages[6]["unloading_cells"] > 1000
+    assert stages[6]["w0"] > stages[0]["w0"] + 0.5 * (stages[3]["w0"] - stages[0]["w0"])
+    assert r["w0"] == pytest.approx(stages[3]["w0"], rel=2e-3)
+    assert not any("less vertical load" in w for w in r["warnings"])
+    assert "soil cells unloading" in (out / "tankfx.log").read_text()
+    assert "unloads with E_ur = 3 x E_i" in (out / "report.md").read_text()
+    assert "unloading" in _owned_grid(out / "fields" / "soil.pvd").cell_data
+
+
 def test_without_figures_and_fields_writes_neither(tmp_path):
     out = tmp_path / "out"
     assert _run("run", SCENE, "--out", out, "--no-figures", "--no-fields").returncode == 0
