@@ -181,3 +181,27 @@ def test_cells_flipping_at_their_largest_strain_are_held_and_reported():
     assert r[2]["soil"]["held_on_loading_curve"] <= 10      # a handful of 6617 cells
     assert r[2]["w0"] == pytest.approx(paper[2]["w0"], rel=5e-3)
     assert r[1]["w0"] == pytest.approx(paper[1]["w0"], rel=1e-9)
+
+
+def test_overturning_an_unloaded_soil_rocks_it_on_its_unloading_modulus():
+    """A rigid smooth disc on Kondner's soil pressed with 40 kPa, then left with 10 kPa and
+    an overturning moment: every soil cell is on its unloading line, so the first harmonic
+    rocks the soil of E_ur = 2 / a: the same rocking stiffness as a linear soil of that
+    modulus (1e-9), Borowicka's within the coarse mesh's 0.5 %."""
+    from tankfx import reference as ref
+
+    # (the plate's and the interface's stiffness given: from Kp and by default they
+    # follow the soil's E_s, which differs between the two scenes)
+    plate = {"radius": 1.0, "thickness": 0.55, "E": 30e9, "nu": 0.2}     # Kp ~ 1e3
+    SMOOTH = {"condition": "smooth", "normal_stiffness": 1e11}
+    M = 1e4
+    r = path({"soil": HYPERBOLIC_SOIL | {"unloading_modulus_ratio": 2.0}, "plate": plate,
+              "interface": SMOOTH, "mesh": COARSE, "load": {"pressure": 40e3},
+              "stages": [{}, {"pressure": 10e3, "overturning_moment": M}]})[1]
+    linear = path({"soil": {"E": 2.0 / A, "nu": NU}, "plate": plate, "mesh": COARSE,
+                   "interface": SMOOTH,
+                   "load": {"pressure": 10e3, "overturning_moment": M}, "stages": [{}]})[0]
+    K = r["overturning"]["rocking_stiffness"]
+    assert K == pytest.approx(linear["overturning"]["rocking_stiffness"], rel=1e-9)
+    assert K == pytest.approx(ref.rigid_disc_rocking_stiffness(2.0 / A, NU, 1.0), rel=5e-3)
+    assert r["overturning"]["equilibrium"]["moment_relative_error"] < 1e-8
