@@ -210,13 +210,6 @@ class SoilBlock:
                 modulus = fem.Function(Q0, name="secant_modulus")
                 modulus.interpolate(fem.Expression(self.E, Q0.element.interpolation_points))
             self.E = modulus
-        #: each cell's most loaded state and unloading line along a load path (Kondner's
-        #: soil with an unloading modulus), else None
-        self.memory = None
-        if s.unloading_modulus_ratio is not None:
-            from .hyperbolic import UnloadingMemory
-
-            self.memory = UnloadingMemory(self.E, scene.mesh.degree, s.unloading_modulus_ratio)
         self.trial, self.test = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
         self._cell_measures(self.n_materials)
         self.unknowns = [self.u]
@@ -252,6 +245,14 @@ class SoilBlock:
             self.pressures.append((fem.Function(Q, name=name), (a_up, a_pu, a_pp),
                                    fem.Constant(msh, 0.0) * q * self.dx_strata([i])))
         self.unknowns += [pr for pr, _, _ in self.pressures]
+        #: each cell's most loaded state and unloading line along a load path (a nonlinear
+        #: soil with an unloading modulus), else None
+        self.memory = None
+        if s.unloading_modulus_ratio is not None:
+            from .hyperbolic import UnloadingMemory
+
+            self.memory = UnloadingMemory(self.E, scene.mesh.degree, s.unloading_modulus_ratio,
+                                          self._cell_pressure() if self.mixed else None)
         if domain.has_void:
             # A zero term over the void: it puts the void's dofs in the sparsity pattern, so
             # that their Dirichlet rows get a diagonal (it adds nothing to any value).
@@ -447,8 +448,47 @@ class SoilBlock:
         out = self.stress_of(soil_forms.strain(self.u if u is None else u, self.r),
                              [pr for pr, _, _ in self.pressures])
         if u is None and self.memory is not None:
-            out += self.memory.initial_stress(self.E, self.nu, self.r)
+            out += self.initial_stress()
         return out
+
+    def _cell_pressure(self):
+        """The mixed form's pressure of each cell's own stratum (UFL; the displacement
+        form's cells: 0)."""
+        pressures = [pr for pr, _, _ in self.pressures]
+        if self.n_strata == 1:
+            return pressures[0]
+        return sum(c * pr for c, pr in zip(self._in_mixed, pressures))
+
+    @cached_property
+    def _in_mixed(self) -> list[fem.Function]:
+        """Per mixed stratum, its cells' indicator (DG0)."""
+        return [_cell_field(self.domain.mesh, (self.stratum == i).astype(float), f"in_{i}")
+                for i in self.mixed_strata]
+
+    def initial_stress(self):
+        """The stress the unloading cells keep (tankfx.hyperbolic.UnloadingMemory): with
+        their most loaded state's strain eps_p and modulus E_p (nu_p), sigma_p - D(E_ur)
+        eps_p, which the displacement form writes D(E_p - E_ur) eps_p (nu fixed). The mixed
+        form's pressure stays the whole pressure, p = p_p - lambda_ur tr(eps - eps_p) on
+        the line (continuous over the cells, whichever branch each is on; its constraint's
+        right-hand side in :meth:`load_rows`), so that its fixed part is only the shear's,
+        2 (mu_p - mu_ur) eps_p."""
+        m, r = self.memory, self.r
+        eps_p = soil_forms.strain(m.peak_u, r)
+        if not self.mixed:
+            return m.unloading * soil_forms.stress(eps_p, m.peak_modulus - self.E, self.nu)
+        mixed = 2.0 * (soil_forms.lame(m.peak_modulus, m.peak_nu)[1] -
+                       soil_forms.lame(self.E, self.nu)[1]) * eps_p
+        if self.n_strata == 1:
+            return m.unloading * mixed
+        # the displacement form's strata by their own law (nu set to 0 in the mixed cells,
+        # where lambda may be infinite)
+        chi = sum(self._in_mixed)
+        in_mixed = np.isin(self.stratum, self.mixed_strata)
+        nu = self.nu.x.array[self.nu.function_space.dofmap.list[:, 0]]
+        nu_d = _cell_field(self.domain.mesh, np.where(in_mixed, 0.0, nu), "nu_displacement_form")
+        return m.unloading * ((1.0 - chi) * soil_forms.stress(eps_p, m.peak_modulus - self.E,
+                                                               nu_d) + chi * mixed)
 
     def stress_of(self, eps, pressures):
         """The stress of a strain tensor ``eps`` with the mixed strata's ``pressures`` (one
@@ -490,11 +530,21 @@ class SoilBlock:
     def load_rows(self, L_u):
         """The soil's rows of a block load vector: [L_u] or, mixed, [L_u, L_p_1, ...]; the
         stress the unloading cells keep is a load of the displacement row."""
+        L_p = [L for _, _, L in self.pressures]
         if self.memory is not None:
-            sigma_0 = self.memory.initial_stress(self.E, self.nu, self.r)
-            L_u = L_u - ufl.inner(sigma_0, soil_forms.strain(self.test, self.r)) * \
-                2.0 * math.pi * self.r * self.dx
-        return [L_u] + [L_p for _, _, L_p in self.pressures]
+            w = 2.0 * math.pi * self.r
+            L_u = L_u - ufl.inner(self.initial_stress(),
+                                  soil_forms.strain(self.test, self.r)) * w * self.dx
+            # mixed: on its line a cell's pressure is p_p - lambda_ur tr(eps - eps_p), so
+            # that the constraint -tr(eps) - p / lambda_ur has the right-hand side
+            # -tr(eps_p) - p_p / lambda_ur there
+            m = self.memory
+            if self.mixed:
+                rhs = m.unloading * (ufl.tr(soil_forms.strain(m.peak_u, self.r)) +
+                                     m.peak_p * soil_forms.inverse_lambda(self.E, self.nu))
+                L_p = [L - rhs * ufl.TestFunction(pr.function_space) * w * self.dx_strata([i])
+                       for L, (pr, _, _), i in zip(L_p, self.pressures, self.pressure_strata)]
+        return [L_u] + L_p
 
     def residual(self, a_uu, L_u):
         """The displacement equations' residual a(u, v) - L(v) (support reactions)."""

@@ -59,7 +59,7 @@ __all__ = ["kondner_deviator", "principal_strains", "major_strain", "kondner_par
            "HyperbolicIteration", "SoilFailure", "ULTIMATE_FRACTION", "first_order_excess",
            "geostatic_stress", "duncan_chang_parameters", "initial_modulus",
            "MIN_CONFINEMENT", "failed_moduli", "duncan_chang_secant", "unloading_cells",
-           "UnloadingMemory", "RELOADING_MARGIN", "MAX_SWITCHES"]
+           "duncan_chang_unloading", "UnloadingMemory", "MAX_SWITCHES"]
 
 #: Duncan & Chang's confining stress is held at this fraction of p_a at least: at the
 #: ground surface, and where the tank's stress puts a cell in tension, sigma_3 would give no
@@ -218,6 +218,33 @@ def duncan_chang_secant(soil, st, geostatic, stress, G, eps_min, eps_max) -> dic
     return {"E": E, "nu": nu_new, "G": G_new, "K": K, "failed": failed, "a": a, "b": b}
 
 
+def duncan_chang_unloading(soil, st, geostatic, stress, peak_stress, E, ratio) -> np.ndarray:
+    """Duncan & Chang's unloading-reloading modulus of cells on their unloading line,
+    consistent with the confinement it gives: E_ur = ratio K p_a (sigma_3 / p_a)^n, sigma_3
+    the minor principal compression of the geostatic stress plus the cell's.
+
+    ``stress``: the cells' current stress at modulus ``E`` ((rr, zz, rz, theta), tension
+    positive), ``peak_stress`` theirs at their most loaded state: on the line the stress
+    moves from the peak's in proportion to E_ur, so at a trial modulus E' it is
+    peak + (E' / E) (stress - peak). As for the loading branch (duncan_chang_secant), a
+    Picard step reading sigma_3 off the current stress swings: unloading lowers the
+    confinement, a stiffer line unloads it more. The root of E' = E_ur(sigma_3(E')) is
+    unique (the right-hand side falls as E' grows): bisection on ln E'."""
+    change = stress - peak_stress
+
+    def law(ln_E):
+        total = geostatic + peak_stress + (np.exp(ln_E) / E)[:, None] * change
+        _, most_tensile = principal_strains(total[:, 0], total[:, 1], total[:, 2], total[:, 3])
+        return ratio / duncan_chang_parameters(soil, -most_tensile, st)[0]
+
+    lo, hi = np.log(E) - 60.0, np.log(E) + 60.0
+    for _ in range(CONSISTENT_HALVINGS):
+        mid = 0.5 * (lo + hi)
+        above = law(mid) > np.exp(mid)
+        lo, hi = np.where(above, mid, lo), np.where(above, hi, mid)
+    return law(0.5 * (lo + hi))
+
+
 def _moduli(G, K, nu):
     """(E, nu) of cells of shear modulus G: intact ones (K nan) keep their nu, failed ones
     have bulk modulus K."""
@@ -235,14 +262,10 @@ def _moduli(G, K, nu):
 #           = D(E_ur) eps(u) + D(E_p - E_ur) eps(u_p),
 # so that emptied it keeps the permanent strain (1 - E_p / E_ur) eps(u_p), and reloaded it
 # comes back along the same line to the state it left. The second term is a stress fixed in
-# the cell: it goes to the right-hand side. Past its largest eps_p the cell is on the
-# loading curve again (the secant of its total strain, as the paper's). D is linear in E at
-# a fixed nu, which Kondner's soil keeps.
+# the cell: it goes to the right-hand side. Past its largest eps_p (by the iteration's
+# tolerance) the cell is on the loading curve again (the secant of its total strain, as the
+# paper's). D is linear in E at a fixed nu.
 
-#: A reloading cell rejoins the loading curve once its eps_p passes its largest by this
-#: fraction: without the margin a cell reloaded to its old state (which it reaches only to
-#: the solver's precision) would flip between the two laws.
-RELOADING_MARGIN = 1e-3
 #: A cell that has changed between its loading curve and its unloading line this many times
 #: in one stage's iteration is held on the curve. Measured on the Fig. 13 tank filled in
 #: steps (coarse mesh): a few far-field cells (strains of 2e-7) whose strain barely moved
@@ -251,42 +274,54 @@ RELOADING_MARGIN = 1e-3
 MAX_SWITCHES = 4
 
 
-def unloading_cells(eps_p, eps_p_max, unloading):
+def unloading_cells(eps_p, eps_p_max, unloading, margin):
     """Per cell, whether it follows its unloading line: a cell on the loading curve unloads
     where its eps_p falls below its largest so far; an unloading cell stays on its line
-    until eps_p passes that largest by RELOADING_MARGIN (a cell never loaded stays on the
-    curve)."""
-    below = eps_p < eps_p_max * np.where(unloading, 1.0 + RELOADING_MARGIN, 1.0)
+    until eps_p passes that largest by the fraction ``margin`` (a cell never loaded stays
+    on the curve).
+
+    The margin is the iteration's tolerance (Eq. 18): a cell's most loaded state is known
+    to that precision (its modulus within the tolerance of its law), so a reloading to the
+    same load lands within about as much of it. Without it (a margin of 1e-3 was tried)
+    the iterates of a reloading overshoot their cells' old states by a few per cent, those
+    cells move to the softer curve and stay there: Duncan & Chang's tank filled again then
+    did not converge, or settled 0.24 % short with 2163 cells held."""
+    below = eps_p < eps_p_max * np.where(unloading, 1.0 + margin, 1.0)
     return below & (eps_p_max > 0.0)
 
 
 class UnloadingMemory:
     """Each soil cell's most loaded state along a load path, and the fields that put its
-    unloading line into the forms (see above): ``peak_modulus`` E_p and ``unloading`` (1
-    on the line, 0 on the loading curve) as DG0 fields, ``peak_u`` the displacement of each
-    cell's most loaded state (discontinuous: cells reach theirs at different stages)."""
+    unloading line into the forms (the soil block's ``initial_stress``): ``peak_modulus``
+    E_p, ``peak_nu`` and ``unloading`` (1 on the line, 0 on the loading curve) as DG0
+    fields, ``peak_u`` the displacement of each cell's most loaded state (discontinuous:
+    cells reach theirs at different stages) and, for the mixed form (``pressure``: the
+    expression of each cell's pressure), ``peak_p`` its pressure (discontinuous, a degree
+    below)."""
 
-    def __init__(self, modulus: fem.Function, degree: int, ratio: float):
+    def __init__(self, modulus: fem.Function, degree: int, ratio: float, pressure=None):
         Q = modulus.function_space
         msh = Q.mesh
         self.ratio = ratio
         self.peak_modulus = fem.Function(Q, name="peak_secant_modulus")
+        self.peak_nu = fem.Function(Q, name="peak_poisson_ratio")
         self.unloading = fem.Function(Q, name="unloading")
         V = fem.functionspace(msh, ("DG", degree, (2,)))
         self.peak_u = fem.Function(V, name="peak_displacement")
         self._u = fem.Function(V)
         n = msh.topology.index_map(2).size_local + msh.topology.index_map(2).num_ghosts
-        #: per local cell (cell order): the largest eps_p so far
+        #: per local cell (cell order): the largest eps_p so far, and the stress then at
+        #: the centroid ((rr, zz, rz, theta); Duncan & Chang's soil)
         self.peak_strain = np.zeros(n)
+        self.peak_stress = np.zeros((n, 4))
         self._dof_Q = Q.dofmap.list[:, 0]
-        bs = V.dofmap.index_map_bs
-        self._dofs_V = (bs * V.dofmap.list[:, :, None] + np.arange(bs)).reshape(n, -1)
-
-    def initial_stress(self, E, nu, r):
-        """The stress fixed in the unloading cells, D(E_p - E) eps(u_p) (E: the cells'
-        current modulus, E_ur on the line; zero elsewhere)."""
-        return soil_forms.stress(soil_forms.strain(self.peak_u, r),
-                                 self.unloading * (self.peak_modulus - E), nu)
+        self._dofs_V = _cell_dofs(V, n)
+        self.peak_p = self._p = self._p_expr = None
+        if pressure is not None:
+            P = fem.functionspace(msh, ("DG", degree - 1))
+            self.peak_p, self._p = fem.Function(P, name="peak_pressure"), fem.Function(P)
+            self._p_expr = fem.Expression(pressure, P.element.interpolation_points)
+            self._dofs_P = _cell_dofs(P, n)
 
     @property
     def unloading_mask(self) -> np.ndarray:
@@ -295,14 +330,30 @@ class UnloadingMemory:
     def set_unloading(self, mask: np.ndarray) -> None:
         self.unloading.x.array[self._dof_Q] = mask.astype(float)
 
-    def commit(self, u: fem.Function, eps_p: np.ndarray, E: np.ndarray, cells) -> None:
+    def commit(self, u: fem.Function, eps_p: np.ndarray, E: np.ndarray, nu: np.ndarray,
+               cells, stress: np.ndarray | None = None) -> None:
         """A converged stage: the cells ``cells`` (bool, cell order) on the loading curve
-        have reached their most loaded state so far; remember it."""
+        have reached their most loaded state so far; remember it (their strain measure,
+        modulus, Poisson's ratio, displacement and pressure; and their stress at the
+        centroid, ``stress``, which Duncan & Chang's unloading modulus reads)."""
+        if stress is not None:
+            self.peak_stress[cells] = stress[cells]
         self._u.interpolate(u)
         self.peak_strain[cells] = eps_p[cells]
         self.peak_modulus.x.array[self._dof_Q[cells]] = E[cells]
+        self.peak_nu.x.array[self._dof_Q[cells]] = np.broadcast_to(nu, E.shape)[cells]
         dofs = self._dofs_V[cells].reshape(-1)
         self.peak_u.x.array[dofs] = self._u.x.array[dofs]
+        if self._p is not None:
+            self._p.interpolate(self._p_expr)
+            dofs = self._dofs_P[cells].reshape(-1)
+            self.peak_p.x.array[dofs] = self._p.x.array[dofs]
+
+
+def _cell_dofs(V, n_cells: int) -> np.ndarray:
+    """Per local cell, the indices into a function's array of its dofs (blocks unrolled)."""
+    bs = V.dofmap.index_map_bs
+    return (bs * V.dofmap.list[:, :, None] + np.arange(bs)).reshape(n_cells, -1)
 
 
 def stress_level(eps_min, eps_max, nu, a, b):
@@ -405,6 +456,9 @@ class HyperbolicIteration:
             log.info("hyperbolic soil: 1/a = %.4g Pa, 1/b = %.4g Pa, tolerance %.3g (Eq. 18)",
                      1.0 / s.hyperbolic_a, 1.0 / s.hyperbolic_b, tol)
         log.info("  it  changing  max misfit  at ultimate  du/u        time s")
+        # (Kondner's eps_p reads the intact Poisson's ratio: a failed Duncan-Chang cell's
+        # is not its law's)
+        nu_law = self.nu_intact if self.duncan_chang else self.nu
         for it in range(1, max_it + 1):
             t0 = time.perf_counter()
             unsettled = inner_solve()     # interface elements that changed state (single loop)
@@ -430,14 +484,20 @@ class HyperbolicIteration:
                 # cells below their most loaded state follow their unloading line: E_ur
                 was = self.memory.unloading_mask
                 unloading = self.is_soil & unloading_cells(
-                    major_strain(eps_min, eps_max, self.nu), self.memory.peak_strain, was)
+                    major_strain(eps_min, eps_max, nu_law), self.memory.peak_strain, was, tol)
+                E_ur = self._unloading_modulus(E)
+                # a cell leaves its line only once its modulus there has settled: passing
+                # its largest strain under a modulus that is still moving (Duncan & Chang's
+                # E_ur follows the confinement, which lags at a stage's start) is no
+                # reloading past it
+                unloading |= was & self.is_soil & (np.abs(E - E_ur) > tol * E)
                 # a cell at the kink of its law (its strain at its largest, neither loading
                 # nor unloading) can flip between the soft curve and the stiff line at every
                 # iteration: after MAX_SWITCHES it is held on the curve (the paper's law)
                 self._switches += unloading != was
                 unloading &= self._switches < MAX_SWITCHES
                 switched = unloading != was
-                E_new = np.where(unloading, self.memory.ratio * self.E_initial, E_new)
+                E_new = np.where(unloading, E_ur, E_new)
                 misfit = np.abs(E - E_new) / E
                 ultimate = ultimate & ~unloading
             changing = (misfit > tol) & self.is_soil
@@ -468,9 +528,11 @@ class HyperbolicIteration:
                 if self.memory is not None:
                     # the cells on the loading curve past their largest strain are at
                     # their most loaded state so far (a held cell below it keeps its own)
-                    eps_p = major_strain(eps_min, eps_max, self.nu)
-                    self.memory.commit(u, eps_p, E, self.is_soil & ~unloading &
-                                       (eps_p >= self.memory.peak_strain))
+                    eps_p = major_strain(eps_min, eps_max, nu_law)
+                    self.memory.commit(u, eps_p, E, self.nu, self.is_soil & ~unloading &
+                                       (eps_p >= self.memory.peak_strain),
+                                       self.stress.x.array.reshape(-1, 4)[self.dof_T]
+                                       if self.duncan_chang else None)
                     held = self.is_soil & (self._switches >= MAX_SWITCHES)
                     extra = {"unloading_cells": row["unloading"],
                              "held_on_loading_curve": comm.allreduce(int(held[own].sum())),
@@ -486,6 +548,9 @@ class HyperbolicIteration:
             # outside the tolerance; that freezes a misfit of up to the tolerance, worth
             # 2.5 % of w0 at the paper's 0.05 in the flexible-load test)
             floor = MODULUS_FLOOR * self.E_initial
+            if switched is not None and comm.allreduce(int(switched[own].sum())):
+                # the map itself changed: its history no longer fits it
+                del self._x_hist[:], self._f_hist[:], self._g_hist[:]
             if self.duncan_chang:
                 # accelerated on ln G with each failed cell's bulk modulus held, so that a
                 # failed cell's (E, nu) stay a pair of the law
@@ -495,13 +560,15 @@ class HyperbolicIteration:
                     G_new = self._anderson(G, G_new, floor / 3.0, own,
                                            ceiling=self.E_initial / 2.0)
                 new, nu_new = _moduli(G_new, law["K"], self.nu_intact)
+                if unloading is not None:
+                    # on its unloading line a cell is intact, of modulus E_ur
+                    new = np.where(unloading, E_new, new)
+                    nu_new = np.where(unloading, self.nu_intact, nu_new)
+                    self.memory.set_unloading(unloading)
                 self.nu = np.where(self.is_soil, nu_new, self.nu_intact)
                 self.nu_field.x.array[self.dof_nu] = self.nu
             else:
                 new = np.maximum(E_new, floor)
-                if switched is not None and comm.allreduce(int(switched[own].sum())):
-                    # the map itself changed: its history no longer fits it
-                    del self._x_hist[:], self._f_hist[:], self._g_hist[:]
                 if self.anderson_depth:
                     new = self._anderson(E, new, floor, own, ceiling=self.E_initial)
                 if unloading is not None:
@@ -527,6 +594,17 @@ class HyperbolicIteration:
         raise SolveError(f"the hyperbolic soil iteration did not converge in {max_it} "
                          f"iterations (largest deviator misfit {worst:.3g} > {tol:g})",
                          self.history)
+
+    def _unloading_modulus(self, E) -> np.ndarray:
+        """Per cell, the modulus of its unloading line: ratio x Kondner's 1/a, or Duncan &
+        Chang's K_ur p_a (sigma_3 / p_a)^n, K_ur = ratio x K, at the confinement it gives
+        (``duncan_chang_unloading``; ``E``: the cells' current modulus)."""
+        if not self.duncan_chang:
+            return self.memory.ratio * self.E_initial
+        return duncan_chang_unloading(
+            self.model.scene.soil, self.strata, self.geostatic,
+            self.stress.x.array.reshape(-1, 4)[self.dof_T], self.memory.peak_stress,
+            np.where(self.is_soil, E, 1.0), self.memory.ratio)
 
     def cell_principal_strains(self) -> tuple[np.ndarray, np.ndarray]:
         """The smallest and largest principal strain of the current displacement at each

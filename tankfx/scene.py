@@ -164,10 +164,11 @@ class Soil:
     #: the strata below the surface soil (which the keys above describe, from the surface
     #: down to the first layer's top), top down
     layers: tuple[Layer, ...] = ()
-    #: E_ur / E_i of Kondner's soil along a load path: a cell whose strain falls below the
+    #: E_ur / E_i of a nonlinear soil along a load path: a cell whose strain falls below the
     #: largest it has had unloads (and reloads) linearly with E_ur = this times its initial
-    #: modulus and keeps its permanent strain; None: the paper's nonlinear elastic secant
-    #: law, which unloads along its loading curve
+    #: modulus (Duncan & Chang's: at its current confinement, K_ur = this x K) and keeps its
+    #: permanent strain; None: the paper's nonlinear elastic secant law, which unloads
+    #: along its loading curve
     unloading_modulus_ratio: float | None = None
 
     @property
@@ -1290,7 +1291,7 @@ def _check_soil(rd: _Reader, soil: dict | None, raw_layers) -> list[dict[str, An
                    f"lie in (0, 1) (the paper's 0.05 is the default)")
         if soil.get("max_iterations", 1) < 1:
             rd.bad("soil.max_iterations: must be >= 1")
-        _check_unloading(rd, soil, raw_layers)
+        _check_unloading(rd, soil)
     layers = _layers(rd, raw_layers, (soil or {}).get("model", "linear"),
                      (soil or {}).get("atmospheric_pressure")) \
         if raw_layers is not None else []
@@ -1333,28 +1334,20 @@ def _layer(x: dict, hyperbolic: bool, dc: bool, dc_values: dict) -> Layer:
                  permeability=x.get("permeability"))
 
 
-def _check_unloading(rd: _Reader, soil: dict, raw_layers) -> None:
-    """soil.unloading_modulus_ratio: Kondner's soil, displacement form, E_ur >= E_i."""
+def _check_unloading(rd: _Reader, soil: dict) -> None:
+    """soil.unloading_modulus_ratio: a nonlinear soil, E_ur >= E_i."""
     ratio = soil.get("unloading_modulus_ratio")
     if ratio is None:
         return
-    if soil.get("model", "linear") != "hyperbolic":
-        rd.bad(f"soil.unloading_modulus_ratio: only used with model = \"hyperbolic\" "
-               f"(Kondner's soil; not with {soil.get('model', 'linear')!r}: a linear soil "
-               f"unloads as it loads, and Duncan & Chang's unloading modulus is not "
-               f"modelled); remove it")
+    if soil.get("model", "linear") not in ("hyperbolic", "duncan_chang"):
+        rd.bad("soil.unloading_modulus_ratio: only used with a nonlinear soil (model = "
+               "\"hyperbolic\" or \"duncan_chang\"): a linear soil unloads as it loads; "
+               "remove it")
         return
     if isinstance(ratio, float) and not (math.isfinite(ratio) and ratio >= 1.0):
         rd.bad(f"soil.unloading_modulus_ratio = {ratio!r}: E_ur / E_i must be a number >= 1 "
                f"(unloading is stiffer than the loading curve's start; 1 is Masing's rule, "
                f"1-3 usual); a smaller E_ur would lift the soil above where it started")
-    nus = [soil.get("nu")] + [x.get("nu", soil.get("nu")) for x in (raw_layers or [])
-                              if isinstance(x, dict)]
-    if any(isinstance(v, float) and v > MIXED_FROM_NU for v in nus):
-        rd.bad(f"soil.unloading_modulus_ratio: needs every stratum's nu <= {MIXED_FROM_NU} "
-               f"(the unloading law is written for the displacement form; the mixed form "
-               f"of a nearly incompressible stratum carries no memory); lower nu or remove "
-               f"the key")
 
 
 def _kondner(rd: _Reader, table: dict, given, name: str, what_E: str) -> None:

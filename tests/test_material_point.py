@@ -66,7 +66,8 @@ def column(p, confined, tolerance):
     soil = Soil(E=1.0 / A, nu=NU, model="hyperbolic", hyperbolic_a=A, hyperbolic_b=B,
                 tolerance=tolerance, max_iterations=60)
     model = SimpleNamespace(
-        soil=SimpleNamespace(u=u, E=E, r=r, linear_cells=np.zeros(n_cells, dtype=bool)),
+        soil=SimpleNamespace(u=u, E=E, r=r, linear_cells=np.zeros(n_cells, dtype=bool),
+                             memory=None),            # (no load path: nothing to remember)
         scene=SimpleNamespace(soil=soil, embedment=0.0, foundation_radius=RADIUS),
         domain=SimpleNamespace(
             mesh=msh, cells=lambda name: np.arange(n_cells, dtype=np.int32),

@@ -12,7 +12,7 @@ import pytest
 from conftest import COARSE, HYPERBOLIC_SOIL, WATER_LOAD, small_tank
 from tankfx import Scene, SceneError
 from tankfx.analysis import analyse_path
-from tankfx.hyperbolic import RELOADING_MARGIN, unloading_cells
+from tankfx.hyperbolic import unloading_cells
 
 A, B, NU = (HYPERBOLIC_SOIL[k] for k in ("hyperbolic_a", "hyperbolic_b", "nu"))
 
@@ -23,15 +23,15 @@ def path(scene_dict):
 
 
 def test_cell_states_have_a_margin_to_rejoin_the_loading_curve():
-    """A cell unloads below its largest eps_p, stays on its line up to RELOADING_MARGIN
-    above it, and a cell never loaded stays on the loading curve."""
+    """A cell unloads below its largest eps_p, stays on its line up to the margin above
+    it, and a cell never loaded stays on the loading curve."""
     import numpy as np
 
+    m = 0.05
     eps_max = np.array([1.0, 1.0, 1.0, 1.0, 0.0])
-    eps = np.array([0.5, 1.0 + 0.5 * RELOADING_MARGIN, 1.0 + 0.5 * RELOADING_MARGIN,
-                    1.0 + 2 * RELOADING_MARGIN, 0.0])
+    eps = np.array([0.5, 1.0 + 0.5 * m, 1.0 + 0.5 * m, 1.0 + 2 * m, 0.0])
     was = np.array([False, True, False, True, False])
-    assert unloading_cells(eps, eps_max, was).tolist() == [True, True, False, False, False]
+    assert unloading_cells(eps, eps_max, was, m).tolist() == [True, True, False, False, False]
 
 
 @pytest.mark.parametrize("q", [30e3, 100e3])
@@ -60,34 +60,44 @@ def test_confined_layer_follows_kondner_and_its_unloading_line(q):
     assert r[1]["soil"]["unloading_cells"] > 0
 
 
-def test_rebound_of_a_flexible_load_is_the_linear_response_of_the_unloading_modulus():
+@pytest.mark.parametrize("nu", [NU, 0.49, 0.5])
+def test_rebound_of_a_flexible_load_is_the_linear_response_of_the_unloading_modulus(nu):
     """40 kPa on Kondner's soil, then 10 kPa: every soil cell unloads, so the rebound is the
     linear soil of E_ur = 2 / a under the 30 kPa taken off (measured: 4e-13); loading back
-    to 40 kPa returns to the first state (1e-13)."""
+    to 40 kPa returns to the first state (1e-13). Also at nu = 0.49 and 0.5, in the mixed
+    form (its pressure on the line p_p - lambda_ur tr(eps - eps_p)): there 4 of 2007 cells
+    beside the load's edge strain more as the load falls and stay on their curve, so the
+    rebound is the linear one within 1.7e-6 and 1.3e-6 at the centre (7.7e-5 at the
+    edge), and the return within 4e-7."""
     load = {"pressure": 40e3, "load_radius": 1.0}
-    scene = Scene.from_dict({"soil": HYPERBOLIC_SOIL | {"unloading_modulus_ratio": 2.0},
+    scene = Scene.from_dict({"soil": HYPERBOLIC_SOIL | {"unloading_modulus_ratio": 2.0,
+                                                        "nu": nu},
                              "load": load, "mesh": COARSE,
                              "stages": [{}, {"pressure": 10e3}, {}]})
     solutions = analyse_path(scene, list(scene.stages))
     r = [s.results for s in solutions]
-    linear = path({"soil": {"E": 2.0 / A, "nu": NU}, "mesh": COARSE,
+    linear = path({"soil": {"E": 2.0 / A, "nu": nu}, "mesh": COARSE,
                    "load": load | {"pressure": 30e3}, "stages": [{}]})[0]
-    assert r[0]["w0"] - r[1]["w0"] == pytest.approx(linear["w0"], rel=1e-9)
-    assert r[0]["w_edge"] - r[1]["w_edge"] == pytest.approx(linear["w_edge"], rel=1e-9)
-    assert r[2]["w0"] == pytest.approx(r[0]["w0"], rel=1e-9)
+    exact = nu < 0.45
+    tol = 1e-9 if exact else 1e-5
+    assert r[0]["w0"] - r[1]["w0"] == pytest.approx(linear["w0"], rel=tol)
+    assert r[0]["w_edge"] - r[1]["w_edge"] == pytest.approx(linear["w_edge"],
+                                                            rel=tol if exact else 2e-4)
+    assert r[2]["w0"] == pytest.approx(r[0]["w0"], rel=tol)
     # every cell of the soil unloaded (the far field too: its strains fall with the load)
     domain = solutions[1].domain
     n_owned = domain.mesh.topology.index_map(2).size_local
     soil = domain.cells("soil")
     n_soil = domain.mesh.comm.allreduce(int((soil < n_owned).sum()))
-    assert r[1]["soil"]["unloading_cells"] == n_soil
+    assert 0 <= n_soil - r[1]["soil"]["unloading_cells"] <= (0 if exact else 5)
     assert r[1]["equilibrium"]["relative_error"] < 1e-8
 
 
 def hydrotest(interface, **soil):
     """The 1 m tank (concrete plate and wall with their weight) filled, emptied (its own
     weight left) and filled again."""
-    d = small_tank(soil=HYPERBOLIC_SOIL | {"unloading_modulus_ratio": 3.0} | soil,
+    d = small_tank(soil=({"unloading_modulus_ratio": 3.0} | soil if "model" in soil else
+                         HYPERBOLIC_SOIL | {"unloading_modulus_ratio": 3.0} | soil),
                    interface=interface, load=WATER_LOAD | {"self_weight": True})
     d["plate"]["unit_weight"] = d["wall"]["unit_weight"] = 24e3
     d["stages"] = [{}, {"pressure": 0.0, "liquid_height": 0.0}, {}]
@@ -112,30 +122,23 @@ def test_bonded_tank_keeps_a_permanent_settlement_and_reloads_to_where_it_was():
                                                      again["soil"]["unloading_cells"]]
 
 
-def test_mohr_coulomb_tank_reloads_to_where_it_was_within_the_iterations_tolerance():
+def test_mohr_coulomb_tank_reloads_to_where_it_was():
     """Under a Mohr-Coulomb interface the emptied tank's plate lifts off the soil's
-    permanent dish over most of its radius; filled again, the same element states come back,
-    and the tank returns to its first state within the soil iteration's tolerance: at
-    Eq. 18's 0.05 w0 2.2e-4, wd 1.8e-3, M0 1.5e-3 off (a few hundred cells pass their
-    largest strain on the way and rejoin the loading curve); ten times tighter, ten times
-    closer (2e-5, 1.8e-4, 1.4e-4)."""
-    gaps = []
-    for tol in (0.05, 0.005):
-        full, empty, again = hydrotest({"condition": "mohr_coulomb", "tan_phi": 0.5},
-                                       tolerance=tol)
-        gaps.append([abs(again[k] / full[k] - 1) for k in ("w0", "wd", "M0")])
-        assert empty["interface"]["separated_length"]["plate"] > 0.5
-        assert again["interface"]["separated_length"] == full["interface"]["separated_length"]
-        assert again["interface"]["rebonded_length"]["plate"] > 0.5
-    assert max(gaps[0]) < 3e-3 and gaps[0][0] < 5e-4
-    assert all(tight < 0.25 * loose for tight, loose in zip(gaps[1], gaps[0])), gaps
+    permanent dish over most of its radius; filled again, the same element states come back
+    (reported rebonded), and the tank returns to its first state within the iteration's
+    precision: measured w0 3.4e-6, wd 4.6e-5, M0 5.6e-5 (a few dozen cells pass their
+    largest strain by more than the tolerance on the way and rejoin the loading curve)."""
+    full, empty, again = hydrotest({"condition": "mohr_coulomb", "tan_phi": 0.5})
+    gaps = [abs(again[k] / full[k] - 1) for k in ("w0", "wd", "M0")]
+    assert gaps[0] < 2e-5 and max(gaps) < 3e-4, gaps
+    assert empty["interface"]["separated_length"]["plate"] > 0.5
+    assert again["interface"]["separated_length"] == full["interface"]["separated_length"]
+    assert again["interface"]["rebonded_length"]["plate"] > 0.5
 
 
 @pytest.mark.parametrize("change, key, words", [
     ({"unloading_modulus_ratio": 0.8}, "soil.unloading_modulus_ratio", ">= 1"),
     ({"unloading_modulus_ratio": math.nan}, "soil.unloading_modulus_ratio", "finite"),
-    ({"nu": 0.49, "unloading_modulus_ratio": 2.0}, "soil.unloading_modulus_ratio",
-     "nu <= 0.45"),
     ({"model": "linear", "E": 1e7, "hyperbolic_a": None, "hyperbolic_b": None,
       "unloading_modulus_ratio": 2.0}, "soil.unloading_modulus_ratio", "only used with"),
 ])
@@ -159,12 +162,14 @@ def test_unloading_modulus_without_a_load_path_is_refused(stages):
 
 def test_cells_flipping_at_their_largest_strain_are_held_and_reported():
     """The Fig. 13 tank (demos/scenes/embedded_tank_nonlinear.toml, coarse mesh) with its
-    concrete's weight, filled to 3 and 6 m: between the two, a few far-field cells (strains
-    of 2e-7) whose strain barely changes flip between their loading curve and their
-    unloading line at every iteration (without the hold: no convergence in 40). After
+    concrete's weight, filled to 3 and 6 m, at a tolerance of 0.002 (which is also the
+    margin by which a cell must pass its largest strain to rejoin its curve: at the default
+    0.05 none flips here): between the two stages a few far-field cells (strains of 2e-7)
+    whose strain barely changes flip between their loading curve and their unloading line
+    at every iteration (without the hold, at a margin of 1e-3: no convergence in 40). After
     MAX_SWITCHES changes they are held on the curve, the stage converges and says how many
-    it held; the settlement is the paper's law's within 0.5 % (the cells that do unload while
-    the tank fills make the difference)."""
+    it held; the settlement is the paper's law's within 0.5 % (the cells that do unload
+    while the tank fills make the difference)."""
     from pathlib import Path
 
     from tankfx import load_scene
@@ -174,6 +179,7 @@ def test_cells_flipping_at_their_largest_strain_are_held_and_reported():
     data = base.with_changes(plate={"unit_weight": 24e3}, wall={"unit_weight": 24e3},
                              load={"self_weight": True, "liquid_height": 0.0}).to_dict()
     data["stages"] = [{"liquid_height": h} for h in (0.0, 3.0, 6.0)]
+    data["soil"]["tolerance"] = 0.002
     paper = path(data)
     r = path(data | {"soil": data["soil"] | {"unloading_modulus_ratio": 3.0}})
     assert r[2]["soil"]["converged"]
@@ -205,3 +211,63 @@ def test_overturning_an_unloaded_soil_rocks_it_on_its_unloading_modulus():
     assert K == pytest.approx(linear["overturning"]["rocking_stiffness"], rel=1e-9)
     assert K == pytest.approx(ref.rigid_disc_rocking_stiffness(2.0 / A, NU, 1.0), rel=5e-3)
     assert r["overturning"]["equilibrium"]["moment_relative_error"] < 1e-8
+
+
+def test_duncan_chang_in_its_kondner_limit_unloads_as_kondners_soil(monkeypatch):
+    """Duncan & Chang's soil with n = 0 and phi = 0 is Kondner's (1/a = K p_a, 1/b = 2 c /
+    R_f; tests/test_duncan_chang.py), its unloading modulus K_ur p_a = ratio K p_a Kondner's
+    ratio / a: along a path loaded, unloaded and reloaded the two give the same settlements
+    (both in the mixed form at nu = 0.46, accelerated alike) and unload the same cells."""
+    from tankfx import hyperbolic
+
+    monkeypatch.setattr(hyperbolic, "DUNCAN_CHANG_ANDERSON_DEPTH", hyperbolic.ANDERSON_DEPTH)
+    K, c, R_f, p_a = 100.0, 50e3, 0.9, 101325.0
+    common = {"nu": 0.46, "unloading_modulus_ratio": 2.5}
+    load = {"pressure": 40e3, "load_radius": 1.0}
+    stages = [{}, {"pressure": 10e3}, {"pressure": 30e3}]
+    dc = path({"soil": {"model": "duncan_chang", "modulus_number": K, "modulus_exponent": 0.0,
+                        "cohesion": c, "unit_weight": 18e3, "failure_ratio": R_f} | common,
+               "load": load, "mesh": COARSE, "stages": stages})
+    kondner = path({"soil": {"model": "hyperbolic", "hyperbolic_a": 1 / (K * p_a),
+                             "hyperbolic_b": R_f / (2 * c)} | common,
+                    "load": load, "mesh": COARSE, "stages": stages})
+    for d, k in zip(dc, kondner):
+        assert d["w0"] == pytest.approx(k["w0"], rel=1e-8)
+        assert d["soil"]["unloading_cells"] == k["soil"]["unloading_cells"]
+    assert dc[1]["soil"]["unloading_cells"] > 0.9 * dc[2]["soil"]["unloading_cells"] > 0
+
+
+def test_duncan_chang_tank_keeps_a_settlement_and_reloads_to_where_it_was():
+    """The 1 m tank on Duncan & Chang's sand (n = 0.5: E_ur = 3 K p_a (sigma_3 / p_a)^n at
+    each cell's current confinement, solved consistently with it) filled, emptied, filled:
+    it keeps part of its settlement (81 %), and filled again is back where it was within
+    the iteration's tolerance; every stage balances its load."""
+    sand = {"model": "duncan_chang", "nu": 0.3, "modulus_number": 400.0,
+            "modulus_exponent": 0.5, "cohesion": 5e3, "friction_angle": 35.0,
+            "unit_weight": 18e3}
+    full, empty, again = hydrotest({"condition": "bonded"}, **sand)
+    assert 0.2 * full["w0"] < empty["w0"] < full["w0"]
+    # (measured: w0 5e-5, w_edge 8e-5; M0 1 % and wd 2 % of their small values, 0.2 kN m/m
+    # and 0.01 mm)
+    for key in ("w0", "w_edge"):
+        assert again[key] == pytest.approx(full[key], rel=5e-4), key
+    assert again["M0"] == pytest.approx(full["M0"], rel=3e-2)
+    assert empty["soil"]["unloading_cells"] > 0
+    assert all(r["equilibrium"]["relative_error"] < 1e-8 for r in (full, empty, again))
+
+
+def test_loading_past_the_largest_load_rejoins_the_loading_curve():
+    """40 kPa, down to 10 kPa, then up to 60 kPa on Kondner's soil: past their largest
+    strain the cells are back on the loading curve, so the end is the 60 kPa loading
+    applied at once within the iteration's tolerance (Kondner's law is path-independent
+    on its curve; the cells within the margin of their old largest strain stay on their
+    stiffer lines)."""
+    soil = HYPERBOLIC_SOIL | {"tolerance": 0.005}
+    load = {"pressure": 40e3, "load_radius": 1.0}
+    r = path({"soil": soil | {"unloading_modulus_ratio": 3.0}, "load": load, "mesh": COARSE,
+              "stages": [{}, {"pressure": 10e3}, {"pressure": 60e3}]})
+    direct = path({"soil": soil, "load": load, "mesh": COARSE,
+                   "stages": [{"pressure": 60e3}]})[0]
+    assert r[2]["w0"] == pytest.approx(direct["w0"], rel=1e-3)
+    assert r[2]["w_edge"] == pytest.approx(direct["w_edge"], rel=1e-3)
+    assert r[2]["soil"]["unloading_cells"] < 0.05 * r[1]["soil"]["unloading_cells"]
