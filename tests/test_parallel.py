@@ -28,7 +28,7 @@ def _solve_both(scene):
     return analyse(scene, MPI.COMM_WORLD).results, analyse(scene, MPI.COMM_SELF).results
 
 
-def _assert_same_numbers(parallel, serial):
+def _assert_same_numbers(parallel, serial, rtol=1e-8):
     assert parallel["dofs"] == serial["dofs"]
     p, s = _numbers(parallel), _numbers(serial)
     for key in s:
@@ -37,7 +37,7 @@ def _assert_same_numbers(parallel, serial):
             # without an axial load N_z is the residue of the cancellation E t (eps_s +
             # nu eps_theta): judged on the scale of the wall's membrane forces
             scale = max(scale, np.max(np.abs(s["wall.N_theta"])))
-        np.testing.assert_allclose(p[key], s[key], rtol=1e-8, atol=1e-8 * scale + 1e-14,
+        np.testing.assert_allclose(p[key], s[key], rtol=rtol, atol=rtol * scale + 1e-14,
                                    err_msg=key)
 
 
@@ -196,14 +196,19 @@ def test_load_stages_sharing_one_factorisation_parallel_equals_serial():
 
 
 @needs_two_ranks
-def test_unloading_memory_parallel_equals_serial():
-    """Kondner's soil with an unloading modulus under a Mohr-Coulomb interface, filled,
+@pytest.mark.parametrize("soil, interface", [
+    (HYPERBOLIC_SOIL, {"condition": "mohr_coulomb", "tan_phi": 0.5}),
+    ({"model": "duncan_chang", "nu": 0.3, "modulus_number": 400.0, "modulus_exponent": 0.5,
+      "cohesion": 5e3, "friction_angle": 35.0, "unit_weight": 18e3}, {"condition": "bonded"})],
+    ids=["kondner", "duncan_chang"])
+def test_unloading_memory_parallel_equals_serial(soil, interface):
+    """A nonlinear soil with an unloading modulus (Kondner's under a Mohr-Coulomb
+    interface; Duncan & Chang's, mixed, its E_ur following the confinement), filled,
     emptied and filled again: each cell's most loaded state (kept on ghost cells too) gives
     the same path on 2 ranks as serially, stage by stage."""
     from tankfx.analysis import analyse_path
 
-    d = small_tank(soil=HYPERBOLIC_SOIL | {"unloading_modulus_ratio": 3.0},
-                   interface={"condition": "mohr_coulomb", "tan_phi": 0.5},
+    d = small_tank(soil=soil | {"unloading_modulus_ratio": 3.0}, interface=interface,
                    load=WATER_LOAD | {"self_weight": True})
     d["plate"]["unit_weight"] = d["wall"]["unit_weight"] = 24e3
     d["stages"] = [{}, {"pressure": 0.0, "liquid_height": 0.0}, {}]
@@ -213,7 +218,11 @@ def test_unloading_memory_parallel_equals_serial():
     for p, s in zip(parallel, serial):
         assert p.results["soil"]["unloading_cells"] == s.results["soil"]["unloading_cells"]
         assert p.results["soil"]["iterations"] == s.results["soil"]["iterations"]
-        _assert_same_numbers(p.results, s.results)
+        # (Duncan & Chang's: the round-off of the two runs, through the iteration's
+        # bisections for every cell's confinement and its Anderson steps, parts them by
+        # 2-3e-8 in the plate's rotations and 2.3e-7 at one node of the ground's surface)
+        _assert_same_numbers(p.results, s.results,
+                             rtol=1e-6 if soil["model"] == "duncan_chang" else 1e-8)
     assert serial[1].results["soil"]["unloading_cells"] > 0
 
 
