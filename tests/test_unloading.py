@@ -271,3 +271,23 @@ def test_loading_past_the_largest_load_rejoins_the_loading_curve():
     assert r[2]["w0"] == pytest.approx(direct["w0"], rel=1e-3)
     assert r[2]["w_edge"] == pytest.approx(direct["w_edge"], rel=1e-3)
     assert r[2]["soil"]["unloading_cells"] < 0.05 * r[1]["soil"]["unloading_cells"]
+
+
+def test_layered_ground_unloads_each_stratum_on_its_own_line():
+    """Kondner's soil over a nearly incompressible Kondner layer (nu = 0.49: the mixed form
+    with a pressure of its own, the surface soil in the displacement form): 40 kPa, then 10
+    kPa, then 40 kPa again. The cells of both strata unload, each stratum along its own
+    E_ur = 2 / a; the rebound is the layered linear soil of those moduli under the 30 kPa
+    taken off (both forms' fixed stresses, the layer's pressure whole; measured 1.5e-5: a
+    few cells strain more as the load falls and stay on their curves), and the reloading
+    returns to the first state (4e-6)."""
+    layer = {"depth": 0.5, "hyperbolic_a": 4e-7, "hyperbolic_b": 2e-5, "nu": 0.49}
+    load = {"pressure": 40e3, "load_radius": 1.0}
+    r = path({"soil": HYPERBOLIC_SOIL | {"unloading_modulus_ratio": 2.0, "layers": [layer]},
+              "load": load, "mesh": COARSE, "stages": [{}, {"pressure": 10e3}, {}]})
+    linear = path({"soil": {"E": 2.0 / A, "nu": NU,
+                            "layers": [{"depth": 0.5, "E": 2.0 / 4e-7, "nu": 0.49}]},
+                   "mesh": COARSE, "load": load | {"pressure": 30e3}, "stages": [{}]})[0]
+    assert r[0]["w0"] - r[1]["w0"] == pytest.approx(linear["w0"], rel=1e-4)
+    assert r[2]["w0"] == pytest.approx(r[0]["w0"], rel=1e-5)
+    assert r[1]["soil"]["unloading_cells"] > 0
