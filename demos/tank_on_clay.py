@@ -44,7 +44,8 @@ if comm.rank == 0:
 
 scene = load_scene(Path(__file__).resolve().parent / "scenes" / "tank_on_clay.toml")
 if "--coarse" in sys.argv:
-    scene = scene.with_coarse_mesh()
+    # a quick look: the coarse mesh and half the time steps (5 a decade)
+    scene = scene.with_coarse_mesh().with_changes(consolidation={"steps_per_decade": 5})
 c = scene.consolidation
 solution = analyse(scene, comm)
 r = solution.results
