@@ -465,6 +465,16 @@ class SoilBlock:
         return [_cell_field(self.domain.mesh, (self.stratum == i).astype(float), f"in_{i}")
                 for i in self.mixed_strata]
 
+    @cached_property
+    def _nu_displacement_form(self) -> fem.Function:
+        """Poisson's ratio of the displacement form's cells, 0 in the mixed form's (where
+        lambda may be infinite), for an expression valid in every cell (layered ground;
+        only a mixed cell's nu ever changes, a failed Duncan-Chang cell's)."""
+        in_mixed = np.isin(self.stratum, self.mixed_strata)
+        nu = self.nu.x.array[self.nu.function_space.dofmap.list[:, 0]]
+        return _cell_field(self.domain.mesh, np.where(in_mixed, 0.0, nu),
+                           "nu_displacement_form")
+
     def initial_stress(self):
         """The stress the unloading cells keep (tankfx.hyperbolic.UnloadingMemory): with
         their most loaded state's strain eps_p and modulus E_p (nu_p), sigma_p - D(E_ur)
@@ -481,14 +491,10 @@ class SoilBlock:
                        soil_forms.lame(self.E, self.nu)[1]) * eps_p
         if self.n_strata == 1:
             return m.unloading * mixed
-        # the displacement form's strata by their own law (nu set to 0 in the mixed cells,
-        # where lambda may be infinite)
+        # the displacement form's strata by their own law
         chi = sum(self._in_mixed)
-        in_mixed = np.isin(self.stratum, self.mixed_strata)
-        nu = self.nu.x.array[self.nu.function_space.dofmap.list[:, 0]]
-        nu_d = _cell_field(self.domain.mesh, np.where(in_mixed, 0.0, nu), "nu_displacement_form")
-        return m.unloading * ((1.0 - chi) * soil_forms.stress(eps_p, m.peak_modulus - self.E,
-                                                               nu_d) + chi * mixed)
+        return m.unloading * ((1.0 - chi) * soil_forms.stress(
+            eps_p, m.peak_modulus - self.E, self._nu_displacement_form) + chi * mixed)
 
     def stress_of(self, eps, pressures):
         """The stress of a strain tensor ``eps`` with the mixed strata's ``pressures`` (one
@@ -504,15 +510,9 @@ class SoilBlock:
         if self.n_strata == 1:
             return soil_forms.mixed_stress(eps, pressures[0], self.E, self.nu)
         # per cell the form of its stratum, by indicators (an expression valid in every
-        # cell, for projections and cell fields); the displacement form's Poisson's ratio
-        # is set to 0 in the mixed cells, where lambda would be infinite
-        msh = self.domain.mesh
-        chi = [_cell_field(msh, (self.stratum == i).astype(float), f"in_{i}")
-               for i in self.mixed_strata]
-        in_mixed = np.isin(self.stratum, self.mixed_strata)
-        nu = self.nu.x.array[self.nu.function_space.dofmap.list[:, 0]]
-        nu_d = _cell_field(msh, np.where(in_mixed, 0.0, nu), "nu_displacement_form")
-        out = (1.0 - sum(chi)) * soil_forms.stress(eps, self.E, nu_d)
+        # cell, for projections and cell fields)
+        chi = self._in_mixed
+        out = (1.0 - sum(chi)) * soil_forms.stress(eps, self.E, self._nu_displacement_form)
         for c, pr in zip(chi, pressures):
             out += c * soil_forms.mixed_stress(eps, pr, self.E, self.nu)
         return out
@@ -725,9 +725,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             f"stages {', '.join(map(str, unloading))}: less vertical load than an earlier "
             f"stage; Kondner's secant law (the paper's) is nonlinear elastic, so the soil "
             f"unloads along its loading curve and keeps no permanent settlement: read "
-            f"these stages as the same load applied afresh, not as unloading"
-            + ("" if scene.soil.model == "duncan_chang" else
-               " (give [soil] unloading_modulus_ratio for a soil that remembers)"))
+            f"these stages as the same load applied afresh, not as unloading (give [soil] "
+            f"unloading_modulus_ratio for a soil that remembers)")
     for w in warnings:
         log.warning("warning: %s", w)
     dofs = model.dofs()
