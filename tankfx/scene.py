@@ -805,7 +805,7 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
     secs = {name: rd.section(name) for name in _SPEC}
 
     soil = secs["soil"]
-    layers = _check_soil(rd, soil, raw_layers)
+    layers = _check_soil(rd, soil, raw_layers, "consolidation" in data)
 
     plate = secs["plate"]
     if plate is not None:
@@ -1260,7 +1260,8 @@ def _check_annular_ring(rd: _Reader, plate: dict, wall: dict | None) -> None:
                f"{a - wall['radius']:g} m so that the wall stands on it")
 
 
-def _check_soil(rd: _Reader, soil: dict | None, raw_layers) -> list[dict[str, Any]]:
+def _check_soil(rd: _Reader, soil: dict | None, raw_layers,
+                consolidating: bool = False) -> list[dict[str, Any]]:
     """The [soil] table's checks, its model's and its layers' (returned, checked)."""
     if soil is not None:
         rd.positive(soil, "soil", "E")
@@ -1291,7 +1292,7 @@ def _check_soil(rd: _Reader, soil: dict | None, raw_layers) -> list[dict[str, An
                    f"lie in (0, 1) (the paper's 0.05 is the default)")
         if soil.get("max_iterations", 1) < 1:
             rd.bad("soil.max_iterations: must be >= 1")
-        _check_unloading(rd, soil)
+        _check_unloading(rd, soil, consolidating)
     layers = _layers(rd, raw_layers, (soil or {}).get("model", "linear"),
                      (soil or {}).get("atmospheric_pressure")) \
         if raw_layers is not None else []
@@ -1334,10 +1335,15 @@ def _layer(x: dict, hyperbolic: bool, dc: bool, dc_values: dict) -> Layer:
                  permeability=x.get("permeability"))
 
 
-def _check_unloading(rd: _Reader, soil: dict) -> None:
+def _check_unloading(rd: _Reader, soil: dict, consolidating: bool) -> None:
     """soil.unloading_modulus_ratio: a nonlinear soil, E_ur >= E_i."""
     ratio = soil.get("unloading_modulus_ratio")
     if ratio is None:
+        return
+    if consolidating:
+        rd.bad("soil.unloading_modulus_ratio: not with a [consolidation]: a consolidating "
+               "skeleton is linear elastic and swells back as it was compressed (a "
+               "remembering skeleton is not modelled yet); remove the key")
         return
     if soil.get("model", "linear") not in ("hyperbolic", "duncan_chang"):
         rd.bad("soil.unloading_modulus_ratio: only used with a nonlinear soil (model = "

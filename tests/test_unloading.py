@@ -150,6 +150,14 @@ def test_bad_unloading_modulus_is_refused(change, key, words):
     assert key in str(err.value) and words in str(err.value), str(err.value)
 
 
+def test_unloading_modulus_with_a_consolidation_is_refused():
+    with pytest.raises(SceneError, match="not with a \\[consolidation\\]"):
+        Scene.from_dict({"soil": {"E": 1e7, "nu": 0.3, "unloading_modulus_ratio": 3.0},
+                         "load": {"pressure": 1e4, "load_radius": 1.0},
+                         "consolidation": {"permeability": 1e-9, "times": [1e5]},
+                         "stages": [{"time": 0.0}, {"pressure": 0.0, "time": 1e5}]})
+
+
 @pytest.mark.parametrize("stages", [None, [{}]])
 def test_unloading_modulus_without_a_load_path_is_refused(stages):
     data = {"soil": HYPERBOLIC_SOIL | {"unloading_modulus_ratio": 2.0},
