@@ -1,12 +1,16 @@
-"""Kondner's soil with an unloading modulus ([soil] unloading_modulus_ratio): along a load
-path each cell remembers its most loaded state and below it follows a line of E_ur = ratio
-x its initial modulus (tankfx.hyperbolic.UnloadingMemory).
+"""A nonlinear soil (Kondner's, Duncan & Chang's) with an unloading modulus ([soil]
+unloading_modulus_ratio): along a load path each cell remembers its most loaded state and
+below it follows a line of E_ur = ratio x its initial modulus
+(tankfx.hyperbolic.UnloadingMemory).
 
 The references: a laterally confined layer, whose settlements along the path follow from
 Kondner's law in closed form; the rebound of a flexible load, which is the linear response
-of E_ur to the load taken off; a reloading, which comes back to the state it left."""
+of E_ur to the load taken off (in the displacement and the mixed form, on layered ground,
+and rocked by an overturning moment); a reloading, which comes back to the state it left;
+Duncan & Chang's soil in its Kondner limit."""
 import math
 
+import numpy as np
 import pytest
 
 from conftest import COARSE, HYPERBOLIC_SOIL, WATER_LOAD, small_tank
@@ -25,8 +29,6 @@ def path(scene_dict):
 def test_cell_states_have_a_margin_to_rejoin_the_loading_curve():
     """A cell unloads below its largest eps_p, stays on its line up to the margin above
     it, and a cell never loaded stays on the loading curve."""
-    import numpy as np
-
     m = 0.05
     eps_max = np.array([1.0, 1.0, 1.0, 1.0, 0.0])
     eps = np.array([0.5, 1.0 + 0.5 * m, 1.0 + 0.5 * m, 1.0 + 2 * m, 0.0])
