@@ -87,11 +87,12 @@ say(f"\nemptied, the tank keeps {1e3 * kept:.1f} mm of the {1e3 * (full['w0'] - 
     f"{1e3 * (elastic[i_empty]['w0'] - elastic[0]['w0']):.2g} mm")
 say(f"filled again: w0 {1e3 * again['w0']:.2f} mm against {1e3 * full['w0']:.2f} mm the first "
     f"time ({again['w0'] / full['w0'] - 1:+.1e}: the soil iteration's tolerance)")
-# Emptied, the soil keeps a dish of permanent settlement under the tank; the concrete plate,
-# stiff against the dish, now rests on its edge (where the wall's weight is) and lifts off
-# over most of its radius, and its centre moment all but vanishes. Filled again, the water
-# presses it back into the dish: the element states come back as they were (reported
-# "rebonded"), and so do the settlements and moments.
+# Emptied, the soil keeps most of its settlement, and most of all under the plate's edge,
+# where it was strained the most: the plate springs back with the soil under its middle and
+# lifts off over its outer half metre or so (the "lifted" column), the wall's weight now
+# hanging from it: it hogs (M0 far below its value full). Filled again, the water presses
+# it back: the element states come back as they were (reported "rebonded"), and so do the
+# settlements and moments.
 
 # ## Figures
 # The settlement and the plate's centre moment against the water height, both paths: the

@@ -125,8 +125,9 @@ def test_bonded_tank_keeps_a_permanent_settlement_and_reloads_to_where_it_was():
 
 
 def test_mohr_coulomb_tank_reloads_to_where_it_was():
-    """Under a Mohr-Coulomb interface the emptied tank's plate lifts off the soil's
-    permanent dish over most of its radius; filled again, the same element states come back
+    """Under a Mohr-Coulomb interface the emptied tank's plate lifts off the soil over most
+    of its radius (its middle, r < 0.7 m, and its very edge: it rests on a ring beside the
+    wall, whose weight presses it there); filled again, the same element states come back
     (reported rebonded), and the tank returns to its first state within the iteration's
     precision: measured w0 3.4e-6, wd 4.6e-5, M0 5.6e-5 (a few dozen cells pass their
     largest strain by more than the tolerance on the way and rejoin the loading curve)."""
