@@ -739,6 +739,10 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         if k > 0:
             log.info("load stage %d of %d", k + 1, len(stages))
             model.set_loads(load)
+        if model.soil.memory is not None:
+            # a remembering soil's path may unload to nothing: its equilibrium errors are
+            # relative to the path's largest load so far
+            model.path_load_scale = model.load_scale
         t = time.perf_counter()
         soil_iteration = None
         model.begin_stage()

@@ -1502,8 +1502,12 @@ def _parse_stages(data: dict[str, Any], raw, scene: Scene) -> tuple[Load, ...]:
     problems, loads = [], []
     for k, stage in enumerate(raw, start=1):
         try:
+            # (a stage may have no load along a consolidation's path, and where the soil
+            # remembers: the tank emptied, the soil keeping what it keeps)
+            remembers = isinstance(data.get("soil"), dict) and \
+                data["soil"].get("unloading_modulus_ratio") is not None
             load = _parse({**data, "load": {**data.get("load", {}), **stage}},
-                          empty_load="consolidation" in data).load
+                          empty_load="consolidation" in data or remembers).load
         except SceneError as e:
             problems += [f"stages[{k}] (the [load] with its keys changed): {p}"
                          for p in e.problems]

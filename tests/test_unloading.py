@@ -302,3 +302,24 @@ def test_layered_ground_unloads_each_stratum_on_its_own_line():
     assert r[0]["w0"] - r[1]["w0"] == pytest.approx(linear["w0"], rel=1e-4)
     assert r[2]["w0"] == pytest.approx(r[0]["w0"], rel=1e-5)
     assert r[1]["soil"]["unloading_cells"] > 0
+
+
+def test_a_load_taken_off_entirely_leaves_the_permanent_settlement():
+    """With a soil that remembers, a stage may have no load at all: 40 kPa on Kondner's
+    soil taken off entirely leaves the settlement less the linear soil of E_ur's rebound
+    under the whole 40 kPa (every cell unloads; 1e-9), and the equilibrium error is judged
+    against the path's largest load (the stage's own is none); loaded again it is back
+    where it was. Without the unloading modulus such a stage is still refused."""
+    load = {"pressure": 40e3, "load_radius": 1.0}
+    data = {"soil": HYPERBOLIC_SOIL | {"unloading_modulus_ratio": 2.0}, "load": load,
+            "mesh": COARSE, "stages": [{}, {"pressure": 0.0}, {}]}
+    r = path(data)
+    linear = path({"soil": {"E": 2.0 / A, "nu": NU}, "mesh": COARSE, "load": load,
+                   "stages": [{}]})[0]
+    assert r[1]["w0"] == pytest.approx(r[0]["w0"] - linear["w0"], rel=1e-9)
+    assert 0.0 < r[1]["w0"] < r[0]["w0"]
+    assert r[1]["equilibrium"]["relative_error"] < 1e-8
+    assert r[1]["nondim"]["w0"] is None                  # (no Eq. 23 pressure)
+    assert r[2]["w0"] == pytest.approx(r[0]["w0"], rel=1e-9)
+    with pytest.raises(SceneError, match="no load is applied"):
+        Scene.from_dict(data | {"soil": HYPERBOLIC_SOIL})
