@@ -487,7 +487,9 @@ class HyperbolicIteration:
                 was = self.memory.unloading_mask
                 unloading = self.is_soil & unloading_cells(
                     major_strain(eps_min, eps_max, nu_law), self.memory.peak_strain, was, tol)
-                E_ur = self._unloading_modulus(E)
+                # (none on a line or going there, as while a path first loads: no E_ur to
+                # find, which for Duncan & Chang's soil is a bisection over the cells)
+                E_ur = self._unloading_modulus(E) if (unloading | was).any() else E
                 # a cell leaves its line only once its modulus there has settled: passing
                 # its largest strain under a modulus that is still moving (Duncan & Chang's
                 # E_ur follows the confinement, which lags at a stage's start) is no

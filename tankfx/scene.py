@@ -698,6 +698,16 @@ class _Reader:
     def bad(self, msg: str) -> None:
         self.problems.append(msg)
 
+    def choice(self, table: dict, name: str, key: str, default: str, allowed,
+               meaning: str = "") -> str:
+        """``table[key]`` (or ``default``), which must be one of ``allowed``: else a problem
+        naming it, the nearest allowed value and, if given, what each means."""
+        value = table.get(key, default)
+        if value not in allowed:
+            self.bad(f"{name}.{key} = {value!r}: unknown{_suggest(value, allowed)}"
+                     + (f" ({meaning})" if meaning else ""))
+        return value
+
     def section(self, name: str) -> dict[str, Any] | None:
         sec = self.data.get(name)
         if sec is None:
@@ -860,9 +870,7 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
                    f"(wall.radius <= plate.radius)")
 
     interface = secs["interface"] or {}
-    cond = interface.get("condition", "bonded")
-    if cond not in _CONDITIONS:
-        rd.bad(f"interface.condition = {cond!r}: unknown{_suggest(cond, _CONDITIONS)}")
+    cond = rd.choice(interface, "interface", "condition", "bonded", _CONDITIONS)
     if "tan_phi" in interface and "friction_angle" in interface:
         rd.bad("interface.tan_phi and interface.friction_angle: give one of them, not both")
     rd.positive(interface, "interface", "tan_phi", allow_zero=True)
@@ -876,15 +884,12 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
             and "friction_angle" not in interface:
         rd.bad("interface.tan_phi: missing for condition = \"mohr_coulomb\"; give tan_phi or "
                "friction_angle (degrees)")
-    on_cycle = interface.get("on_cycle", "hold")
-    if on_cycle not in _ON_CYCLE:
-        rd.bad(f"interface.on_cycle = {on_cycle!r}: unknown{_suggest(on_cycle, _ON_CYCLE)} "
-               f"(\"hold\": hold the alternating elements in the weaker state and go on; "
-               f"\"stop\": stop with the iteration history)")
-    states = interface.get("states", "element")
-    if states not in _STATES:
-        rd.bad(f"interface.states = {states!r}: unknown{_suggest(states, _STATES)} "
-               f"(\"element\": one state per interface element; \"node\": one per node)")
+    on_cycle = rd.choice(interface, "interface", "on_cycle", "hold", _ON_CYCLE,
+                         "\"hold\": hold the alternating elements in the weaker state and "
+                         "go on; \"stop\": stop with the iteration history")
+    states = rd.choice(interface, "interface", "states", "element", _STATES,
+                       "\"element\": one state per interface element; \"node\": one per "
+                       "node")
     if cond != "mohr_coulomb":
         for key in ("cohesion", "tan_phi", "friction_angle", "on_cycle", "states"):
             if key in interface:
@@ -1208,11 +1213,8 @@ def _check_consolidation(rd: _Reader, c: dict, data: dict, soil: dict, layers: l
             rd.bad(f"consolidation.times = {times!r}: must be positive and increasing (s "
                    f"after the load is applied; t = 0, the undrained response, is always "
                    f"reported)")
-    drainage = c.get("drainage", "top")
-    if drainage not in _DRAINAGE:
-        rd.bad(f"consolidation.drainage = {drainage!r}: unknown{_suggest(drainage, _DRAINAGE)}"
-               f" (\"top\": the ground surface drains; \"top_and_bottom\": the domain's base "
-               f"too)")
+    rd.choice(c, "consolidation", "drainage", "top", _DRAINAGE,
+              "\"top\": the ground surface drains; \"top_and_bottom\": the domain's base too")
     n = c.get("steps_per_decade")
     if n is not None and n < 2:
         rd.bad(f"consolidation.steps_per_decade = {n!r}: must be >= 2 (10 keep Terzaghi's "
