@@ -30,6 +30,7 @@ from .mesh import FACET_TAGS, Domain
 from .mohr_coulomb import InterfaceIteration
 from .post import allsum, assemble_scalar, evaluate_at
 from .scene import Scene, vertical_load, vertical_load_scale
+from .solve import SolveError
 
 __all__ = ["TankModel", "POLLUTION_WARNING", "CONDITIONING_WARNING"]
 
@@ -419,7 +420,7 @@ class TankModel:
             # node states are converged inside every soil iteration: updated once per soil
             # iteration they oscillate with the secant moduli (measured: a period-2 cycle,
             # no convergence in 40 iterations, where the nested loop takes 6 solves)
-            self.interface_result = InterfaceIteration(self).run(solver, log)
+            self.interface_result = self._iterate_interface(solver, log)
             return 0
         if self._passes is None:
             self._passes = InterfaceIteration(self)
@@ -432,6 +433,47 @@ class TankModel:
                                  "criterion": "one state update per soil iteration, until no "
                                               "element changes state"}
         return changed
+
+    #: solves of the Mohr-Coulomb iteration from a previous solution's states before it
+    #: starts again from stuck ones (see _iterate_interface)
+    CARRIED_STATES_SOLVES = 20
+    #: how many Mohr-Coulomb iterations of this analysis started again from stuck states
+    interface_restarts = 0
+
+    def _iterate_interface(self, solver, log) -> dict:
+        """The Mohr-Coulomb iteration from the states so far (a load path's or a time step's
+        last); where it fails from them, once more from the states of a fresh analysis
+        (every carrier in contact stuck). The law holds no slip from one solution to the
+        next (total loading), so the states so far are only a starting guess, and a poor
+        one where the load fell: the small tank's consolidation emptied to 5 % of its load
+        cycled its reversed slips for 50 solves from the full tank's states, and converged
+        in 4 from stuck ones. The first try has CARRIED_STATES_SOLVES solves."""
+        fresh = self.in_contact & (self.status == interface.STICK)
+        if np.array_equal(fresh, self.in_contact) \
+                and np.array_equal(self.k_s.x.array[:self.n_carrier],
+                                   np.where(self.in_contact, self.stiffness_s, 0.0)):
+            return InterfaceIteration(self).run(solver, log)
+        carried = InterfaceIteration(self)
+        # (from a good guess it takes a few solves; a fresh start, a handful more)
+        carried.max_iterations = self.CARRIED_STATES_SOLVES
+        try:
+            return carried.run(solver, log)
+        except SolveError as first:
+            if self.scene.interface.on_cycle == "stop" and "cycles" in str(first):
+                raise
+            log.info("Mohr-Coulomb interface: no converged state from the previous states "
+                     "(%s); once more from every element stuck", first)
+            self.status[:] = np.where(self.in_contact, interface.STICK, -1)
+            for f, v in zip((self.k_n, self.k_s, self.mu, self.c_s),
+                            (self.stiffness_n, self.stiffness_s, 0.0, 0.0)):
+                f.x.array[:] = np.where(self.in_contact, v, 0.0)
+            try:
+                result = InterfaceIteration(self).run(solver, log)
+            except SolveError as second:
+                raise SolveError(f"{second} (and from the previous states: {first})",
+                                 first.history + second.history) from None
+            self.interface_restarts += 1
+            return result
 
     @cached_property
     def _out_of_balance(self):
@@ -717,7 +759,8 @@ class TankModel:
         res = self.interface_result or {"converged": True, "iterations": 0, "history": [],
                                         "criterion": "linear interface: one solve"}
         if self.scene.interface.condition == "mohr_coulomb":
-            res = {**res, "states": self.scene.interface.states}
+            res = {**res, "states": self.scene.interface.states,
+                   "restarts_from_stuck": self.interface_restarts}
         return {"condition": self.scene.interface.condition, **res, **lengths,
                 "normal_stiffness_range": [
                     comm.allreduce(float(self.stiffness_n[self.in_contact].min(initial=np.inf)),

@@ -73,8 +73,12 @@ class InterfaceIteration:
         # reversed slips (see _track_reversals): which carriers are on the secant law, which
         # may restart stuck, and the slip direction of the states last solved
         n = model.n_carrier
-        self.secant = np.zeros(n, dtype=bool)
-        self.stick_first = model.status != interface.SEPARATED
+        # a slip on the secant law in the states this iteration starts from (a load path's
+        # or a time step's last solution: k_s > 0 and no friction coefficient) stays on it,
+        # from its stiffness (read as a plain slip, its state looked unchanged while its
+        # coefficients changed: "no element changed state but an out-of-balance force")
+        self.secant = (model.status == interface.SLIP) & (model.k_s.x.array[:n] > 0)
+        self.stick_first = (model.status != interface.SEPARATED) & ~self.secant
         self.slip_sign = np.where(model.status == interface.SLIP, np.sign(
             model.mu.x.array[:n] + model.c_s.x.array[:n]), 0.0)
         self._secant_prev = None
@@ -253,7 +257,7 @@ class InterfaceIteration:
         m, s = self.model, self.model.scene
         ifc = s.interface
         comm = m.mesh.comm
-        seen = {self._global_status(m.status): 0}
+        seen = {self._state_key(): 0}
         states = {0: m.status.copy()}
         frozen = np.zeros(len(m.status), dtype=bool)
         forced = m.status.copy()
@@ -290,6 +294,7 @@ class InterfaceIteration:
                 frozen |= hold
                 status = np.where(frozen, forced, status)
             reversed_ = self._track_reversals(status, sign)
+            moved = comm.allreduce(int(np.sum(status[self.owned] != m.status[self.owned])))
             changed = comm.allreduce(int(np.sum(
                 (status[self.owned] != m.status[self.owned]) | reversed_[self.owned])))
             secant = self._set_states(status, sign, jn, jt, ks)
@@ -326,9 +331,10 @@ class InterfaceIteration:
                 raise SolveError("the interface separated everywhere: nothing holds the "
                                  "foundation (is the net load upward?)", self.history)
             states[it] = m.status.copy()
-            if changed == 0 and secant is not None:
-                # the secant slips converge by the out-of-balance force alone: a state
-                # that recurs after them is not a cycle
+            if (changed == 0 and secant is not None) or (changed and not moved):
+                # the secant slips converge by the out-of-balance force alone, and new
+                # reversals (each carrier reverses once) change the law, not the state: a
+                # state that recurs after them is not a cycle
                 seen = {self._state_key(): it}
                 continue
             if changed == 0:

@@ -284,6 +284,22 @@ def test_slip_follows_its_jump_and_sits_on_the_limit():
         assert node[key] == pytest.approx(r[key], rel=5e-3), key
 
 
+
+def test_a_stage_of_the_same_load_keeps_its_secant_slips():
+    """A load path's next stage starts from the last states, with their coefficients: a
+    slip on the secant law (a reversed slip) stays on it. The small tank at tan phi = 0.03
+    reverses slips; its load held for a second stage is the same solution in one solve.
+    Read as a plain slip the carried secant slip looked unchanged while its coefficients
+    changed, and the iteration stopped there ("no element changed state but an
+    out-of-balance force of 8.2e-03 ... the linear solve lost accuracy")."""
+    data = scene(tan_phi=0.03, embedment=0.3, load={"pressure": 50e3}).to_dict()
+    r = analyse(Scene.from_dict({**data, "stages": [{}, {}]})).results
+    first, second = r["stages"]
+    assert r["interface"]["reversed_slips"] > 0
+    assert r["interface"]["iterations"] == 1 and r["interface"]["restarts_from_stuck"] == 0
+    for key in ("w0", "wd", "M0"):
+        assert second[key] == pytest.approx(first[key], rel=1e-8), key
+
 def test_only_the_interface_is_reassembled_between_solves(monkeypatch):
     """A linear soil under a Mohr-Coulomb interface: between the solves of the iteration
     only the interface's coefficients change, so the soil and structure blocks are
