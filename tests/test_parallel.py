@@ -279,6 +279,29 @@ def test_consolidation_parallel_equals_serial():
         assert p["drained"][key] == pytest.approx(s["drained"][key], rel=1e-7), key
 
 
+
+@needs_two_ranks
+def test_an_interface_restarted_from_stuck_states_parallel_equals_serial():
+    """The small tank's consolidation emptied to 5 % of its load with a slipping interface
+    (test_consolidation): the steps whose Mohr-Coulomb iteration starts again from stuck
+    states do so on every rank together (the choice is collective), and the history is the
+    serial one."""
+    day = 86400.0
+    scene = Scene.from_dict(small_tank(
+        interface={"condition": "mohr_coulomb", "tan_phi": 0.5},
+        consolidation={"permeability": 1e-9, "steps_per_decade": 2,
+                       "times": [d * day for d in (10, 30, 100)]},
+        stages=[{"pressure": 50e3, "time": 0.0}, {"pressure": 50e3, "time": 10 * day},
+                {"pressure": 2.5e3, "time": 30 * day}]))
+    parallel, serial = _solve_both(scene)
+    assert parallel["interface"]["restarts_from_stuck"] == \
+        serial["interface"]["restarts_from_stuck"] >= 1
+    _assert_same_numbers(parallel, serial, rtol=1e-6)
+    p, s = parallel["consolidation"], serial["consolidation"]
+    for key in ("w0", "M0"):
+        np.testing.assert_allclose([x[key] for x in p["history"]],
+                                   [x[key] for x in s["history"]], rtol=1e-6, err_msg=key)
+
 @needs_two_ranks
 def test_consolidation_around_a_ringwall_and_its_fill_parallel_equals_serial():
     """Consolidation with a ringwall and a draining fill (Nitsche's terms on interior
