@@ -73,12 +73,14 @@ class InterfaceIteration:
         # reversed slips (see _track_reversals): which carriers are on the secant law, which
         # may restart stuck, and the slip direction of the states last solved
         n = model.n_carrier
-        # a slip on the secant law in the states this iteration starts from (a load path's
-        # or a time step's last solution: k_s > 0 and no friction coefficient) stays on it,
-        # from its stiffness (read as a plain slip, its state looked unchanged while its
-        # coefficients changed: "no element changed state but an out-of-balance force")
-        self.secant = (model.status == interface.SLIP) & (model.k_s.x.array[:n] > 0)
-        self.stick_first = (model.status != interface.SEPARATED) & ~self.secant
+        self.secant = np.zeros(n, dtype=bool)
+        self.stick_first = model.status != interface.SEPARATED
+        # slips on the secant law in the states this iteration starts from (a load path's,
+        # a time step's or a soil iteration's last solution: k_s > 0 and no friction
+        # coefficient): re-decided, they take the plain slip law along their jump (the
+        # secant law's converged form), a change of law that the state does not show
+        self.carried_secant = model.mesh.comm.allreduce(int(np.any(
+            ((model.status == interface.SLIP) & (model.k_s.x.array[:n] > 0))[self.owned])))
         self.slip_sign = np.where(model.status == interface.SLIP, np.sign(
             model.mu.x.array[:n] + model.c_s.x.array[:n]), 0.0)
         self._secant_prev = None
@@ -335,6 +337,11 @@ class InterfaceIteration:
                 # the secant slips converge by the out-of-balance force alone, and new
                 # reversals (each carrier reverses once) change the law, not the state: a
                 # state that recurs after them is not a cycle
+                seen = {self._state_key(): it}
+                continue
+            if changed == 0 and it == 1 and self.carried_secant:
+                # the carried secant slips became plain ones: solve with them (stopping
+                # here, as at a lost accuracy, stopped a stage holding the same load)
                 seen = {self._state_key(): it}
                 continue
             if changed == 0:

@@ -285,20 +285,23 @@ def test_slip_follows_its_jump_and_sits_on_the_limit():
 
 
 
-def test_a_stage_of_the_same_load_keeps_its_secant_slips():
-    """A load path's next stage starts from the last states, with their coefficients: a
-    slip on the secant law (a reversed slip) stays on it. The small tank at tan phi = 0.03
-    reverses slips; its load held for a second stage is the same solution in one solve.
-    Read as a plain slip the carried secant slip looked unchanged while its coefficients
-    changed, and the iteration stopped there ("no element changed state but an
+def test_a_stage_of_the_same_load_from_secant_slips():
+    """A load path's next stage starts from the last states: its slips on the secant law
+    (reversed slips) are re-decided as plain slips along their jumps, a change of law the
+    states do not show. The small tank at tan phi = 0.03 reverses slips; its load held for
+    a second stage converges in 2 solves to a state next to the first (w0 5e-6, wd 6e-5,
+    M0 5e-5): both meet the law to the out-of-balance tolerance. Before, the unchanged
+    states with the changed law stopped the iteration ("no element changed state but an
     out-of-balance force of 8.2e-03 ... the linear solve lost accuracy")."""
     data = scene(tan_phi=0.03, embedment=0.3, load={"pressure": 50e3}).to_dict()
     r = analyse(Scene.from_dict({**data, "stages": [{}, {}]})).results
     first, second = r["stages"]
-    assert r["interface"]["reversed_slips"] > 0
-    assert r["interface"]["iterations"] == 1 and r["interface"]["restarts_from_stuck"] == 0
+    assert first["interface"]["converged"] and second["interface"]["converged"]
+    assert r["interface"]["iterations"] <= 3 and r["interface"]["restarts_from_stuck"] == 0
+    assert r["interface"]["history"][-1]["out_of_balance"] < 1e-6
     for key in ("w0", "wd", "M0"):
-        assert second[key] == pytest.approx(first[key], rel=1e-8), key
+        assert second[key] == pytest.approx(first[key], rel=5e-4), key
+
 
 def test_only_the_interface_is_reassembled_between_solves(monkeypatch):
     """A linear soil under a Mohr-Coulomb interface: between the solves of the iteration
