@@ -296,9 +296,9 @@ class InterfaceIteration:
                 frozen |= hold
                 status = np.where(frozen, forced, status)
             reversed_ = self._track_reversals(status, sign)
-            moved = comm.allreduce(int(np.sum(status[self.owned] != m.status[self.owned])))
-            changed = comm.allreduce(int(np.sum(
-                (status[self.owned] != m.status[self.owned]) | reversed_[self.owned])))
+            moved_ = (status != m.status)[self.owned]
+            moved = comm.allreduce(int(np.sum(moved_)))
+            changed = comm.allreduce(int(np.sum(moved_ | reversed_[self.owned])))
             secant = self._set_states(status, sign, jn, jt, ks)
             # the out-of-balance force of this solution under the re-decided states (and
             # secant stiffnesses): the paper's excess forces (Eqs. 14-16); zero to round-off
@@ -333,15 +333,13 @@ class InterfaceIteration:
                 raise SolveError("the interface separated everywhere: nothing holds the "
                                  "foundation (is the net load upward?)", self.history)
             states[it] = m.status.copy()
-            if (changed == 0 and secant is not None) or (changed and not moved):
-                # the secant slips converge by the out-of-balance force alone, and new
-                # reversals (each carrier reverses once) change the law, not the state: a
+            if (changed == 0 and secant is not None) or (changed and not moved) \
+                    or (changed == 0 and it == 1 and self.carried_secant):
+                # a change of law, not of state: the secant slips converge by the
+                # out-of-balance force alone; new reversals (each carrier reverses once)
+                # take the secant law; carried secant slips became plain ones (stopping
+                # here, as at a lost accuracy, stopped a stage holding the same load). A
                 # state that recurs after them is not a cycle
-                seen = {self._state_key(): it}
-                continue
-            if changed == 0 and it == 1 and self.carried_secant:
-                # the carried secant slips became plain ones: solve with them (stopping
-                # here, as at a lost accuracy, stopped a stage holding the same load)
                 seen = {self._state_key(): it}
                 continue
             if changed == 0:
