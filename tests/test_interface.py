@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import HYPERBOLIC_SOIL, small_tank
 from tankfx import Scene, analyse
 from tankfx import interface as ifc
 from tankfx.analysis import analyse_path
@@ -301,6 +302,52 @@ def test_a_stage_of_the_same_load_from_secant_slips():
     assert r["interface"]["history"][-1]["out_of_balance"] < 1e-6
     for key in ("w0", "wd", "M0"):
         assert second[key] == pytest.approx(first[key], rel=5e-4), key
+
+
+def test_low_friction_reversed_slips_converge_in_a_few_solves():
+    """At tan phi = 0.01-0.03 the small tank's two reversed elements (one at the contact's
+    turning point, its jump 1e-8 m) are coupled; each one's secant stiffness follows from
+    the line its last two solves draw between its traction and its jump (the rest's
+    response), and the iteration converges in 10 / 13 / 10 solves (a secant root of the
+    misfit took 14 / 23 / 39: its updates crawled down from k_s while the misfit stayed
+    flat). The converged states meet the law: no tension,
+    |tau| <= sigma_n tan phi, equilibrium; the settlement falls as the friction grows."""
+    w0 = []
+    for tan_phi in (0.01, 0.02, 0.03):
+        r = analyse(Scene.from_dict(small_tank(interface={
+            "condition": "mohr_coulomb", "tan_phi": tan_phi}))).results
+        assert r["interface"]["converged"] and r["interface"]["reversed_slips"] > 0
+        assert r["interface"]["iterations"] <= 16, tan_phi
+        plate = r["profiles"]["plate"]
+        sn, tau = np.array(plate["contact_normal"]), np.array(plate["contact_shear"])
+        scale = np.abs(sn).max()
+        assert np.all(sn >= -1e-9 * scale)
+        assert np.all(np.abs(tau) <= sn * tan_phi + 1e-6 * scale), tan_phi
+        assert r["equilibrium"]["contact_relative_error"] < 1e-6
+        w0.append(r["w0"])
+    assert w0[0] > w0[1] > w0[2]
+
+
+def test_node_states_on_a_hyperbolic_soil_along_an_emptying_path():
+    """The small tank on the paper's hyperbolic soil, tan phi = 0.03, filled to 2.8 m and
+    lowered to 0.05 m: node states did not converge there (the secant slips' out-of-balance
+    wandered 5e-4 .. 1e-2 for 50 solves, from the carried states and again from stuck
+    ones); now in 62 solves in all (both stages, the soil's iterations included), at the
+    element states' result (measured 7e-6 apart in w0, 1.4e-3 in M0: node states are a
+    lumped rule)."""
+    data = scene(tan_phi=0.03, embedment=0.3,
+                 load={"liquid_unit_weight": 9810.0, "liquid_height": 2.8}).to_dict()
+    data["soil"] = dict(HYPERBOLIC_SOIL)
+    data["stages"] = [{}, {"liquid_height": 0.05}]
+    results = {}
+    for states in ("node", "element"):
+        data["interface"]["states"] = states
+        r = analyse(Scene.from_dict(data)).results
+        assert all(stage["interface"]["converged"] for stage in r["stages"]), states
+        assert r["equilibrium"]["relative_error"] < 1e-6
+        results[states] = r
+    assert results["node"]["w0"] == pytest.approx(results["element"]["w0"], rel=1e-4)
+    assert results["node"]["M0"] == pytest.approx(results["element"]["M0"], rel=5e-3)
 
 
 def test_only_the_interface_is_reassembled_between_solves(monkeypatch):
