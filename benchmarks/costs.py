@@ -6,10 +6,12 @@ on this machine:
    in a fresh process (whole-process wall time, JIT cache warm), with PETSc's event log
    (factorisations, triangular solves) beside tankfx's own timings. Target: nonlinear
    <= 5 x linear.
-2. ``parallel``: the embedded tank, linear and nonlinear, refined to about 270k dofs, on 1
-   and on 2 MPI ranks, each ``--repeat`` times (medians). Target: 2 ranks >= 1.5 x faster.
-   ``--near-size`` sets the refinement (element size within 6 radii, m): 0.35 (default)
-   gives 274k dofs, 0.27 gives 434k, 0.2 gives 755k.
+2. ``parallel``: the embedded tank, linear and nonlinear, refined to about 270k dofs, and
+   the tank on clay's consolidation at 191k, on 1 and on 2 MPI ranks, each ``--repeat``
+   times (medians). Target: 2 ranks >= 1.5 x faster. ``--near-size`` sets the refinement
+   (element size within 6 radii, m): 0.35 (default) gives 274k dofs, 0.27 gives 434k, 0.2
+   gives 755k (the clay tank's in proportion); ``--scenes`` picks among linear, nonlinear
+   and consolidation.
 3. ``sweep``: a sweep of N default cases (the surface tank over Kp and nu_s) on 1 and on 2
    ranks. Target (N = 100): >= 1.8 x faster.
 4. ``iterative``: where the iterative option (``[solver] method = "iterative"``) beats MUMPS
@@ -18,7 +20,8 @@ on this machine:
    at growing mesh sizes, each a fresh process (peak memory from the operating system).
 
     python benchmarks/costs.py [--only profile|parallel|sweep|iterative] [--cases 100]
-                               [--repeat 3] [--near-size 0.35] [--out results/benchmarks]
+                               [--repeat 3] [--near-size 0.35] [--scenes ...]
+                               [--out results/benchmarks]
 
 Every measurement runs in its own process (``mpiexec -n N python ...``), so that the ranks
 and the memory are those a user gets.
@@ -118,15 +121,32 @@ def profile(out: dict) -> None:
     out["profile"] = {"nonlinear": nl, "linear": li, "ratio": ratio}
 
 
-def parallel(out: dict, repeat: int, near_size: float = 0.35) -> None:
-    """One analysis on 1 and 2 ranks, whole process: the linear embedded tank (one
-    factorisation) and the nonlinear one (hyperbolic soil + Mohr-Coulomb, ~13), both refined
-    by ``near_size`` (0.35 m: about 270k dofs). This machine's timings of one run vary by
-    10-15 %, so each is run ``repeat`` times, 1 and 2 ranks alternating, and the medians
-    are compared."""
-    fine = {"mesh": {"near_size": near_size, "edge_size": 0.01}}
+#: The scenes of the parallel benchmark: (scene file, its refinement as a function of the
+#: ``--near-size`` of the embedded tanks). The linear embedded tank is one factorisation,
+#: the nonlinear one (hyperbolic soil + Mohr-Coulomb) ~13 on one analysis, and the tank on
+#: clay's consolidation ~56 (one per time step): each a larger share of work that scales.
+PARALLEL_SCENES = {
+    "linear": ("embedded_tank.toml",
+               lambda near: {"mesh": {"near_size": near, "edge_size": 0.01}}),
+    "nonlinear": ("embedded_tank_nonlinear.toml",
+                  lambda near: {"mesh": {"near_size": near, "edge_size": 0.01}}),
+    # (the clay tank's a is 15 m, its mesh Taylor-Hood: 0.25 m gives 191k dofs)
+    "consolidation": ("tank_on_clay.toml",
+                      lambda near: {"mesh": {"near_size": near * 0.25 / 0.35}}),
+}
+
+
+def parallel(out: dict, repeat: int, near_size: float = 0.35,
+             scenes=tuple(PARALLEL_SCENES)) -> None:
+    """One analysis on 1 and 2 ranks, whole process, for each of ``scenes`` (keys of
+    PARALLEL_SCENES), refined by ``near_size`` (0.35 m: about 270k dofs for the embedded
+    tanks, 190k for the tank on clay). This machine's timings of one run vary by 10-15 %,
+    so each is run ``repeat`` times, 1 and 2 ranks alternating, and the medians are
+    compared."""
     out["parallel"] = {}
-    for name in ("embedded_tank.toml", "embedded_tank_nonlinear.toml"):
+    for key in scenes:
+        name, refine = PARALLEL_SCENES[key]
+        fine = refine(near_size)
         scene = ROOT / "demos" / "scenes" / name
         _analysis(scene, fine)
         runs = {1: [], 2: []}
@@ -215,13 +235,15 @@ def main():
                     help="runs of each parallel measurement (medians compared)")
     ap.add_argument("--near-size", type=float, default=0.35,
                     help="element size within 6 radii (m) of the parallel benchmark's meshes")
+    ap.add_argument("--scenes", nargs="+", choices=list(PARALLEL_SCENES),
+                    default=list(PARALLEL_SCENES), help="scenes of the parallel benchmark")
     ap.add_argument("--out", default="results/benchmarks")
     args = ap.parse_args()
     out: dict = {}
     if args.only in (None, "profile"):
         profile(out)
     if args.only in (None, "parallel"):
-        parallel(out, args.repeat, args.near_size)
+        parallel(out, args.repeat, args.near_size, args.scenes)
     if args.only in (None, "sweep"):
         sweep(out, args.cases)
     if args.only in (None, "iterative"):
