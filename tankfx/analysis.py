@@ -711,9 +711,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     solver = make_solver(scene, model.a, model.L, model.bcs, model.unknowns,
                          entity_maps=model.entity_maps, name="tank",
                          symmetric=not mohr_coulomb, one_shot=one_shot,
-                         # only the interface's states change between the solves of a
-                         # Mohr-Coulomb iteration on a linear soil: the rest is kept
-                         split=model.a_split if linear_soil and mohr_coulomb else None)
+                         # on a linear soil only a Mohr-Coulomb interface's states and a
+                         # consolidation's time step change the matrix: the rest is kept
+                         split=model.a_split if linear_soil else None)
     timings["forms"] = time.perf_counter() - t
     warnings = list(getattr(model, "warnings", []))
     grading = mesh_grading_warning(scene)

@@ -23,7 +23,8 @@ _ids = itertools.count()
 
 #: What a solve re-assembles (``results["linear_solver"]["assembly"]``).
 WHOLE_ASSEMBLY = "the whole system at every solve"
-SPLIT_ASSEMBLY = "soil and structure once, the interface at every solve"
+SPLIT_ASSEMBLY = ("once, but for what changes between solves (a Mohr-Coulomb interface, "
+                  "a consolidation's flow terms): that at every solve")
 KEPT_ASSEMBLY = "once, factorised once: every load stage has the same matrix"
 
 #: Steps of iterative refinement after the LU solve.

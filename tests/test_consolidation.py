@@ -526,6 +526,42 @@ def test_a_ringwall_on_consolidating_ground(fill):
     assert sol.results["overturning"]["equilibrium"]["moment_relative_error"] < 1e-8
 
 
+@pytest.mark.parametrize("case", ["ringwall with a fill", "mohr_coulomb"])
+def test_only_the_flow_terms_are_reassembled_at_each_step(case, monkeypatch):
+    """A consolidation's time step changes only the flow terms of the matrix (dt k /
+    gamma_w times the pore pressure's blocks; a Mohr-Coulomb interface's states too): the
+    rest is assembled once. The same history as re-assembling the whole system at every
+    step (a ringwall's pinned pore pressures and its fill's interior-facet drainage, or an
+    interface iterated at every step)."""
+    from dolfinx.fem import petsc as fem_petsc
+
+    from tankfx.solve import SPLIT_ASSEMBLY, DirectSolver
+
+    if case == "mohr_coulomb":
+        tank = small_tank(interface={"condition": "mohr_coulomb", "tan_phi": 0.5})
+    else:
+        tank = small_tank(ringwall={"inner_radius": 0.8, "outer_radius": 1.1, "depth": 0.4,
+                                    "E": 30e9, "nu": 0.2, "fill_E": 50e6, "fill_nu": 0.3})
+    scene = Scene.from_dict(tank | {"consolidation": {"permeability": 1e-9,
+                                                      "times": [DAY, 30 * DAY],
+                                                      "steps_per_decade": 2}})
+    split = analyse(scene).results
+    assert split["linear_solver"]["assembly"] == SPLIT_ASSEMBLY
+
+    def whole(self):
+        p = self.problem
+        p.A.zeroEntries()
+        fem_petsc.assemble_matrix(p.A, p.a, bcs=p.bcs)
+        p.A.assemble()
+
+    monkeypatch.setattr(DirectSolver, "_assemble_split", whole)
+    full = analyse(scene).results
+    assert full["linear_solves"] == split["linear_solves"] > 3
+    for a, b in zip(split["consolidation"]["history"], full["consolidation"]["history"]):
+        for key in ("w0", "wd", "M0", "axis_pore_pressure"):
+            assert a[key] == pytest.approx(b[key], rel=1e-10, abs=1e-12), (key, a["t"])
+
+
 def test_scene_round_trip(tmp_path):
     scene = _flexible([1, 30], drainage="top_and_bottom", steps_per_decade=5)
     path = tmp_path / "s.toml"
