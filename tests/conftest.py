@@ -48,6 +48,22 @@ def incompressible_hyperbolic_punch(a: float = 1e-7) -> dict:
             "interface": {"condition": "smooth"}, "load": {"pressure": 1e3}, "mesh": COARSE}
 
 
+def assemble_whole_system(monkeypatch) -> None:
+    """Make the direct solver re-assemble the whole matrix at every solve, instead of the
+    varying part of a split one: the reference the split assembly must reproduce."""
+    from dolfinx.fem import petsc as fem_petsc
+
+    from tankfx.solve import DirectSolver
+
+    def whole(self):
+        p = self.problem
+        p.A.zeroEntries()
+        fem_petsc.assemble_matrix(p.A, p.a, bcs=p.bcs)
+        p.A.assemble()
+
+    monkeypatch.setattr(DirectSolver, "_assemble_split", whole)
+
+
 @pytest.fixture(autouse=True)
 def _collect_and_barrier():
     """PETSc objects are freed collectively: collect garbage on all ranks together."""

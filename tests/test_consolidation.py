@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from conftest import COARSE, flexible_scene, small_tank
+from conftest import COARSE, assemble_whole_system, flexible_scene, small_tank
 from tankfx import Scene, analyse
 from tankfx import reference as ref
 from tankfx.consolidation import (MandelCylinder, Oedometer, consolidation_coefficient,
@@ -533,9 +533,7 @@ def test_only_the_flow_terms_are_reassembled_at_each_step(case, monkeypatch):
     rest is assembled once. The same history as re-assembling the whole system at every
     step (a ringwall's pinned pore pressures and its fill's interior-facet drainage, or an
     interface iterated at every step)."""
-    from dolfinx.fem import petsc as fem_petsc
-
-    from tankfx.solve import SPLIT_ASSEMBLY, DirectSolver
+    from tankfx.solve import SPLIT_ASSEMBLY
 
     if case == "mohr_coulomb":
         tank = small_tank(interface={"condition": "mohr_coulomb", "tan_phi": 0.5})
@@ -547,14 +545,7 @@ def test_only_the_flow_terms_are_reassembled_at_each_step(case, monkeypatch):
                                                       "steps_per_decade": 2}})
     split = analyse(scene).results
     assert split["linear_solver"]["assembly"] == SPLIT_ASSEMBLY
-
-    def whole(self):
-        p = self.problem
-        p.A.zeroEntries()
-        fem_petsc.assemble_matrix(p.A, p.a, bcs=p.bcs)
-        p.A.assemble()
-
-    monkeypatch.setattr(DirectSolver, "_assemble_split", whole)
+    assemble_whole_system(monkeypatch)
     full = analyse(scene).results
     assert full["linear_solves"] == split["linear_solves"] > 3
     for a, b in zip(split["consolidation"]["history"], full["consolidation"]["history"]):

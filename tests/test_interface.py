@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from conftest import HYPERBOLIC_SOIL, small_tank
+from conftest import HYPERBOLIC_SOIL, assemble_whole_system, small_tank
 from tankfx import Scene, analyse
 from tankfx import interface as ifc
 from tankfx.analysis import analyse_path
@@ -356,22 +356,13 @@ def test_only_the_interface_is_reassembled_between_solves(monkeypatch):
     assembled once and only the interface part at each solve. Same solves, states and
     numbers as re-assembling the whole system every time; a hyperbolic soil re-assembles
     the whole."""
-    from dolfinx.fem import petsc as fem_petsc
-
-    from tankfx.solve import SPLIT_ASSEMBLY, WHOLE_ASSEMBLY, DirectSolver
+    from tankfx.solve import SPLIT_ASSEMBLY, WHOLE_ASSEMBLY
 
     tank = _demo_tank(tan_phi=0.1).with_changes(mesh={"edge_size": 0.05, "near_size": 2.0})
     split = analyse(tank).results
     assert split["linear_solver"]["assembly"] == SPLIT_ASSEMBLY
     assert split["linear_solves"] >= 3
-
-    def whole(self):
-        p = self.problem
-        p.A.zeroEntries()
-        fem_petsc.assemble_matrix(p.A, p.a, bcs=p.bcs)
-        p.A.assemble()
-
-    monkeypatch.setattr(DirectSolver, "_assemble_split", whole)
+    assemble_whole_system(monkeypatch)
     full = analyse(tank).results
     assert full["linear_solves"] == split["linear_solves"]
     assert [h["changed"] for h in full["interface"]["history"]] == \
