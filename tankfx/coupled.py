@@ -310,23 +310,20 @@ class TankModel:
                                                       ufl.TestFunction(space)) * dx(1)
 
         m = len(soil.pressures)
-        pressure_spaces = [pr.function_space for pr, _, _ in soil.pressures]
         # fixed: the soil and the structure, with the interface unless it varies, with the
         # pressures' own blocks unless they are the flow
         soil_rows = soil.matrix_rows(soil.a if mohr_coulomb else soil.a + i_ss)
         if consolidating:
-            for j, space in enumerate(pressure_spaces):
-                soil_rows[j + 1][j + 1] = nothing(space)
+            for j, (pressure, _, _) in enumerate(soil.pressures):
+                soil_rows[j + 1][j + 1] = nothing(pressure.function_space)
         fixed = self._block_rows(soil_rows, None if mohr_coulomb else i_sb,
                                  None if mohr_coulomb else i_bs,
                                  a_bb if mohr_coulomb else a_bb + i_bb)
         # varying: the interface (Mohr-Coulomb), the flow (consolidation)
         rows = [[i_ss if mohr_coulomb else nothing(soil.V)] + [None] * m]
-        for j, (space, (_, _, a_pp)) in enumerate(zip(pressure_spaces,
-                                                      (blocks for _, blocks, _ in
-                                                       soil.pressures))):
+        for j, (pressure, (_, _, a_pp), _) in enumerate(soil.pressures):
             rows.append([None] * (m + 1))
-            rows[-1][j + 1] = a_pp if consolidating else nothing(space)
+            rows[-1][j + 1] = a_pp if consolidating else nothing(pressure.function_space)
         varying = self._block_rows(rows, i_sb if mohr_coulomb else None,
                                    i_bs if mohr_coulomb else None,
                                    i_bb if mohr_coulomb else nothing(self.W))

@@ -350,6 +350,23 @@ def test_node_states_on_a_hyperbolic_soil_along_an_emptying_path():
     assert results["node"]["M0"] == pytest.approx(results["element"]["M0"], rel=5e-3)
 
 
+def test_a_mixed_soil_under_a_mohr_coulomb_interface_keeps_its_soil_assembled(monkeypatch):
+    """nu_s = 0.49 (the mixed displacement-pressure form) under a Mohr-Coulomb interface:
+    the soil's blocks, its pressure's included, are assembled once and the interface at
+    every solve; the same solves and numbers as re-assembling the whole system."""
+    from tankfx.solve import SPLIT_ASSEMBLY
+
+    scene = Scene.from_dict(small_tank(soil={"E": 10e6, "nu": 0.49}, interface={
+        "condition": "mohr_coulomb", "tan_phi": 0.3}))
+    split = analyse(scene).results
+    assert split["linear_solver"]["assembly"] == SPLIT_ASSEMBLY
+    assert split["dofs"]["soil_pressure"] > 0          # (the mixed form)
+    assemble_whole_system(monkeypatch)
+    full = analyse(scene).results
+    assert full["linear_solves"] == split["linear_solves"] >= 2
+    _close(split, full, 1e-10)
+
+
 def test_only_the_interface_is_reassembled_between_solves(monkeypatch):
     """A linear soil under a Mohr-Coulomb interface: between the solves of the iteration
     only the interface's coefficients change, so the soil and structure blocks are
