@@ -126,6 +126,17 @@ def _cell_field(msh, values: np.ndarray, name: str) -> fem.Function:
 STRATUM_TAG = 100
 
 
+def empty_form(space: fem.FunctionSpace):
+    """A bilinear form on ``space`` x ``space`` integrated over no cells: it assembles
+    nothing, but gives a block system's part a diagonal block where the block assembly
+    needs one (supports on it, or a row that would be empty)."""
+    msh = space.mesh
+    none = dmesh.meshtags(msh, msh.topology.dim, np.empty(0, np.int32), np.empty(0, np.int32))
+    dx = ufl.Measure("dx", domain=msh, subdomain_data=none)
+    return fem.Constant(msh, 0.0) * ufl.inner(ufl.TrialFunction(space),
+                                              ufl.TestFunction(space)) * dx(1)
+
+
 class SoilBlock:
     """The soil field on the parent mesh: its space, modulus, stiffness forms and supports.
 
@@ -527,6 +538,25 @@ class SoilBlock:
             rows.append([a_pu] + [a_pp if k == j else None for k in range(m)])
         return rows
 
+    def split_rows(self, a_uu_fixed, a_uu_varying=None) -> tuple[list, list]:
+        """The soil's rows (:meth:`matrix_rows`) in two parts that sum to those of
+        ``a_uu_fixed + a_uu_varying``, for a solver that assembles the fixed part once:
+        fixed, ``a_uu_fixed``, the pressures' couplings and their own blocks unless they are
+        a consolidation's flow terms (which change with the time step); varying,
+        ``a_uu_varying`` and those flow terms. A diagonal block that a part lacks is an
+        :func:`empty_form`."""
+        fixed = self.matrix_rows(a_uu_fixed)
+        m = len(self.pressures)
+        varying = [[empty_form(self.V) if a_uu_varying is None else a_uu_varying] + [None] * m]
+        for j, (pressure, (_, _, a_pp), _) in enumerate(self.pressures):
+            varying.append([None] * (m + 1))
+            if self.consolidating:
+                fixed[j + 1][j + 1] = empty_form(pressure.function_space)
+                varying[-1][j + 1] = a_pp
+            else:
+                varying[-1][j + 1] = empty_form(pressure.function_space)
+        return fixed, varying
+
     def load_rows(self, L_u):
         """The soil's rows of a block load vector: [L_u] or, mixed, [L_u, L_p_1, ...]; the
         stress the unloading cells keep is a load of the displacement row."""
@@ -578,11 +608,11 @@ class SoilBlock:
 class FlexibleLoad:
     """A uniform pressure on r <= load_radius of the bare soil (no structure)."""
 
-    a_split = None      # no interface whose part alone could be re-assembled
-
     def __init__(self, scene: Scene, domain: Domain):
         self.scene, self.domain = scene, domain
         self.soil = soil = SoilBlock(scene, domain)
+        # a consolidation's step changes only the flow terms (no interface here)
+        self.a_split = soil.split_rows(soil.a) if soil.consolidating else None
         self.pressure = fem.Constant(domain.mesh, scene.load.pressure)
         ds = ufl.Measure("ds", domain=domain.mesh, subdomain_data=domain.facet_tags)
         self.L = -self.pressure * soil.test[1] * 2.0 * math.pi * soil.r * ds(
