@@ -23,8 +23,8 @@ _ids = itertools.count()
 
 #: What a solve re-assembles (``results["linear_solver"]["assembly"]``).
 WHOLE_ASSEMBLY = "the whole system at every solve"
-SPLIT_ASSEMBLY = ("once, but for what changes between solves (a Mohr-Coulomb interface, "
-                  "a consolidation's flow terms): that at every solve")
+SPLIT_ASSEMBLY = ("the fixed part once; at every solve only what changes (a Mohr-Coulomb "
+                  "interface's states, a consolidation's flow terms)")
 KEPT_ASSEMBLY = "once, factorised once: every load stage has the same matrix"
 
 #: Steps of iterative refinement after the LU solve.
