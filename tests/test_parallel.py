@@ -281,6 +281,24 @@ def test_consolidation_parallel_equals_serial():
 
 
 @needs_two_ranks
+def test_bare_soil_consolidation_parallel_equals_serial():
+    """A flexible load on consolidating soil (no structure: the soil's own split of the
+    matrix, its flow terms re-assembled at each step): the history the same on 2 ranks."""
+    from tankfx.solve import SPLIT_ASSEMBLY
+
+    scene = flexible_scene(consolidation={"permeability": 1e-9, "times": [86400.0, 8640000.0],
+                                          "steps_per_decade": 2}).with_coarse_mesh()
+    parallel, serial = _solve_both(scene)
+    assert parallel["linear_solver"]["assembly"] == SPLIT_ASSEMBLY
+    _assert_same_numbers(parallel, serial)
+    p, s = parallel["consolidation"], serial["consolidation"]
+    assert len(p["history"]) == len(s["history"]) > 3
+    for key in ("w0", "wd", "max_pore_pressure", "axis_pore_pressure"):
+        np.testing.assert_allclose([x[key] for x in p["history"]],
+                                   [x[key] for x in s["history"]], rtol=1e-7, err_msg=key)
+
+
+@needs_two_ranks
 def test_an_interface_restarted_from_stuck_states_parallel_equals_serial():
     """The small tank's consolidation emptied to 5 % of its load with a slipping interface
     (test_consolidation): the steps whose Mohr-Coulomb iteration starts again from stuck
