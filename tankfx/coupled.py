@@ -151,12 +151,7 @@ class TankModel:
         self.a = self._bilinear_forms()
         self.L = self._loads()
         self.bcs = soil.bcs + self._symmetry()
-        # compiled once per model, on first use: the results are read at every step of
-        # a consolidation (and every stage of a path)
         self._jump_forms = None
-        self._traction_forms = None
-        self._resultants = None
-        self._w_mean_form = None
 
     # ------------------------------------------------------------------ set-up
     def _penalty(self, values):
@@ -554,11 +549,27 @@ class TankModel:
                                                       measure, entity_maps=self.entity_maps))
         return allsum(self.domain.mesh.comm, total)
 
+    # The results' expressions and forms, compiled once per model: the results are read at
+    # every step of a consolidation (and every stage of a path).
+    @cached_property
+    def _resultants(self) -> st.ShellResultants:
+        return st.ShellResultants(self.w, self.r_b, self.t_b, self.E, self.nu, self.thickness,
+                                  self.offset)
+
+    @cached_property
+    def _traction_forms(self) -> list:
+        def traction(jump, n, t, R):
+            return list(interface.tractions(jump, n, t, R(self.k_n), R(self.k_s), R(self.mu),
+                                            R(self.c_s)))
+        return self.cell_average_forms(traction)
+
+    @cached_property
+    def _w_mean_form(self):
+        u_b = ufl.split(self.w)[0]
+        return fem.form(-u_b[1] * 2.0 * math.pi * self.r_b * self.dx_b(st.PLATE))
+
     def _fields(self):
         """Structure resultants interpolated cell-wise (DG2), for point evaluation."""
-        if self._resultants is None:
-            self._resultants = st.ShellResultants(self.w, self.r_b, self.t_b, self.E, self.nu,
-                                                  self.thickness, self.offset)
         out = self._resultants()
         out["sigma_n"], out["tau"] = self.contact_stresses()
         status = fem.Function(self.S, name="status")
@@ -628,12 +639,6 @@ class TankModel:
         """Interface tractions averaged over each structure cell (DG0 fields sigma_n, tau):
         the resultant of each facet exactly, without the point-wise wiggles of a penalty jump
         between the soil's and the structure's different polynomial traces."""
-        def traction(jump, n, t, R):
-            return list(interface.tractions(jump, n, t, R(self.k_n), R(self.k_s), R(self.mu),
-                                            R(self.c_s)))
-
-        if self._traction_forms is None:
-            self._traction_forms = self.cell_average_forms(traction)
         out = []
         for values, name in zip(self.cell_averages(self._traction_forms), ("sigma_n", "tau")):
             f = fem.Function(self.S, name=name)
@@ -656,9 +661,6 @@ class TankModel:
         w = -u[:, 1]
         M_r = evaluate_at(F["M_s"], pts, cells)[:, 0]
         ap = s.plate.radius
-        if self._w_mean_form is None:
-            u_b = ufl.split(self.w)[0]
-            self._w_mean_form = fem.form(-u_b[1] * 2.0 * math.pi * self.r_b * self.dx_b(st.PLATE))
         w_mean = allsum(self.mesh.comm, fem.assemble_scalar(self._w_mean_form)) / \
             (math.pi * ap**2)
         self._w_mean = float(w_mean)
