@@ -7,7 +7,7 @@ MPIEXEC := $(VENV)/bin/mpiexec
 NP      ?= 2
 STAMP   := $(VENV)/.tankfx-installed
 
-.PHONY: demo test test-serial test-mpi benchmark venv clean
+.PHONY: demo test lint test-serial test-mpi benchmark venv clean
 
 venv: $(STAMP)
 
@@ -29,7 +29,12 @@ $(STAMP): pyproject.toml
 demo: $(STAMP)
 	$(PY) demos/embedded_tank.py
 
-test: test-serial test-mpi
+test: lint test-serial test-mpi
+
+# The package's layers and no import cycle (import-linter's contracts in pyproject.toml;
+# docs/architecture.md says what each layer holds).
+lint: $(STAMP)
+	$(VENV)/bin/lint-imports
 
 # The serial tests in WORKERS processes side by side (pytest-xdist), a test file to a
 # process (a module's shared fixtures are made once): on this project's 2-core machine 403 s

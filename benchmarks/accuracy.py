@@ -56,7 +56,7 @@ def _soil(degree, level, a=A):
 def is_default(case: str, degree: int, level: int) -> bool:
     """What a scene gets without [mesh] keys: P3 on a mesh twice as coarse (level -1) for the
     flexible load, P2 at level 0 under a plate."""
-    from tankfx.scene import FLEXIBLE_COARSENING, FLEXIBLE_DEGREE
+    from tankfx.scene.sections import FLEXIBLE_COARSENING, FLEXIBLE_DEGREE
 
     if case in ("flexible load", "layered ground"):
         return (degree, level) == (FLEXIBLE_DEGREE, -round(math.log2(FLEXIBLE_COARSENING)))
@@ -103,7 +103,7 @@ def scenes(degree: int, level: int) -> dict[str, dict]:
 
 
 def errors(case: str, r: dict, reference: dict | None) -> dict:
-    from tankfx import reference as ref
+    from tankfx.verification import reference as ref
 
     if case == "flexible load":
         z = np.array(r["profiles"]["axis"]["z"])
@@ -185,9 +185,9 @@ def front(rows: list[dict]) -> None:
 
 
 def chart(rows: list[dict], path: Path) -> None:
-    from tankfx.plots import _pyvista, _save
+    from tankfx.results.figures import offscreen_pyvista, save_figure
 
-    pv = _pyvista()
+    pv = offscreen_pyvista()
     cases = list(dict.fromkeys(r["case"] for r in rows))
     colors = {1: "tab:orange", 2: "tab:blue", 3: "tab:green"}
     p = pv.Plotter(off_screen=True, window_size=(700 * 3, 450 * math.ceil(len(cases) / 3)),
@@ -209,7 +209,7 @@ def chart(rows: list[dict], path: Path) -> None:
                       color="black", size=16, style="d", label="default")
         p.subplot(k // 3, k % 3)
         p.add_chart(c)
-    _save(p, path)
+    save_figure(p, path)
 
 
 def main():

@@ -29,9 +29,10 @@ import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
 import numpy as np
 
 from tankfx import analyse, load_scene
-from tankfx import reference as ref
-from tankfx.consolidation import (MandelCylinder, Oedometer, consolidation_coefficient,
-                                  time_steps)
+from tankfx.verification import reference as ref
+from tankfx.verification.rigs import MandelCylinder, Oedometer
+from tankfx.laws.biot import consolidation_coefficient
+from tankfx.iterations.time_stepping import time_steps
 
 ROOT = Path(__file__).resolve().parents[1]
 E, NU, K = 5e6, 0.3, 1e-8

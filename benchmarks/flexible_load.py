@@ -62,7 +62,7 @@ def run_case(degree: int, level: int, workdir: Path) -> dict:
 
 
 def errors(r: dict) -> dict:
-    from tankfx import reference as ref
+    from tankfx.verification import reference as ref
 
     z = np.array(r["profiles"]["axis"]["z"])
     s = np.array(r["profiles"]["axis"]["sigma_zz"])
@@ -103,11 +103,11 @@ def part2(factors, out: Path) -> list[dict]:
     from mpi4py import MPI
 
     from tankfx import Scene
-    from tankfx import reference as ref
-    from tankfx.analysis import FlexibleLoad
+    from tankfx.verification import reference as ref
+    from tankfx.model.flexible import FlexibleLoad
     from tankfx.mesh import build_domain
-    from tankfx.post import evaluate_at
-    from tankfx.solve import DirectSolver
+    from tankfx.fem.evaluate import evaluate_at
+    from tankfx.fem.solvers import DirectSolver
 
     print("\nPart 2: truncation of the half-space, P3 fine mesh (discretisation error "
           "< 0.01 %)")

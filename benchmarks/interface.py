@@ -15,7 +15,7 @@ import dolfinx_solver  # noqa: F401
 from mpi4py import MPI
 
 from tankfx import analyse, load_scene
-from tankfx.solve import SolveError
+from tankfx.fem.solvers import SolveError
 
 say = print if MPI.COMM_WORLD.rank == 0 else (lambda *a, **k: None)
 SCENE = Path(__file__).resolve().parents[1] / "demos" / "scenes" / "embedded_tank.toml"

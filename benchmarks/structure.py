@@ -18,11 +18,12 @@ import dolfinx_solver  # noqa: F401
 from mpi4py import MPI
 
 from tankfx import Scene, analyse
-from tankfx.coupled import TankModel
+from tankfx.model.tank import TankModel
 from tankfx.mesh import build_domain
-from tankfx.post import evaluate_at
-from tankfx.solve import DirectSolver
-from tankfx.structure import StandaloneShell, flexural_rigidity, wall_beta
+from tankfx.fem.evaluate import evaluate_at
+from tankfx.fem.solvers import DirectSolver
+from tankfx.verification.rigs import StandaloneShell
+from tankfx.laws.shell import flexural_rigidity, wall_beta
 
 say = print if MPI.COMM_WORLD.rank == 0 else (lambda *a, **k: None)
 
@@ -123,7 +124,7 @@ def wall_of_courses(rows):
     say("\n5. Wall of three courses (20, 12, 8 mm), clamped, full of water: the stepped-shell "
         "solution (tankfx.reference)")
     say(f"{'el./course':>10s} {'err M (of M0)':>14s} {'err w (of max)':>15s} {'time s':>7s}")
-    from tankfx.reference import stepped_wall_under_liquid
+    from tankfx.verification.reference import stepped_wall_under_liquid
 
     courses, R, g, nu = [(2.0, 0.020), (3.0, 0.012), (3.0, 0.008)], 10.0, 9810.0, 0.3
     H = sum(h for h, _ in courses)
@@ -163,7 +164,7 @@ def overturning_members(rows):
 
     import ufl
 
-    from tankfx import harmonic as hm
+    from tankfx.verification import rigs as hm
 
     a, t, E, nu, q = 1.0, 0.02, 2e11, 0.3, 1e4
     D = flexural_rigidity(E, nu, t)

@@ -21,10 +21,11 @@ import numpy as np
 from mpi4py import MPI
 
 from tankfx import analyse, load_scene
-from tankfx.cli import setup_logging, write_json
-from tankfx.plots import (plot_contact, plot_cutaway, plot_moment_diagrams, plot_section,
-                          plot_structure_profiles)
-from tankfx.post import soil_cell_fields, summary_table, write_fields
+from tankfx.cli import setup_logging
+from tankfx import write_json
+from tankfx.results.figures import plot_contact, plot_cutaway, plot_moment_diagrams, plot_section, plot_structure_profiles
+from tankfx.results.fields import soil_cell_fields, write_fields
+from tankfx.results.report import summary_table
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)

@@ -17,9 +17,9 @@ import numpy as np
 from mpi4py import MPI
 
 from tankfx import analyse, load_scene
-from tankfx import reference as ref
-from tankfx.cli import write_json
-from tankfx.plots import plot_section, plot_surface_settlement
+from tankfx.verification import reference as ref
+from tankfx import write_json
+from tankfx.results.figures import plot_section, plot_surface_settlement
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)

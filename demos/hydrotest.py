@@ -28,8 +28,8 @@ from mpi4py import MPI
 
 from tankfx import Scene, load_scene
 from tankfx.analysis import analyse_path
-from tankfx.cli import write_json
-from tankfx.plots import plot_contact, plot_curves
+from tankfx import write_json
+from tankfx.results.figures import plot_contact, plot_curves
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)

@@ -21,9 +21,9 @@ import numpy as np
 from mpi4py import MPI
 
 from tankfx import Scene, analyse, load_scene
-from tankfx import reference as ref
-from tankfx.cli import write_json
-from tankfx.plots import plot_curves, plot_moment_diagrams
+from tankfx.verification import reference as ref
+from tankfx import write_json
+from tankfx.results.figures import plot_curves, plot_moment_diagrams
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)

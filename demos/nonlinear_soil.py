@@ -19,9 +19,9 @@ from pathlib import Path
 from mpi4py import MPI
 
 from tankfx import Scene, analyse, load_scene
-from tankfx.cli import write_json
-from tankfx.hyperbolic import first_order_excess
-from tankfx.plots import plot_sweep
+from tankfx import write_json
+from tankfx.studies.excess import first_order_excess
+from tankfx.results.figures import plot_sweep
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)

@@ -26,9 +26,9 @@ import numpy as np
 from mpi4py import MPI
 
 from tankfx import analyse, load_scene
-from tankfx.cli import write_json
-from tankfx.plots import plot_curves, plot_overturning, plot_tilt
-from tankfx.reference import rigid_disc_rocking_stiffness
+from tankfx import write_json
+from tankfx.results.figures import plot_curves, plot_overturning, plot_tilt
+from tankfx.verification.reference import rigid_disc_rocking_stiffness
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)

@@ -15,8 +15,8 @@ from pathlib import Path
 from mpi4py import MPI
 
 from tankfx import analyse, load_scene
-from tankfx.cli import write_json
-from tankfx.plots import plot_moment_diagrams, plot_structure_profiles
+from tankfx import write_json
+from tankfx.results.figures import plot_moment_diagrams, plot_structure_profiles
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)

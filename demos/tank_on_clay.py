@@ -25,10 +25,10 @@ from pathlib import Path
 from mpi4py import MPI
 
 from tankfx import analyse, load_scene
-from tankfx import reference as ref
-from tankfx.cli import write_json
-from tankfx.plots import plot_consolidation, plot_isochrones, plot_section
-from tankfx.post import write_profiles
+from tankfx.verification import reference as ref
+from tankfx import write_json
+from tankfx.results.figures import plot_consolidation, plot_isochrones, plot_section
+from tankfx.results.fields import write_profiles
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)

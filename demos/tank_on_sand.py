@@ -20,8 +20,8 @@ from pathlib import Path
 from mpi4py import MPI
 
 from tankfx import analyse, load_scene
-from tankfx.cli import write_json
-from tankfx.plots import plot_load_path
+from tankfx import write_json
+from tankfx.results.figures import plot_load_path
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)

@@ -19,30 +19,42 @@ meshes it and counts the unknowns.
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import os
 import sys
 from pathlib import Path
 
-__all__ = ["main", "write_json", "setup_logging"]
+from . import __version__
+from .analysis import analyse, mesh_grading_warning
+from .fem.solvers import SolveError
+from .iterations.time_stepping import load_path, path_steps
+from .laws.biot import stratum_coefficients
+from .mesh import build_domain, geometry_of
+from .model.build import build_model
+from .results.fields import FIELD_FILES, PROFILE_FILES, write_fields, write_profiles
+from .results.figures import FIGURES, write_figures
+from .results.io import write_json
+from .results.report import summary_table, write_report
+from .scene.scene import load_scene
+from .scene.sections import SceneError
+from .scene.text import member_text, ringwall_text, stratum_constants
+from .studies.sweep import load_sweep, run_sweep
 
 EXIT_BAD_INPUT = 2
+
+
 EXIT_NOT_CONVERGED = 3
+
+
 #: where ``tankfx run`` writes the fields for ParaView, and its report, under --out
 FIELDS = Path("fields")
+
+
 #: and the profiles as CSV files
 PROFILES = Path("profiles")
+
+
 REPORT = "report.md"
-
-
-def write_json(path: Path, data: dict) -> None:
-    """Write atomically: a reader never sees a half-written file."""
-    tmp = path.with_suffix(path.suffix + ".tmp")
-    with tmp.open("w") as f:
-        json.dump(data, f, indent=1, allow_nan=False)
-        f.write("\n")
-    os.replace(tmp, path)
 
 
 def setup_logging(out: Path | None, rank: int) -> None:
@@ -90,7 +102,6 @@ def _make_out(out: Path, comm) -> str | None:
 def cmd_run(args) -> int:
     from mpi4py import MPI
 
-    from .scene import SceneError, load_scene
 
     comm = MPI.COMM_WORLD
     out = Path(args.out)
@@ -102,8 +113,6 @@ def cmd_run(args) -> int:
     if args.coarse:
         scene = scene.with_coarse_mesh()
     target = out / "results.json"
-    from .plots import FIGURES
-    from .post import FIELD_FILES, PROFILE_FILES
 
     ours = [target, out / REPORT, *(out / PROFILES / f for f in PROFILE_FILES),
             *([out / f for f in FIGURES] if args.figures else []),
@@ -122,9 +131,6 @@ def cmd_run(args) -> int:
     comm.barrier()
     setup_logging(out, comm.rank)
 
-    from .analysis import analyse
-    from .post import summary_table
-    from .solve import SolveError
 
     try:
         solution = analyse(scene, comm)
@@ -137,7 +143,6 @@ def cmd_run(args) -> int:
     r = solution.results
     log = logging.getLogger("tankfx")
     if comm.rank == 0:
-        from .post import write_profiles
 
         write_json(target, r)
         log.info("profiles (CSV): %s", ", ".join(map(str, write_profiles(r, out / PROFILES))))
@@ -148,18 +153,15 @@ def cmd_run(args) -> int:
     log.info("summary:\n%s", summary_table(r))
     log.info("results: %s; log: %s", target, out / "tankfx.log")
     if args.fields:
-        from .post import write_fields
 
         log.info("fields for ParaView: %s",
                  ", ".join(map(str, write_fields(solution, out / FIELDS))))
     figures = []
     if args.figures:
-        from .plots import write_figures
 
         figures = write_figures(solution, out)
         log.info("figures: %s", ", ".join(map(str, figures)))
     if comm.rank == 0:
-        from .post import write_report
 
         log.info("report: %s", write_report(r, figures, out / REPORT))
     return 0
@@ -169,14 +171,10 @@ def describe(scene) -> list[str]:
     """What a scene resolves to and what an analysis of it builds and iterates, in lines."""
     from dataclasses import asdict
 
-    from .analysis import mesh_grading_warning
-    from .mesh import geometry_of
-    from .scene import member_text, ringwall_text, stratum_constants
 
     s, a = scene.soil, scene.foundation_radius
     out = [f"scene: {scene.title}"]
     if scene.consolidation is not None:
-        from .consolidation import stratum_coefficients
 
         permeability, c_v = stratum_coefficients(scene)
     for k, st in enumerate(s.strata):
@@ -250,7 +248,6 @@ def describe(scene) -> list[str]:
                      "has it)")
     c = scene.consolidation
     if c is not None:
-        from .consolidation import load_path, path_steps
 
         steps = len(path_steps(load_path(scene), c.times, c.steps_per_decade)) - 1
         parts.append(f"the excess pore pressure (Biot's consolidation, k = "
@@ -267,7 +264,6 @@ def cmd_check(args) -> int:
 
     from mpi4py import MPI
 
-    from .scene import SceneError, load_scene
 
     comm = MPI.COMM_WORLD
     say = print if comm.rank == 0 else (lambda *a, **k: None)
@@ -277,7 +273,6 @@ def cmd_check(args) -> int:
         data = {}                            # load_scene says what is wrong with it
     try:
         if "axes" in data:
-            from .sweep import load_sweep
 
             sweep = load_sweep(args.file)
             say(f"{args.file}: a sweep of {len(sweep.scenes)} cases over "
@@ -291,8 +286,6 @@ def cmd_check(args) -> int:
     for line in describe(scene):
         say(line)
     if args.mesh:
-        from .analysis import build_model
-        from .mesh import build_domain
 
         domain = build_domain(scene, comm)
         dofs = build_model(scene, domain).dofs()
@@ -307,8 +300,6 @@ def cmd_check(args) -> int:
 def cmd_sweep(args) -> int:
     from mpi4py import MPI
 
-    from .scene import SceneError
-    from .sweep import load_sweep, run_sweep
 
     comm = MPI.COMM_WORLD
     try:
@@ -336,7 +327,6 @@ def cmd_sweep(args) -> int:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="tankfx", description="Axisymmetric tank-foundation-"
                                      "soil analysis (Zaman & Mahmood's method on FEniCSx).")
-    from . import __version__
 
     parser.add_argument("--version", action="version", version=f"tankfx {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)

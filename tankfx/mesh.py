@@ -17,32 +17,34 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import dolfinx_solver  # noqa: F401  (loads MPI before dolfinx / petsc4py)
-
 import numpy as np
 from dolfinx import graph
 from dolfinx import mesh as dmesh
 from dolfinx.io import gmsh as dgmsh
 from mpi4py import MPI
 
+from .laws.shell import wall_beta
+from .meshes import axisymmetric_domain
 from .meshes.axisymmetric_domain import CELL_TAGS, FACET_TAGS, DomainGeometry, build_model
-from .scene import Scene
-from .structure import wall_beta
+from .scene.scene import Scene
 
 #: The near field, where soil stresses are reported, extends this many foundation radii
 #: from the foundation centre.
 NEAR_RADIUS = 6.0
 
+
 #: A soil whose modulus doubles within a depth 1/lambda shorter than the near field's
 #: elements gets elements of SURFACE_GRADING x (1/lambda + h) at depth h, out to
 #: SURFACE_GRADING_RADIUS foundation radii (README "Mesh defaults").
 SURFACE_GRADING = 0.25
+
+
 SURFACE_GRADING_RADIUS = 2.0
+
 
 #: Element size at the wall foot, as a fraction of the bending decay length 1/beta.
 WALL_ELEMENTS_PER_DECAY = 0.25
 
-__all__ = ["Domain", "geometry_of", "build_domain", "mesh_cache_dir", "CELL_TAGS",
-           "FACET_TAGS"]
 
 log = logging.getLogger("tankfx")
 
@@ -65,7 +67,6 @@ def _cache_file(geom: DomainGeometry, gmsh) -> Path | None:
     root = mesh_cache_dir()
     if root is None:
         return None
-    from .meshes import axisymmetric_domain
 
     # the key: the geometry, the gmsh version and the meshing code itself
     source = Path(axisymmetric_domain.__file__).read_bytes()

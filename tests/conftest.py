@@ -53,7 +53,7 @@ def assemble_whole_system(monkeypatch) -> None:
     varying part of a split one: the reference the split assembly must reproduce."""
     from dolfinx.fem import petsc as fem_petsc
 
-    from tankfx.solve import DirectSolver
+    from tankfx.fem.solvers import DirectSolver
 
     def whole(self):
         p = self.problem

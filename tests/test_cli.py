@@ -129,7 +129,7 @@ def test_a_load_path_scene_file(tmp_path):
                 assert got == expected
     assert "M_r [N m/m]" in (out / "profiles" / "plate.csv").read_text().splitlines()[0]
     # the load path's figure: settlements against the stages' applied loads
-    from tankfx.plots import plot_load_path
+    from tankfx.results.figures import plot_load_path
 
     fig = plot_load_path(r, tmp_path / "load_path.png", title="path")
     assert fig is not None and fig.stat().st_size > 10_000
@@ -187,7 +187,8 @@ def test_fields_file_holds_the_soil_state(tmp_path):
     from conftest import small_tank
 
     from tankfx import Scene, analyse
-    from tankfx.post import STATUS_CODES, summary_rows, write_fields
+    from tankfx.results.fields import STATUS_CODES, write_fields
+    from tankfx.results.report import summary_rows
 
     lam, a, b = 0.5, 1e-7, 1e-5
     scene = Scene.from_dict(small_tank(soil={"model": "hyperbolic", "hyperbolic_a": a,
@@ -244,7 +245,7 @@ def test_fields_file_holds_the_soil_state(tmp_path):
         f"{max(r['profiles']['wall']['N_theta']) / 1e3:.1f} kN/m"
     assert "interface slipping" not in rows
     # the figures `tankfx run` draws for a tank on a hyperbolic soil
-    from tankfx.plots import write_figures
+    from tankfx.results.figures import write_figures
 
     written = write_figures(solution, tmp_path)
     assert sorted(p.name for p in written) == ["contact.png", "moments.png", "profiles.png",
@@ -295,8 +296,8 @@ def test_a_plate_without_a_wall_gets_its_figures_and_fields(tmp_path):
     from conftest import small_tank
 
     from tankfx import Scene, analyse
-    from tankfx.plots import write_figures
-    from tankfx.post import write_fields
+    from tankfx.results.figures import write_figures
+    from tankfx.results.fields import write_fields
 
     data = small_tank(interface={"condition": "smooth"})
     del data["wall"]

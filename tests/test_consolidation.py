@@ -7,10 +7,11 @@ import pytest
 
 from conftest import COARSE, assemble_whole_system, flexible_scene, small_tank
 from tankfx import Scene, analyse
-from tankfx import reference as ref
-from tankfx.consolidation import (MandelCylinder, Oedometer, consolidation_coefficient,
-                                  time_steps)
-from tankfx.scene import SceneError
+from tankfx.verification import reference as ref
+from tankfx.verification.rigs import MandelCylinder, Oedometer
+from tankfx.laws.biot import consolidation_coefficient
+from tankfx.iterations.time_stepping import time_steps
+from tankfx.scene.sections import SceneError
 
 E, NU, K = 5e6, 0.3, 1e-8          # Pa, -, m/s
 DAY = 86400.0
@@ -414,7 +415,7 @@ def test_a_mohr_coulomb_interface_emptied_to_a_twentieth(monkeypatch):
     converges from every element stuck. The states are only a starting guess (the law
     keeps no slip): starting every step from stuck states gives the same history (equal
     at two steps a decade; 1.5e-5 measured at three)."""
-    from tankfx.coupled import TankModel
+    from tankfx.model.tank import TankModel
 
     tank = small_tank(interface={"condition": "mohr_coulomb", "tan_phi": 0.5})
     tank["consolidation"] = {"permeability": 1e-9, "steps_per_decade": 2,
@@ -463,7 +464,7 @@ def test_overturning_on_a_consolidating_soil_is_undrained():
     3 G and nu = 0.5 (+0.11 % on the coarse mesh; the drained soil's +0.28 % off its own),
     the same as the undrained soil's analysed directly (nu = 0.5, mixed form; 1e-6), and
     moment equilibrium holds."""
-    from tankfx.reference import rigid_disc_rocking_stiffness
+    from tankfx.verification.reference import rigid_disc_rocking_stiffness
 
     plate = {"radius": 1.0, "thickness": 0.5, "E": 30e9, "nu": 0.2}
     load = {"pressure": 10e3, "overturning_moment": 1e4}
@@ -533,7 +534,7 @@ def test_only_the_flow_terms_are_reassembled_at_each_step(case, monkeypatch):
     rest is assembled once. The same history as re-assembling the whole system at every
     step (a ringwall's pinned pore pressures and its fill's interior-facet drainage, an
     interface iterated at every step, the bare soil under a flexible load)."""
-    from tankfx.solve import SPLIT_ASSEMBLY
+    from tankfx.fem.solvers import SPLIT_ASSEMBLY
 
     consolidation = {"permeability": 1e-9, "times": [DAY, 30 * DAY], "steps_per_decade": 2}
     if case == "flexible load":
@@ -615,13 +616,13 @@ def test_a_sweep_over_the_permeability(tmp_path):
 
     from mpi4py import MPI
 
-    from tankfx.sweep import Sweep, _with, run_sweep
+    from tankfx.studies.sweep import Sweep, scene_with, run_sweep
 
     base = _flexible([30], steps_per_decade=4)
     axis = [1e-10, 1e-9, 1e-8]
     cases = [{"consolidation.permeability": k} for k in axis]
     sweep = Sweep(base=base, axes={"consolidation.permeability": axis}, cases=cases,
-                  scenes=[_with(base, c) for c in cases])
+                  scenes=[scene_with(base, c) for c in cases])
     run_sweep(sweep, tmp_path / "out", MPI.COMM_SELF)
     with (tmp_path / "out" / "table.csv").open() as f:
         table = list(csv.DictReader(f))

@@ -11,8 +11,8 @@ import pytest
 
 from tankfx import Scene, SceneError
 from tankfx.analysis import analyse
-from tankfx.reference import stepped_wall_under_liquid
-from tankfx.scene import Kp_from_thickness
+from tankfx.verification.reference import stepped_wall_under_liquid
+from tankfx.laws.rigidity import Kp_from_thickness
 
 GAMMA_W, STEEL = 9810.0, 77e3
 COURSES = [(2.4, 0.016), (2.4, 0.013), (2.4, 0.010), (2.4, 0.008), (2.4, 0.008)]

@@ -12,10 +12,11 @@ import ufl
 from dolfinx import fem
 
 from conftest import small_tank
-from tankfx import Scene, SceneError, analyse, hyperbolic
-from tankfx import soil as soil_forms
-from tankfx.hyperbolic import major_strain, principal_strains
-from tankfx.post import _cellwise
+from tankfx import Scene, SceneError, analyse
+from tankfx.iterations import secant as hyperbolic
+from tankfx.laws import elasticity as soil_forms
+from tankfx.laws.kondner import major_strain, principal_strains
+from tankfx.results.fields import cellwise
 
 P_A = 101325.0
 SAND = {"model": "duncan_chang", "nu": 0.3, "modulus_number": 400.0, "modulus_exponent": 0.5,
@@ -117,10 +118,10 @@ def test_converged_cells_obey_duncan_chang(pressure, cohesion, n_failed):
     T = fem.functionspace(msh, ("DG", 0, (4,)))
     Q0 = fem.functionspace(msh, ("DG", 0))
 
-    sig = _cellwise(soil_forms.tensor_components(block.stress()), T)
-    eps = _cellwise(soil_forms.tensor_components(soil_forms.strain(block.u, block.r)), T)
-    E, nu = _cellwise(block.E, Q0)[:, 0], _cellwise(block.nu, Q0)[:, 0]
-    h = np.maximum(-_cellwise(ufl.SpatialCoordinate(msh)[1], Q0)[:, 0], 0.0)
+    sig = cellwise(soil_forms.tensor_components(block.stress()), T)
+    eps = cellwise(soil_forms.tensor_components(soil_forms.strain(block.u, block.r)), T)
+    E, nu = cellwise(block.E, Q0)[:, 0], cellwise(block.nu, Q0)[:, 0]
+    h = np.maximum(-cellwise(ufl.SpatialCoordinate(msh)[1], Q0)[:, 0], 0.0)
     cells = model.domain.cells("soil")
     cells = cells[cells < msh.topology.index_map(2).size_local]
     sig, eps, E, nu, h = sig[cells], eps[cells], E[cells], nu[cells], h[cells]
@@ -191,7 +192,7 @@ def test_duncan_chang_keys_need_the_model():
 def test_geostatic_stress_over_layers():
     """The weight of the strata above: 2 m of 18 kN/m^3 over 20 kN/m^3 (K0 0.5 and 0.4):
     at 5 m sigma_v = 36 + 60 kPa, sigma_h = 0.4 of it; at 1 m 18 kPa and 9 kPa."""
-    from tankfx.hyperbolic import geostatic_stress
+    from tankfx.laws.kondner import geostatic_stress
 
     layer = {k: v for k, v in SAND.items() if k != "model"}
     soil = Scene.from_dict({"soil": SAND | {"K0": 0.5, "layers": [
@@ -226,7 +227,7 @@ def test_water_table_makes_the_confinement_effective():
     at 1 m lowers the confinement below it (sigma_v' at 3 m = 3 gamma - 2 gamma_w) and the
     tank settles more than on dry ground; a stratum below the water table lighter than
     water is refused."""
-    from tankfx.hyperbolic import geostatic_stress
+    from tankfx.laws.kondner import geostatic_stress
 
     dry = Scene.from_dict(small_tank(soil=SAND, load={"pressure": 50e3}))
     w0_dry = analyse(dry).results["w0"]

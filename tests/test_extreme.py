@@ -11,9 +11,9 @@ import pytest
 
 from conftest import COARSE, WATER_LOAD, small_tank
 from tankfx import Scene, SolveError, analyse
-from tankfx import interface as ifc
-from tankfx.hyperbolic import SoilFailure
-from tankfx.reference import gradient_surface_settlement
+from tankfx.laws import interface as ifc
+from tankfx.iterations.secant import SoilFailure
+from tankfx.verification.reference import gradient_surface_settlement
 
 
 def plate(Kp=1.0, condition="bonded", a=1.0, p=1e5, wall=None, **interface):

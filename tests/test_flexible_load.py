@@ -7,7 +7,7 @@ import pytest
 
 from conftest import flexible_scene
 from tankfx import analyse
-from tankfx import reference as ref
+from tankfx.verification import reference as ref
 
 P, A, E = 100e3, 1.0, 10e6
 
@@ -96,7 +96,7 @@ def test_cell_stresses_near_the_axis(nu):
     there), to 1 % of p; nu = 0.499 through the mixed form's pressure."""
     from dolfinx import mesh as dmesh
 
-    from tankfx.post import soil_cell_fields
+    from tankfx.results.fields import soil_cell_fields
 
     solution = analyse(flexible_scene(nu=nu))
     fields = soil_cell_fields(solution.model)

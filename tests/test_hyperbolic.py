@@ -8,7 +8,8 @@ import pytest
 from mpi4py import MPI
 
 from tankfx import Scene, SolveError, analyse
-from tankfx.hyperbolic import SoilFailure, kondner_deviator, principal_strains, secant_update
+from tankfx.iterations.secant import SoilFailure
+from tankfx.laws.kondner import kondner_deviator, principal_strains, secant_update
 
 A, B, NU = 2.1e-7, 1e-5, 0.3
 HYPER = {"model": "hyperbolic", "hyperbolic_a": A, "hyperbolic_b": B, "nu": NU}
@@ -41,7 +42,7 @@ def test_every_cell_sits_on_kondners_hyperbola(tight):
     strain levels from the nearly linear far field to 29 % of the ultimate deviator next to
     the load's edge."""
     model = tight.model
-    from tankfx.hyperbolic import HyperbolicIteration
+    from tankfx.iterations.secant import HyperbolicIteration
 
     it = HyperbolicIteration(model)
     it.strain.interpolate(it.strain_expr)
@@ -105,7 +106,7 @@ def test_small_load_excess_is_the_first_order_perturbation():
     settlement is b dw0/db = b int E_0^2 eps_p sigma_1(u) : eps(v) (u the linear solution,
     v its adjoint for w0; two solves, no iteration). The iterated excess must approach it
     with a second-order error: halving the load quarters the difference."""
-    from tankfx.hyperbolic import first_order_excess
+    from tankfx.studies.excess import first_order_excess
 
     def plate(p):
         return Scene.from_dict({

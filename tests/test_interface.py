@@ -9,7 +9,7 @@ import pytest
 
 from conftest import HYPERBOLIC_SOIL, assemble_whole_system, small_tank
 from tankfx import Scene, analyse
-from tankfx import interface as ifc
+from tankfx.laws import interface as ifc
 from tankfx.analysis import analyse_path
 
 E_S = 10e6
@@ -183,7 +183,7 @@ def test_a_cycling_active_set_stops_on_request():
     """The embedded tank at tan phi = 10, whose alternating elements are held by default
     (asserted in the limits test above): with on_cycle = "stop" the analysis stops at the
     first cycle, with its history."""
-    from tankfx.solve import SolveError
+    from tankfx.fem.solvers import SolveError
 
     with pytest.raises(SolveError, match="active set cycles") as err:
         analyse(scene(tan_phi=10.0, embedment=0.3, on_cycle="stop"))
@@ -238,7 +238,7 @@ def test_node_states_hold_a_cycle_at_the_wall_foot():
     0.006 / 0.04 / 0.16 %; demo tank 13 solves, 10 held, 0.002 / 0.013 / 0.15 % (before
     per-node holding: 35 solves, and no convergence in 200). With on_cycle = "stop" the
     chatter is refused instead, with the history."""
-    from tankfx.solve import SolveError
+    from tankfx.fem.solvers import SolveError
 
     for node_scene in (scene(tan_phi=10.0, embedment=0.3, states="node"),
                        _demo_tank(tan_phi=10.0, states="node")):
@@ -354,7 +354,7 @@ def test_a_mixed_soil_under_a_mohr_coulomb_interface_keeps_its_soil_assembled(mo
     """nu_s = 0.49 (the mixed displacement-pressure form) under a Mohr-Coulomb interface:
     the soil's blocks, its pressure's included, are assembled once and the interface at
     every solve; the same solves and numbers as re-assembling the whole system."""
-    from tankfx.solve import SPLIT_ASSEMBLY
+    from tankfx.fem.solvers import SPLIT_ASSEMBLY
 
     scene = Scene.from_dict(small_tank(soil={"E": 10e6, "nu": 0.49}, interface={
         "condition": "mohr_coulomb", "tan_phi": 0.3}))
@@ -373,7 +373,7 @@ def test_only_the_interface_is_reassembled_between_solves(monkeypatch):
     assembled once and only the interface part at each solve. Same solves, states and
     numbers as re-assembling the whole system every time; a hyperbolic soil re-assembles
     the whole."""
-    from tankfx.solve import SPLIT_ASSEMBLY, WHOLE_ASSEMBLY
+    from tankfx.fem.solvers import SPLIT_ASSEMBLY, WHOLE_ASSEMBLY
 
     tank = _demo_tank(tan_phi=0.1).with_changes(mesh={"edge_size": 0.05, "near_size": 2.0})
     split = analyse(tank).results

@@ -9,7 +9,7 @@ import pytest
 
 from conftest import HYPERBOLIC_SOIL, flexible_scene, small_tank
 from tankfx import Scene, SceneError, analyse
-from tankfx import reference as ref
+from tankfx.verification import reference as ref
 
 P, A = 100e3, 1.0
 
@@ -198,7 +198,7 @@ def test_hyperbolic_layers_use_their_own_parameters(tmp_path):
     fields file."""
     import pyvista as pv
 
-    from tankfx.post import write_fields
+    from tankfx.results.fields import write_fields
 
     a2, b2, top = 5e-7, 4e-5, 0.8
     soil = dict(HYPERBOLIC_SOIL, layers=[{"depth": top, "hyperbolic_a": a2,
@@ -299,7 +299,7 @@ def test_iterative_solver_refuses_a_mixed_layer():
 def test_figures_of_layered_ground(tmp_path):
     """`tankfx run`'s figures of a layered scene: the section with the layers' tops drawn
     (sampled from the deformed soil), and the settlement profile."""
-    from tankfx.plots import write_figures
+    from tankfx.results.figures import write_figures
 
     scene = flexible_scene(soil={"layers": [{"depth": 0.5, "E": 2e6, "nu": 0.5},
                                             {"depth": 2.0, "E": 30e6, "nu": 0.3}]})

@@ -25,10 +25,10 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
-from tankfx import soil as soil_forms
-from tankfx.hyperbolic import HyperbolicIteration
-from tankfx.scene import Soil
-from tankfx.solve import DirectSolver
+from tankfx.laws import elasticity as soil_forms
+from tankfx.iterations.secant import HyperbolicIteration
+from tankfx.scene.sections import Soil
+from tankfx.fem.solvers import DirectSolver
 
 A, B, NU = 2.1e-7, 1e-5, 0.3   # the paper's constants in SI (1/Pa), as in test_hyperbolic
 RADIUS, HEIGHT = 0.5, 1.0

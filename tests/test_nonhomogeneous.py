@@ -8,7 +8,7 @@ import pytest
 
 from conftest import flexible_scene
 from tankfx import analyse
-from tankfx.reference import gradient_surface_compliance, gradient_surface_settlement
+from tankfx.verification.reference import gradient_surface_compliance, gradient_surface_settlement
 
 
 def _w(**kw):

@@ -11,11 +11,13 @@ from mpi4py import MPI
 
 from conftest import COARSE, HYPERBOLIC_SOIL, small_tank
 from tankfx import Scene, analyse
-from tankfx import harmonic as hm
-from tankfx import reference as ref
-from tankfx import structure as st
-from tankfx.post import evaluate_at
-from tankfx.scene import SceneError
+from tankfx.laws.harmonic import shell_strains, soil_strain
+from tankfx.verification.rigs import StandaloneHarmonicShell
+from tankfx.verification import reference as ref
+from tankfx.fem.lines import line_mesh
+from tankfx.laws.shell import tangent
+from tankfx.fem.evaluate import evaluate_at
+from tankfx.scene.sections import SceneError
 
 
 def _surface_plate(Kp, condition="smooth", nu=0.3, mesh=COARSE, **load):
@@ -32,20 +34,20 @@ def test_rigid_motions_strain_nothing(offset):
     Koiter's bending strains, with and without the face offset) nor the soil: the
     harmonic's forms do no work in a rigid motion (what makes moment equilibrium exact)."""
     pts = np.array([[0.5, 0.0], [1.0, 0.4], [1.5, 1.0]])
-    msh, _ = st.line_mesh(MPI.COMM_SELF, pts)
+    msh, _ = line_mesh(MPI.COMM_SELF, pts)
     x = ufl.SpatialCoordinate(msh)
-    t = st.tangent(msh)
+    t = tangent(msh)
     dx = ufl.Measure("dx", domain=msh, metadata={"quadrature_degree": 6})
     one, zero = fem.Constant(msh, 1.0), fem.Constant(msh, 0.0)
     # (A, Z), V, beta = d(u.n)/ds
     motions = {"translation": (ufl.as_vector([one, zero]), -one, zero),
                "rotation": (ufl.as_vector([x[1], -x[0]]), -x[1], -one)}
     for name, (u, V, beta) in motions.items():
-        strains = hm.shell_strains(u, V, beta, x[0], t, offset)
+        strains = shell_strains(u, V, beta, x[0], t, offset)
         total = fem.assemble_scalar(fem.form(sum(e**2 for e in strains) * dx))
         assert abs(total) < 1e-24, (name, total)
     # a bending mode is not rigid: the check can fail
-    bent = hm.shell_strains(ufl.as_vector([zero, x[0] ** 2]), zero, 2 * x[0], x[0],
+    bent = shell_strains(ufl.as_vector([zero, x[0] ** 2]), zero, 2 * x[0], x[0],
                             t, offset)
     assert fem.assemble_scalar(fem.form(sum(e**2 for e in bent) * dx)) > 1e-2
 
@@ -56,7 +58,7 @@ def test_rigid_motions_strain_nothing(offset):
     dxs = ufl.Measure("dx", domain=sq, metadata={"quadrature_degree": 4})
     two, nil = fem.Constant(sq, 2.0), fem.Constant(sq, 0.0)
     for U in (ufl.as_vector([two, nil, nil]), ufl.as_vector([2.0 * y[1], -r, nil])):
-        eps = hm.soil_strain(U, r)
+        eps = soil_strain(U, r)
         assert abs(fem.assemble_scalar(fem.form(ufl.inner(eps, eps) * dxs))) < 1e-26
 
 
@@ -74,7 +76,7 @@ def test_clamped_plate_under_antisymmetric_load():
     M_ref = -D * A / a**2 * (f2 + nu * (f1 / rho - f / rho**2))       # sagging positive
     errors = []
     for n in (20, 40):
-        shell = hm.StandaloneHarmonicShell(
+        shell = StandaloneHarmonicShell(
             np.column_stack([np.linspace(0, a, n + 1), np.zeros(n + 1)]), E, nu, t,
             {lambda x: np.isclose(x[0], 0.0): ("Z", "S"),
              lambda x: np.isclose(x[0], a): ("D", "Z", "S", "beta")},
@@ -98,7 +100,7 @@ def test_cantilever_cylinder_is_a_thin_tube_beam():
     G, inertia = E / (2 * (1 + nu)), math.pi * R**3 * t
     z = np.linspace(0, H, 121)
     qh = V / (2 * math.pi * R)
-    shell = hm.StandaloneHarmonicShell(
+    shell = StandaloneHarmonicShell(
         np.column_stack([np.full_like(z, R), z]), E, nu, t,
         {lambda x: np.isclose(x[1], 0.0): ("D", "Z", "S", "beta")},
         lambda u, V_, x: 0.0 * u[0],
@@ -125,7 +127,7 @@ def test_the_walls_bending_layer_at_a_clamped_foot():
     R, H, t, E, nu, M = 10.0, 10.0, 0.02, 2e11, 0.3, 1e6
     z = np.concatenate([np.linspace(0, 1.0, 201), np.linspace(1.0, H, 91)[1:]])
     qz = M / (math.pi * R**2)
-    shell = hm.StandaloneHarmonicShell(
+    shell = StandaloneHarmonicShell(
         np.column_stack([np.full_like(z, R), z]), E, nu, t,
         {lambda x: np.isclose(x[1], 0.0): ("D", "Z", "S", "beta")},
         lambda u, V, x: 0.0 * u[0],
@@ -269,7 +271,7 @@ def test_heel_uplift_of_a_rigid_disc_and_of_a_zone_beside_a_separated_band():
     and amplitude 3 M r / (2 pi a^3 sqrt(...)) lift as a zone at M = 4 P a / (3 pi) (its
     edge opens at M = P a / 3); two zones either side of a separated band, each with its
     own onset, the band itself none."""
-    from tankfx.rocking import heel_uplift
+    from tankfx.results.overturning import heel_uplift
 
     a, P, M = 1.0, 1e5, 1e4
     r = np.linspace(0.0, a * (1 - 1e-6), 200001)
@@ -318,12 +320,12 @@ def test_a_sweep_over_the_overturning_moment_tabulates_the_tilt(tmp_path):
     the same)."""
     import csv
 
-    from tankfx.sweep import Sweep, _with, run_sweep
+    from tankfx.studies.sweep import Sweep, scene_with, run_sweep
 
     base = Scene.from_dict(_surface_plate(1.0, overturning_moment=1e3))
     cases = [{"load.overturning_moment": m} for m in (1e3, 2e3)]
     sweep = Sweep(base=base, axes={"load.overturning_moment": [1e3, 2e3]}, cases=cases,
-                  scenes=[_with(base, c) for c in cases])
+                  scenes=[scene_with(base, c) for c in cases])
     rows = run_sweep(sweep, tmp_path / "out", MPI.COMM_SELF)
     with (tmp_path / "out" / "table.csv").open() as f:
         table = list(csv.DictReader(f))
@@ -483,7 +485,7 @@ def test_a_shear_alone_tilts_the_tank_without_a_rocking_stiffness():
     """base_shear without a moment: the wall carries V to its foot with no moment there (the
     couple -V H on its top edge), the interface resists V and no moment, and no rocking
     stiffness is reported (the summary says so)."""
-    from tankfx.post import summary_table
+    from tankfx.results.report import summary_table
 
     d = small_tank()
     d["load"] = {"pressure": 50e3, "base_shear": 1e4}

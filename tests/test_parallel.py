@@ -14,7 +14,7 @@ from threadpoolctl import threadpool_info
 from conftest import (COARSE, HYPERBOLIC_SOIL, WATER_LOAD, flexible_scene,
                       incompressible_hyperbolic_punch, small_tank)
 from tankfx import Scene, analyse
-from tankfx._threads import USER_SETTINGS, cores_per_rank
+from tankfx.fem.threads import USER_SETTINGS, cores_per_rank
 
 pytestmark = pytest.mark.mpi
 
@@ -135,7 +135,7 @@ def test_layered_ground_parallel_equals_serial(soil):
 def test_section_figure_is_built_from_all_ranks():
     """The section figure's grid is gathered from every rank: on 2 ranks it holds the same
     cells with the same field values as the serial one (compared cell by cell on rank 0)."""
-    from tankfx.plots import gather_grid
+    from tankfx.results.figures import gather_grid
 
     scene = flexible_scene(nu=0.3, mesh={"edge_size": 0.05, "near_size": 0.4, "growth": 0.3})
     grids = []
@@ -184,7 +184,7 @@ def test_structure_condensed_iterative_through_picard_parallel_equals_serial():
 def test_load_stages_sharing_one_factorisation_parallel_equals_serial():
     """Load stages of a bonded tank reuse the first stage's factorisation on 2 ranks too."""
     from tankfx.analysis import analyse_path
-    from tankfx.solve import KEPT_ASSEMBLY
+    from tankfx.fem.solvers import KEPT_ASSEMBLY
 
     scene = Scene.from_dict(small_tank())
     loads = [{"pressure": 50e3}, {"pressure": 20e3, "liquid_unit_weight": 9810.0,
@@ -284,7 +284,7 @@ def test_consolidation_parallel_equals_serial():
 def test_bare_soil_consolidation_parallel_equals_serial():
     """A flexible load on consolidating soil (no structure: the soil's own split of the
     matrix, its flow terms re-assembled at each step): the history the same on 2 ranks."""
-    from tankfx.solve import SPLIT_ASSEMBLY
+    from tankfx.fem.solvers import SPLIT_ASSEMBLY
 
     scene = flexible_scene(consolidation={"permeability": 1e-9, "times": [86400.0, 8640000.0],
                                           "steps_per_decade": 2}).with_coarse_mesh()
@@ -345,7 +345,7 @@ def test_consolidation_around_a_ringwall_and_its_fill_parallel_equals_serial():
 def test_failed_unscaled_factorisation_redone_scaled_parallel_equals_serial():
     """An unscaled factorisation that fails (tankfx.solve) is redone scaled on all ranks
     together: the same solves and numbers as serially."""
-    from tankfx.solve import RESCALED
+    from tankfx.fem.solvers import RESCALED
 
     parallel, serial = _solve_both(Scene.from_dict(incompressible_hyperbolic_punch()))
     assert parallel["linear_solver"]["scaling"] == serial["linear_solver"]["scaling"] \
@@ -357,7 +357,7 @@ def test_failed_unscaled_factorisation_redone_scaled_parallel_equals_serial():
 def test_a_figure_rank_0_cannot_render_leaves_the_others(tmp_path_factory, monkeypatch):
     """Rank 0's renderer fails on the first figure (as on a machine without EGL): a warning
     names it, the other figures are drawn, and no rank is left waiting in a gathering."""
-    from tankfx import plots
+    from tankfx.results import figures as plots
 
     comm = MPI.COMM_WORLD
     out = comm.bcast(tmp_path_factory.mktemp("figures") if comm.rank == 0 else None)
@@ -371,7 +371,7 @@ def test_a_figure_rank_0_cannot_render_leaves_the_others(tmp_path_factory, monke
             raise RuntimeError("no rendering context")
         return save(plotter, path, *args, **kwargs)
 
-    monkeypatch.setattr(plots, "_save", failing_once)
+    monkeypatch.setattr(plots, "save_figure", failing_once)
     warned = []
     handler = logging.Handler(logging.WARNING)
     handler.emit = lambda record: warned.append(record.getMessage())

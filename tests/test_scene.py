@@ -8,7 +8,7 @@ import textwrap
 import pytest
 
 from tankfx import Scene, SceneError, load_scene
-from tankfx.scene import Kp_from_thickness, plate_thickness_from_Kp
+from tankfx.laws.rigidity import Kp_from_thickness, plate_thickness_from_Kp
 
 GOOD = {"soil": {"E": 10e6, "nu": 0.3}, "load": {"pressure": 100e3, "load_radius": 1.0}}
 PLATE = {"radius": 1.0, "thickness": 0.5, "E": 30e9, "nu": 0.2}

@@ -72,7 +72,7 @@ def test_load_stages_of_a_linear_scene_share_one_factorisation():
     from petsc4py import PETSc
 
     from tankfx.analysis import analyse_path
-    from tankfx.solve import KEPT_ASSEMBLY
+    from tankfx.fem.solvers import KEPT_ASSEMBLY
 
     data = small_tank()
     loads = [{"pressure": 50e3}, {"pressure": 20e3, "liquid_unit_weight": 9810.0,
@@ -174,7 +174,7 @@ def test_blas_threads_keep_to_the_share_of_each_rank():
     alone, and so is a serial run; without threadpoolctl nothing is limited and the log
     says so. The numbers do not change. The hyperbolic soil's Anderson steps are numpy BLAS
     calls."""
-    from tankfx._threads import LAUNCHER_SETTINGS, USER_SETTINGS, cores_per_rank
+    from tankfx.fem.threads import LAUNCHER_SETTINGS, USER_SETTINGS, cores_per_rank
 
     data = small_tank(soil=HYPERBOLIC_SOIL, load=WATER_LOAD)
     base = {k: v for k, v in os.environ.items() if k not in USER_SETTINGS + LAUNCHER_SETTINGS}
@@ -222,7 +222,7 @@ def test_repeated_factorisations_unscaled_give_the_scaled_numbers(monkeypatch):
     refinement steps they give the numbers of scaled factorisations (the nonlinear tank
     with a slipping Mohr-Coulomb wall), at the same residual floor; a single factorisation
     keeps the scaling."""
-    from tankfx import solve
+    from tankfx.fem import solvers as solve
 
     data = small_tank(soil=HYPERBOLIC_SOIL, load=WATER_LOAD,
                       interface={"condition": "mohr_coulomb", "friction_angle": 26.6})
@@ -246,7 +246,7 @@ def test_a_failed_unscaled_factorisation_is_redone_scaled():
     the solver factorises again with the scaling and keeps it. At a load far below the
     soil's strength the settlement is that of a linear soil of E = 1/a:
     P (1 - nu^2) / (2 a E)."""
-    from tankfx import solve
+    from tankfx.fem import solvers as solve
 
     a_hyp = 1e-7
     r = analyse(Scene.from_dict(incompressible_hyperbolic_punch(a_hyp))).results

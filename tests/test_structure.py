@@ -6,8 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from tankfx.post import evaluate_at
-from tankfx.structure import StandaloneShell, flexural_rigidity, wall_beta
+from tankfx.fem.evaluate import evaluate_at
+from tankfx.verification.rigs import StandaloneShell
+from tankfx.laws.shell import flexural_rigidity, wall_beta
 
 A, Q_LOAD, E, NU = 1.0, 1e4, 30e9, 0.3
 
@@ -112,7 +113,7 @@ def _wall_of_courses(per_course):
 
 
 def test_wall_of_courses_under_liquid_converges_to_the_stepped_shell_solution():
-    from tankfx.reference import stepped_wall_under_liquid
+    from tankfx.verification.reference import stepped_wall_under_liquid
 
     R, gamma, H = 10.0, 9810.0, sum(h for h, _ in COURSES)
     # the base, both sides of each joint, mid-course
@@ -136,7 +137,7 @@ def test_wall_of_courses_under_liquid_converges_to_the_stepped_shell_solution():
 def test_plate_with_annular_ring_matches_the_stepped_plate_solution(clamped):
     """A floor 10 mm thick with a 30 mm annular ring on 0.8 a < r < a (an API 650 tank's
     annular bottom plate), under a uniform pressure."""
-    from tankfx.reference import stepped_plate
+    from tankfx.verification.reference import stepped_plate
 
     zones = [(0.8, 0.01), (A, 0.03)]
     n = 24

@@ -148,16 +148,16 @@ def test_sweep_axes_reach_a_layer_and_kondners_a(tmp_path):
     ("soil.layers[k].depth"), and hyperbolic_a (whose 1/a is the stored E); a layer the base
     scene does not have is refused."""
     from tankfx import Scene, SceneError
-    from tankfx.sweep import _with
+    from tankfx.studies.sweep import scene_with
 
     base = Scene.from_dict({"soil": {"model": "hyperbolic", "hyperbolic_a": 1e-7,
                                      "hyperbolic_b": 1e-5, "nu": 0.3, "layers": [
                                          {"depth": 2.0, "hyperbolic_a": 5e-8,
                                           "hyperbolic_b": 1e-5, "nu": 0.3}]},
                             "load": {"pressure": 1e4, "load_radius": 1.0}})
-    scene = _with(base, {"soil.layers[1].depth": 3.0, "soil.layers[1].hyperbolic_a": 2e-8,
+    scene = scene_with(base, {"soil.layers[1].depth": 3.0, "soil.layers[1].hyperbolic_a": 2e-8,
                          "soil.hyperbolic_a": 2e-7})
     assert scene.soil.layers[0].depth == 3.0 and scene.soil.layers[0].E == pytest.approx(5e7)
     assert scene.soil.E == pytest.approx(5e6)
     with pytest.raises(SceneError, match=r"soil.layers\[2\].E: the base scene has 1"):
-        _with(base, {"soil.layers[2].E": 1e6})
+        scene_with(base, {"soil.layers[2].E": 1e6})

@@ -51,7 +51,7 @@ def test_rigid_plate_centre_moment_converges_to_the_rigid_limit():
     tankfx.reference, 0.07736 q a^2 at nu_p = 0.3). The contact stress is singular at the
     edge, so M0 converges slower than w0: measured +0.38 % at the default mesh, +0.10 % with
     edge and near sizes halved (a plate of Kp = 1e4: +0.42 / +0.13 %)."""
-    from tankfx.reference import rigid_plate_centre_moment
+    from tankfx.verification.reference import rigid_plate_centre_moment
 
     exact = rigid_plate_centre_moment(P, 1.0, 0.3)
     assert exact / P == pytest.approx(0.0773562, rel=1e-6)
@@ -161,7 +161,7 @@ def test_block_forms_assemble_as_nest_and_mpi_alike():
     from dolfinx import fem
     from dolfinx.fem import petsc as fem_petsc
 
-    from tankfx.coupled import TankModel
+    from tankfx.model.tank import TankModel
     from tankfx.mesh import build_domain
 
     scene = tank(Kp=1.0, condition="bonded", wall={}, embedment=0.3, load=LIQUID,

@@ -16,7 +16,7 @@ import pytest
 from conftest import COARSE, HYPERBOLIC_SOIL, WATER_LOAD, small_tank
 from tankfx import Scene, SceneError
 from tankfx.analysis import analyse_path
-from tankfx.hyperbolic import unloading_cells
+from tankfx.model.memory import unloading_cells
 
 A, B, NU = (HYPERBOLIC_SOIL[k] for k in ("hyperbolic_a", "hyperbolic_b", "nu"))
 
@@ -205,7 +205,7 @@ def test_overturning_an_unloaded_soil_rocks_it_on_its_unloading_modulus():
     an overturning moment: every soil cell is on its unloading line, so the first harmonic
     rocks the soil of E_ur = 2 / a: the same rocking stiffness as a linear soil of that
     modulus (1e-9), Borowicka's within the coarse mesh's 0.5 %."""
-    from tankfx import reference as ref
+    from tankfx.verification import reference as ref
 
     # (the plate's and the interface's stiffness given: from Kp and by default they
     # follow the soil's E_s, which differs between the two scenes)
@@ -229,7 +229,7 @@ def test_duncan_chang_in_its_kondner_limit_unloads_as_kondners_soil(monkeypatch)
     R_f; tests/test_duncan_chang.py), its unloading modulus K_ur p_a = ratio K p_a Kondner's
     ratio / a: along a path loaded, unloaded and reloaded the two give the same settlements
     (both in the mixed form at nu = 0.46, accelerated alike) and unload the same cells."""
-    from tankfx import hyperbolic
+    from tankfx.iterations import secant as hyperbolic
 
     monkeypatch.setattr(hyperbolic, "DUNCAN_CHANG_ANDERSON_DEPTH", hyperbolic.ANDERSON_DEPTH)
     K, c, R_f, p_a = 100.0, 50e3, 0.9, 101325.0

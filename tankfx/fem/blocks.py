@@ -1,0 +1,68 @@
+"""Block-system helpers: an empty bilinear form (a diagonal block the block assembly needs),
+a DG0 field of per-cell values, and the out-of-balance force of a block system.
+"""
+from __future__ import annotations
+
+import math
+
+import dolfinx_solver  # noqa: F401  (loads MPI before dolfinx / petsc4py)
+import numpy as np
+import ufl
+from dolfinx import fem, la
+from dolfinx import mesh as dmesh
+
+
+def cell_field(msh, values: np.ndarray, name: str) -> fem.Function:
+    """A DG0 field of per-cell values (in cell order)."""
+    f = fem.Function(fem.functionspace(msh, ("DG", 0)), name=name)
+    f.x.array[f.function_space.dofmap.list[:, 0]] = values
+    return f
+
+
+def empty_form(space: fem.FunctionSpace):
+    """A bilinear form on ``space`` x ``space`` integrated over no cells: it assembles
+    nothing, but gives a block system's part a diagonal block where the block assembly
+    needs one (supports on it, or a row that would be empty)."""
+    msh = space.mesh
+    none = dmesh.meshtags(msh, msh.topology.dim, np.empty(0, np.int32), np.empty(0, np.int32))
+    dx = ufl.Measure("dx", domain=msh, subdomain_data=none)
+    return fem.Constant(msh, 0.0) * ufl.inner(ufl.TrialFunction(space),
+                                              ufl.TestFunction(space)) * dx(1)
+
+
+class OutOfBalance:
+    """||A u - f|| / ||f|| of a block system's current fields: the out-of-balance force
+    relative to the load vector, over all blocks, the supports' rows left out (zero, to
+    round-off, at a solution of the current coefficients). Its forms are compiled once: per
+    row the actions sum_j a_ij(u_j, v_i) (each a form of its own: a row's terms integrate
+    over different meshes) and the load L_i(v_i), with the supports' dofs of each block."""
+
+    def __init__(self, a: list, L: list, unknowns: list, bcs: list, entity_maps=None):
+        rows = []
+        for row, load in zip(a, L):
+            actions = [fem.form(ufl.action(a_ij, u_j), entity_maps=entity_maps)
+                       for a_ij, u_j in zip(row, unknowns) if isinstance(a_ij, ufl.Form)]
+            rows.append((actions, fem.form(load, entity_maps=entity_maps)))
+        spaces = fem.extract_function_spaces([load for _, load in rows])
+        self.fixed = [np.unique(np.concatenate([bc.dof_indices()[0] for bc in row_bcs]))
+                      if row_bcs else np.empty(0, np.int32)
+                      for row_bcs in fem.bcs_by_block(spaces, bcs)]
+        self.rows, self.unknowns = rows, unknowns
+        self.comm = unknowns[0].function_space.mesh.comm
+
+    def __call__(self) -> float:
+        residual = load = 0.0
+        for (actions, L), dofs, u in zip(self.rows, self.fixed, self.unknowns):
+            V = u.function_space
+            n = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
+            vecs = []
+            for f in [L] + actions:
+                vec = fem.assemble_vector(f)
+                vec.scatter_reverse(la.InsertMode.add)
+                vec.array[dofs] = 0.0
+                vecs.append(vec.array[:n])
+            r = sum(vecs[1:]) - vecs[0]
+            residual += float(r @ r)
+            load += float(vecs[0] @ vecs[0])
+        comm = self.comm
+        return math.sqrt(comm.allreduce(residual) / max(comm.allreduce(load), 1e-300))

@@ -1,0 +1,479 @@
+"""The Mohr-Coulomb interface's iteration (Eqs. 6-16): the active set of stick, slip and
+separation of a tank's interface (:class:`tankfx.model.interface.InterfaceBlock`), solved to a
+fixed point.
+
+:mod:`tankfx.interface` holds the law (the tractions of each state and the decision from a
+jump); this module drives it: solve, decide every element's (or node's) state from its jump,
+set the traction coefficients, and repeat until no state changes and the out-of-balance
+force is negligible, with the reversed-slip secant law and the holds of a cycling active set
+that make it terminate. :mod:`tankfx.hyperbolic` is its counterpart for the soil.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from dolfinx import fem
+from dolfinx import mesh as dmesh
+from mpi4py import MPI
+
+from ..fem.solvers import SolveError
+from ..laws import interface as law
+from ..model.interface import InterfaceBlock
+from ..model.protocol import Model
+
+
+class InterfaceIteration:
+    """The Mohr-Coulomb active-set iteration of a model's interface block (Eqs. 6-16).
+
+    Each pass solves the linear system with the current states, then re-decides every
+    element's state from its average jump (:func:`tankfx.interface.element_states`), or
+    every node's from its own jump (``states = "node"``; "element" below reads "node"), and
+    computes the out-of-balance force of the solution under the new states (the paper's
+    excess forces, Eqs. 14-16; the paper re-solves with them on a fixed stiffness, here the
+    element's traction law changes instead, which reaches the fixed point in a handful of
+    solves). A slip that reversed its direction takes a secant law (see
+    :meth:`_track_reversals`). The iteration stops when no element changes state and the
+    out-of-balance force is below ``MAX_OUT_OF_BALANCE`` of the load (every element then
+    satisfies |tau| <= c + sigma_n tan phi and sigma_n >= 0, its friction along its slip);
+    a state that recurs (a cycling active set) is held in the weaker state
+    (``on_cycle = "hold"``) or refused (``"stop"``); after ``max_iterations`` solves, a
+    fourth cycle, or separation everywhere it raises :class:`~tankfx.solve.SolveError`
+    with the history.
+    """
+
+    max_iterations = 50
+    #: a converged state's out-of-balance force, relative to the load vector, at most
+    MAX_OUT_OF_BALANCE = 1e-6
+    #: state changes after which a carrier is held: in single_pass, and for node states in
+    #: run() (element states in run() are held when the whole active set repeats)
+    MAX_FLIPS = 4
+    #: a carrier held separated may be pressed into by the soil by at most this fraction of
+    #: the largest soil displacement: a hold at a contact zone's edge leaves it unloaded
+    #: with a jump near zero, while a hold of carriers whose tractions no state decides (an
+    #: interface far stiffer than the soil) leaves the soil pressing through it
+    MAX_HELD_PENETRATION = 0.02
+
+    def __init__(self, model: Model, interface: InterfaceBlock):
+        self.model, self.interface = model, interface
+        self.forms = interface.jump_forms()
+        self.owned = np.flatnonzero(interface.in_contact[:interface.n_carrier_owned])
+        # a partition-independent order of the carriers: position, then the element's
+        # midpoint (a node is shared by two elements)
+        x = interface.S.tabulate_dof_coordinates()[self.owned, :2]
+        mids = dmesh.compute_midpoints(interface.mesh, 1,
+                                       interface.carrier_cell[self.owned])[:, :2]
+        keys = np.concatenate(interface.mesh.comm.allgather(np.round(np.hstack([x, mids]),
+                                                                     12)))
+        self.order = np.lexsort((keys[:, 3], keys[:, 2], keys[:, 1], keys[:, 0]))
+        self.history: list[dict] = []
+        ifc = interface.settings
+        self.tan_phi = ifc.tan_phi if ifc.tan_phi is not None else 0.0
+        # reversed slips (see _track_reversals): which carriers are on the secant law, which
+        # may restart stuck, and the slip direction of the states last solved
+        n = interface.n_carrier
+        self.secant = np.zeros(n, dtype=bool)
+        self.stick_first = interface.status != law.SEPARATED
+        # slips on the secant law in the states this iteration starts from (a load path's,
+        # a time step's or a soil iteration's last solution: k_s > 0 and no friction
+        # coefficient): re-decided, they take the plain slip law along their jump (the
+        # secant law's converged form), a change of law that the state does not show
+        self.carried_secant = interface.mesh.comm.allreduce(int(np.any(
+            ((interface.status == law.SLIP) & (interface.k_s.x.array[:n] > 0))[self.owned])))
+        self.slip_sign = np.where(interface.status == law.SLIP, np.sign(
+            interface.mu.x.array[:n] + interface.c_s.x.array[:n]), 0.0)
+        self._secant_prev = None
+        # single_pass: state changes per carrier, and the state it is held in (-1: none)
+        self.flips = np.zeros(n, dtype=int)
+        self.held = np.full(n, -1)
+
+    def _track_reversals(self, status, sign) -> np.ndarray:
+        """Mark the slips whose direction reversed against the states last solved: the
+        friction, imposed along the trial shear, drove the slip the other way (the carrier
+        sits where the slip stops or turns). From then on its slip traction follows its own
+        jump, tau = (c + sigma_n tan phi) j_t / |j_t| (a secant shear stiffness, converged
+        with the out-of-balance force, not a discrete state). Returns the new reversals."""
+        slip_sign = np.where(status == law.SLIP, sign, 0.0)
+        self.stick_first &= status != law.SEPARATED
+        reversed_ = (slip_sign * self.slip_sign < 0) & ~self.secant
+        self.secant |= reversed_
+        self.slip_sign = slip_sign
+        return reversed_
+
+    def _applied_tractions(self, jn, jt) -> tuple:
+        """The normal and shear tractions (sigma, tau) of each carrier under the model's
+        current coefficients: those the last solve applied, for its jumps."""
+        m = self.interface
+        kn, ks, mu, c = (f.x.array[:m.n_carrier] for f in (m.k_n, m.k_s, m.mu, m.c_s))
+        sigma = kn * jn
+        return sigma, ks * jt + mu * sigma + c
+
+    def _set_states(self, status, sign, jn, jt):
+        """Make ``status`` the model's states and set the traction coefficients that realise
+        them, the secant ones on the reversed slips (from the jumps ``jn``, ``jt`` of the
+        last solve, under the coefficients still set). Returns (mask of secant carriers, the
+        secant stiffnesses to solve with next) or None when there are none."""
+        m, ifc = self.interface, self.interface.settings
+        # what the last solve used, before the coefficients change
+        k_used = m.k_s.x.array[:m.n_carrier].copy()
+        tau_used = self._applied_tractions(jn, jt)[1]
+        solved_states = m.status.copy()
+        m.status[:] = status
+        for f, v in zip((m.k_n, m.k_s, m.mu, m.c_s), law.state_coefficients(
+                status, sign, m.stiffness_n, m.stiffness_s, ifc.cohesion, self.tan_phi)):
+            f.x.array[:] = np.where(m.in_contact, v, 0.0)
+        secant = self.secant & (status == law.SLIP)
+        if not m.mesh.comm.allreduce(int(np.any(secant[self.owned]))):
+            return None
+        k_sec, k_next = self._secant_stiffness(secant, jn, jt, k_used, tau_used, solved_states)
+        m.k_s.x.array[:] = np.where(secant, k_sec, m.k_s.x.array)
+        m.mu.x.array[:] = np.where(secant, 0.0, m.mu.x.array)
+        m.c_s.x.array[:] = np.where(secant, 0.0, m.c_s.x.array)
+        return secant, k_next
+
+    def _decide(self, jn, jt) -> tuple:
+        """The Mohr-Coulomb state of every carrier from its jumps (-1 off the interface),
+        and the sign of its trial shear."""
+        m, ifc = self.interface, self.interface.settings
+        status, sign = law.element_states(jn, jt, m.stiffness_n, m.stiffness_s,
+                                                ifc.cohesion, self.tan_phi)
+        return np.where(m.in_contact, status, -1), sign
+
+    def _state_key(self) -> tuple:
+        """The model's states with their slip directions, partition-independent: what a
+        cycle repeats."""
+        return self._global_status(self.interface.status + 4 * (self.slip_sign < 0))
+
+    def element_jumps(self):
+        """Normal and tangential jump of each state carrier: an element's average, or a
+        node's value (an axis node takes its neighbour's)."""
+        return self.interface.cell_averages(self.forms)
+
+    def _global_status(self, status) -> tuple:
+        """The state of every interface element, in an order independent of the partition
+        (by element midpoint), on every rank."""
+        vals = np.concatenate(self.interface.mesh.comm.allgather(status[self.owned]))
+        return tuple(vals[self.order].tolist())
+
+    def single_pass(self, solver) -> int:
+        """One solve and one state update (no cycle handling); returns how many elements
+        changed state."""
+        m = self.interface
+        solver.solve()
+        jn, jt = self.element_jumps()
+        status, sign = self._decide(jn, jt)
+        # a slip that reversed takes the secant law, as in run(); its stiffness converges
+        # with the soil's iteration
+        n_reversed = m.mesh.comm.allreduce(int(np.sum(
+            self._track_reversals(status, sign)[self.owned])))
+        # an element that keeps changing state sits at the edge of a zone inside it: after
+        # MAX_FLIPS changes it is held in the weaker of its last two states, as in run()
+        hold, weaker = self._flip_holds(status, self.held >= 0, " during the soil iteration")
+        self.held = np.where(hold, weaker, self.held)
+        status = np.where(self.held >= 0, self.held, status)
+        changed = n_reversed + m.mesh.comm.allreduce(
+            int(np.sum(status[self.owned] != m.status[self.owned])))
+        self._set_states(status, sign, jn, jt)
+        held = m.mesh.comm.allreduce(int(np.sum(self.held[self.owned] >= 0)))
+        self.history.append({"iteration": len(self.history) + 1, "changed": changed,
+                             "frozen": held})
+        if changed == 0:
+            self._check_holds(self.held == law.SEPARATED, jn)
+        return changed
+
+    def _flip_holds(self, status, exempt, where: str = "") -> tuple:
+        """Count each carrier's state changes against the model's states (not those in
+        ``exempt``, already held); returns the carriers that reach MAX_FLIPS now and the
+        weaker of their last two states (separated, else slip). With on_cycle = "stop" such
+        a carrier is refused instead."""
+        m = self.interface
+        flipped = (status != m.status) & ~exempt
+        self.flips += flipped
+        hold = flipped & (self.flips >= self.MAX_FLIPS)
+        n_hold = m.mesh.comm.allreduce(int(np.sum(hold[self.owned])))
+        if n_hold and m.settings.on_cycle == "stop":
+            raise SolveError(
+                f"the interface's active set cycles: {n_hold} {m.carrier_name}(s) changed "
+                f"state {self.MAX_FLIPS} times{where}; interface.on_cycle = \"hold\" holds "
+                f"them in the weaker state and goes on", self.history)
+        weaker = np.where((status == law.SEPARATED) | (m.status == law.SEPARATED),
+                          law.SEPARATED, law.SLIP)
+        return hold, weaker
+
+    def _check_holds(self, held_separated, jn) -> None:
+        """Refuse a converged state whose carriers held separated are pressed into by the
+        soil by more than MAX_HELD_PENETRATION of the largest soil displacement."""
+        m = self.interface
+        comm = m.mesh.comm
+        into = np.where(held_separated, jn, 0.0)[self.owned]
+        deepest = comm.allreduce(float(np.max(into, initial=0.0)), op=MPI.MAX)
+        scale = comm.allreduce(float(np.max(np.abs(self.model.soil.u.x.array),
+                                            initial=0.0)),
+                               op=MPI.MAX)
+        if deepest <= self.MAX_HELD_PENETRATION * scale:
+            return
+        what = m.carrier_name
+        n = comm.allreduce(int(np.sum(into > self.MAX_HELD_PENETRATION * scale)))
+        raise SolveError(
+            f"the interface iteration held {n} {what}(s) in the separated state although the "
+            f"soil presses into them, by up to {deepest:.2e} m ({deepest / scale:.0%} of the "
+            f"largest soil displacement): their tractions change sign from one solve to "
+            f"the next, which no state at a contact zone's edge explains. The usual cause is "
+            f"an interface far stiffer than the soil (interface.normal_stiffness, "
+            f"interface.shear_stiffness): lower them, leave them out for the default, or "
+            f"take a state per node (interface.states = \"node\"), whose tractions do not "
+            f"oscillate so", self.history)
+
+    def reversed_slips(self) -> int:
+        """How many state carriers reversed their slip and took the secant law."""
+        return self.interface.mesh.comm.allreduce(int(np.sum(self.secant[self.owned])))
+
+    def _secant_stiffness(self, secant, jn, jt, k_used, tau_used, solved_states) -> tuple:
+        """The secant shear stiffness of the elements whose slip reversed, k = (c + sigma_n
+        tan phi) / |j_t| (at most the elastic k_s), and the one to solve with next.
+
+        A reversal says the friction imposed was more than the element needed: it is first
+        solved stuck (k = k_s; not where it has been separated during this iteration, at a
+        contact zone's edge, where that was measured to make the states chatter). Then each
+        element's next stiffness comes from its own response: to the rest of a linear system
+        an element is a spring in series, so that its jump and the shear traction it
+        applies are related by j = j_free - C tau (j_free its jump free of shear, C the
+        rest's compliance at it), whatever the element's law. Fitted through its last two
+        solves (stuck, slipping or secant), that line gives the element's state directly:
+        stuck where the stuck traction k_s j_free / (1 + C k_s) is within the limit L = c +
+        sigma_n tan phi, else slipping with tau = L along j_free and k = L / |j_free - C L|.
+        Where the fit says nothing (C <= 0: the two solves' other elements moved more than
+        this one, or an element so stiff that its traction did not change) and the traction
+        is above 2 L, the stiffness drops a hundredfold; otherwise the plain secant k = L /
+        |j|. The fit is not made across a solve where another carrier changed state (the
+        rest was another system then: on the demo tank at tan phi = 0.1, node states, such
+        a fit took 7 solves instead of 5). Measured (docs/performance.md, session 18): the
+        small tank at tan phi = 0.01 / 0.02 / 0.03 from rest, two coupled reversed
+        elements, 10 / 13 / 10 solves, where a secant root of the misfit k |j| - L took
+        14 / 23 / 39 (its updates crawled down from k_s while the misfit stayed flat)."""
+        m, ifc = self.interface, self.interface.settings
+        limit = ifc.cohesion + self.tan_phi * np.maximum(m.stiffness_n * jn, 0.0)
+        ks = np.where(m.stiffness_s > 0, m.stiffness_s, 1.0)
+        g = np.minimum(1.0, limit / np.maximum(np.abs(jt) * ks, 1e-300))   # k / k_s
+        x = np.where(secant, k_used / ks, g)          # what the last solve used
+        prev = self._secant_prev
+        new = np.where(secant & self.stick_first, 1.0, g)
+        if prev is not None:
+            tau0, jt0, was_secant, states0 = prev
+            # (the line is the rest's response: not across a change of another's state)
+            same_rest = not m.mesh.comm.allreduce(
+                int(np.any((states0 != solved_states)[self.owned])))
+            fitted = secant & was_secant & (tau0 != tau_used) & same_rest
+            C = -(jt - jt0) / np.where(fitted, tau_used - tau0, 1.0)
+            ok = fitted & (C > 0)
+            C = np.where(ok, C, 0.0)                  # (the rest take g or the drop below)
+            j_free = jt + C * tau_used
+            stuck = ks * np.abs(j_free) / (1.0 + C * ks) <= limit
+            j_slip = np.maximum(np.abs(j_free) - C * limit, 1e-300)
+            fit = np.where(stuck, 1.0, limit / (j_slip * ks))
+            too_stiff = secant & was_secant & ~ok & (x * np.abs(jt) * ks > 2.0 * limit)
+            new = np.where(ok, np.clip(fit, 1e-2 * x, 1.0), np.where(too_stiff, 1e-2 * x, g))
+            new = np.where(secant & ~was_secant & self.stick_first, 1.0, new)
+        self._secant_prev = (tau_used, jt.copy(), secant.copy(), solved_states)
+        # ghost carriers take their owner's values
+        out = []
+        for values in (g, new):
+            field = fem.Function(m.S)
+            field.x.array[:] = values
+            field.x.scatter_forward()
+            out.append(field.x.array[:m.n_carrier] * ks)
+        return tuple(out)
+
+    def run(self, solver, log) -> dict:
+        m = self.interface
+        ifc = m.settings
+        comm = m.mesh.comm
+        seen = {self._state_key(): 0}
+        states = {0: m.status.copy()}
+        frozen = np.zeros(len(m.status), dtype=bool)
+        forced = m.status.copy()
+        freezes = 0
+        previous = None
+        log.info("Mohr-Coulomb interface: c = %g Pa, tan phi = %g; iterating on the element "
+                 "states", ifc.cohesion, self.tan_phi)
+        log.info("  it  changed   stick    slip  separ.  frozen  traction change  "
+                 "out-of-balance   time s")
+        for it in range(1, self.max_iterations + 1):
+            t0 = time.perf_counter()
+            solver.solve()
+            jn, jt = self.element_jumps()
+            # tractions of the state just solved (what the structure actually felt)
+            sigma, tau = self._applied_tractions(jn, jt)
+            traction = np.concatenate([sigma[self.owned], tau[self.owned]])
+            norm = np.sqrt(comm.allreduce(float(traction @ traction)))
+            # (none after the first solve: JSON has no infinity)
+            change = None if previous is None else np.sqrt(comm.allreduce(
+                float((traction - previous) @ (traction - previous)))) / max(norm, 1e-300)
+            previous = traction
+            status, sign = self._decide(jn, jt)
+            status = np.where(frozen, forced, status)
+            if m.node_states:
+                # Nodes chatter a few at a time, in ever new combinations, so that the
+                # whole active set seldom repeats (the cycle test below): a node that has
+                # changed state MAX_FLIPS times is held in the weaker of its last two
+                # states, as single_pass holds them (demo tank, tan phi = 10: 10 nodes at
+                # the wall's foot held, 13 solves; without this no convergence in 200)
+                hold, weaker = self._flip_holds(status, frozen)
+                forced = np.where(hold, weaker, forced)
+                frozen |= hold
+                status = np.where(frozen, forced, status)
+            reversed_ = self._track_reversals(status, sign)
+            moved_ = (status != m.status)[self.owned]
+            moved = comm.allreduce(int(np.sum(moved_)))
+            changed = comm.allreduce(int(np.sum(moved_ | reversed_[self.owned])))
+            secant = self._set_states(status, sign, jn, jt)
+            # the out-of-balance force of this solution under the re-decided states (and
+            # secant stiffnesses): the paper's excess forces (Eqs. 14-16); zero to round-off
+            # once nothing changes
+            excess = self.model.out_of_balance()
+            if secant is not None:  # the next solve takes the secant stiffnesses extrapolated
+                m.k_s.x.array[:] = np.where(secant[0], secant[1], m.k_s.x.array)
+            counts = [comm.allreduce(int(np.sum(status[self.owned] == k)))
+                      for k in (law.STICK, law.SLIP, law.SEPARATED)]
+            n_frozen = comm.allreduce(int(np.sum(frozen[self.owned])))
+            row = {"iteration": it, "changed": changed, "stick": counts[0], "slip": counts[1],
+                   "separated": counts[2], "frozen": n_frozen, "traction_change": change,
+                   "out_of_balance": excess, "time_s": time.perf_counter() - t0}
+            self.history.append(row)
+            log.info("  %2d %8d %7d %7d %7d %7d %16s %14.3e %8.2f", it, changed, *counts,
+                     n_frozen, "-" if change is None else f"{change:.3e}", excess,
+                     row["time_s"])
+            if changed == 0 and excess <= self.MAX_OUT_OF_BALANCE:
+                self._check_holds(frozen & (status == law.SEPARATED), jn)
+                what = m.carrier_name
+                note = (f"no {what} changed state; out-of-balance force {excess:.1e} of the "
+                        f"load")
+                if n_frozen:
+                    note += (f"; {n_frozen} {what}(s) at the edge of a contact or slip zone "
+                             f"alternated between states and were held in the weaker one")
+                if change is not None:
+                    note += f"; traction change {change:.1e}"
+                return {"converged": True, "iterations": it, "history": self.history,
+                        "frozen_elements": n_frozen, "criterion": note,
+                        "reversed_slips": self.reversed_slips()}
+            if counts[0] + counts[1] == 0:
+                raise SolveError("the interface separated everywhere: nothing holds the "
+                                 "foundation (is the net load upward?)", self.history)
+            states[it] = m.status.copy()
+            if (changed == 0 and secant is not None) or (changed and not moved) \
+                    or (changed == 0 and it == 1 and self.carried_secant):
+                # a change of law, not of state: the secant slips converge by the
+                # out-of-balance force alone; new reversals (each carrier reverses once)
+                # take the secant law; carried secant slips became plain ones (stopping
+                # here, as at a lost accuracy, stopped a stage holding the same load). A
+                # state that recurs after them is not a cycle
+                seen = {self._state_key(): it}
+                continue
+            if changed == 0:
+                raise SolveError(
+                    f"the interface iteration stopped with no {m.carrier_name} changing state "
+                    f"but an out-of-balance force of {excess:.1e} of the load (above "
+                    f"{self.MAX_OUT_OF_BALANCE:g}): the linear solve lost accuracy",
+                    self.history)
+            key = self._state_key()
+            if key in seen:
+                # A cycle: the elements whose state differs along it sit at the edge of a
+                # zone that falls inside one element, where no element state is consistent.
+                # Hold them in the weaker state (separated, else slip) and go on; a second
+                # and third cycle get the same; more is a failure.
+                cycle = [states[k] for k in range(seen[key], it + 1)]
+                differ = np.any([st_ != cycle[0] for st_ in cycle], axis=0)
+                weaker = np.where(np.any([st_ == law.SEPARATED for st_ in cycle], axis=0),
+                                  law.SEPARATED, law.SLIP)
+                n_new = comm.allreduce(int(np.sum(differ[self.owned] & ~frozen[self.owned])))
+                what = m.carrier_name
+                if ifc.on_cycle == "stop":
+                    raise SolveError(
+                        f"the interface's active set cycles: the {what} states of iteration "
+                        f"{it} repeat those of iteration {seen[key]} ({n_new} {what}(s) "
+                        f"alternate, at the edge of a contact or slip zone); "
+                        f"interface.on_cycle = \"hold\" holds them in the weaker state and "
+                        f"goes on, or refine the mesh there", self.history)
+                freezes += 1
+                log.info("  the %s states cycle (iteration %d repeats %d): holding %d "
+                         "alternating %s(s) in the weaker state", what, it, seen[key], n_new,
+                         what)
+                if freezes > 3 or n_new == 0:
+                    raise SolveError(
+                        f"the interface's active set cycles: the states of iteration {it} "
+                        f"repeat those of iteration {seen[key]} and holding the alternating "
+                        f"{what}s did not stop it (try a finer mesh at the contact zone's "
+                        f"edge)", self.history)
+                forced = np.where(differ & ~frozen, weaker, forced)
+                frozen |= differ
+                seen = {}
+            seen[key] = it
+        raise SolveError(f"the interface iteration did not converge in {self.max_iterations} "
+                         f"solves", self.history)
+
+
+#: solves of the Mohr-Coulomb iteration from a previous solution's states before it starts
+#: again from stuck ones (see :func:`iterate_interface`)
+CARRIED_STATES_SOLVES = 20
+
+
+def solve(model: Model, solver, log, single_pass: bool = False) -> int:
+    """Solve a model: one linear solve for a bonded or smooth interface (or none); the
+    Mohr-Coulomb iteration otherwise (a scene that does not need the return does not run
+    it). With ``single_pass`` the interface makes one solve and one state update only (for a
+    soil iteration that converges both at once); returns the number of elements that
+    changed state (0 when the interface is converged)."""
+    block = model.interface
+    if block is None or not block.mohr_coulomb:
+        solver.solve()
+        return 0
+    if not single_pass or block.node_states:
+        # node states are converged inside every soil iteration: updated once per soil
+        # iteration they oscillate with the secant moduli (measured: a period-2 cycle,
+        # no convergence in 40 iterations, where the nested loop takes 6 solves)
+        block.result = iterate_interface(model, block, solver, log)
+        return 0
+    if block.passes is None:
+        block.passes = InterfaceIteration(model, block)
+    passes = block.passes
+    changed = passes.single_pass(solver)
+    block.result = {"converged": changed == 0, "iterations": len(passes.history),
+                    "history": passes.history,
+                    "frozen_elements": passes.history[-1]["frozen"],
+                    "reversed_slips": passes.reversed_slips(),
+                    "criterion": "one state update per soil iteration, until no element "
+                                 "changes state"}
+    return changed
+
+
+def iterate_interface(model: Model, block: InterfaceBlock, solver, log) -> dict:
+    """The Mohr-Coulomb iteration from the states so far (a load path's or a time step's
+    last); where it fails from them, once more from the states of a fresh analysis (every
+    carrier in contact stuck). The law holds no slip from one solution to the next (total
+    loading), so the states so far are only a starting guess, and a poor one where the load
+    fell: the small tank's consolidation emptied to 5 % of its load cycled its reversed
+    slips for 50 solves from the full tank's states, and converged in 4 from stuck ones.
+    The first try has CARRIED_STATES_SOLVES solves."""
+    # (a stuck carrier's coefficients are those of its state: the states say it all;
+    # every rank takes the same branch, the iteration's solves being collective)
+    fresh = np.all(block.status[block.in_contact] == law.STICK)
+    if block.mesh.comm.allreduce(int(fresh), op=MPI.MIN):
+        return InterfaceIteration(model, block).run(solver, log)
+    carried = InterfaceIteration(model, block)
+    # (from a good guess it takes a few solves; a fresh start, a handful more)
+    carried.max_iterations = CARRIED_STATES_SOLVES
+    try:
+        return carried.run(solver, log)
+    except SolveError as first:
+        if block.settings.on_cycle == "stop" and "cycles" in str(first):
+            raise
+        log.info("Mohr-Coulomb interface: no converged state from the previous states "
+                 "(%s); once more from every element stuck", first)
+        block.set_stuck()
+        try:
+            result = InterfaceIteration(model, block).run(solver, log)
+        except SolveError as second:
+            raise SolveError(f"{second} (and from the previous states: {first})",
+                             first.history + second.history) from None
+        block.restarts += 1
+        return result

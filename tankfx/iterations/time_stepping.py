@@ -1,0 +1,256 @@
+"""Time stepping of Biot's consolidation (BDF2, steps growing geometrically per decade): the
+load path in time, the steps, and the loop that solves each step and records the foundation's
+settlement, the excess pore pressure and the isochrones.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+from mpi4py import MPI
+
+from ..fem.evaluate import evaluate_at
+from ..fem.solvers import SolveError
+from ..laws.biot import stratum_coefficients
+from .active_set import solve
+
+
+def time_steps(times, first: float, per_decade: int) -> np.ndarray:
+    """The ends of the time steps: ``per_decade`` steps per decade of time, geometric from
+    ``first`` (s), through every time in ``times`` (s), ending at the last. Backward
+    Euler's error is that of its largest steps relative to the time: uniform in log t. A
+    step into a time that would be less than half the step before it is merged with that
+    one into two equal steps (BDF2 is zero-stable only for step ratios below 1 + sqrt 2)."""
+    times = np.sort(np.asarray(times, dtype=float))
+    grid = [first]
+    ratio = 10.0 ** (1.0 / per_decade)
+    for t in times:
+        while grid[-1] * ratio < t * (1.0 - 1e-9):
+            grid.append(grid[-1] * ratio)
+        if t > grid[-1] * (1.0 + 1e-9):
+            if len(grid) > 1 and t - grid[-1] < 0.5 * (grid[-1] - grid[-2]):
+                grid.pop()
+                grid.append(0.5 * (grid[-1] + t))
+            grid.append(t)
+    return np.array(grid)
+
+
+def load_path(scene) -> list[tuple[float, object]]:
+    """The load as (time, Load) breakpoints, linear between them: [load] at t = 0 (at once)
+    without stages; with them, from no load at t = 0 (the structure's weight only, and
+    the liquid's unit weight: a tank fills) to each stage's load at its time (a time equal
+    to the one before: at once)."""
+    if not scene.stages:
+        return [(0.0, scene.load)]
+    first = scene.stages[0]
+    start = replace(first, pressure=0.0, liquid_height=0.0, roof_weight=0.0,
+                    gas_pressure=0.0)
+    return [(0.0, start), *zip(scene.stage_times, scene.stages)]
+
+
+def load_at(path, t: float):
+    """The Load at time t > 0 (s) on a path of :func:`load_path`: its limit from before t
+    (where the path jumps at t, the load before the jump: the jump is a step of its own)."""
+    from dataclasses import fields, replace
+
+    for (t0, a), (t1, b) in zip(path, path[1:]):
+        if t0 < t <= t1:
+            f = (t - t0) / (t1 - t0)
+            return replace(a, **{fd.name: (1.0 - f) * getattr(a, fd.name) + f * getattr(
+                b, fd.name) for fd in fields(a) if isinstance(getattr(a, fd.name), float)
+                and fd.name != "load_radius"})
+    return path[-1][1]
+
+
+def path_steps(path, times, per_decade: int) -> list[tuple[float, str, object]]:
+    """The steps of a consolidation along a load path: (t, kind, load), kind "jump" (the
+    load changes at once to ``load``: an undrained step of no time), "restart" (the first
+    step after a breakpoint of the path: backward Euler, the load's rate having changed) or
+    "step" (BDF2; these two with ``load`` None: the path's at t). Within each stretch
+    between breakpoints (and after the last, to the last reported time, which the scene
+    keeps at or after the last stage's) the steps grow geometrically from it,
+    ``per_decade`` a decade, the first FIRST_STEP times the shortest of the stretch, the
+    stretch before and the time to the next reported time, through every reported time."""
+    t_end = max(max(times), path[-1][0])
+    breaks = sorted({t for t, _ in path} | {t_end})
+    out = [(0.0, "jump", ld) for t, ld in path if t == 0.0]
+    for i, (b, e) in enumerate(zip(breaks, breaks[1:])):
+        scales = [e - b] + [t - b for t in times if t > b] + \
+            ([b - breaks[i - 1]] if i > 0 else [])
+        targets = [t - b for t in times if b < t <= e] + [e - b]
+        steps = time_steps(targets, FIRST_STEP * min(scales), per_decade)
+        out += [(b + dt, "restart" if k == 0 else "step", None)
+                for k, dt in enumerate(steps)]
+        # the stages reached at once at this stretch's end, in the path's order
+        out += [(e, "jump", ld) for (t0, _), (t, ld) in zip(path, path[1:]) if t == t0 == e]
+    return out
+
+
+#: the drained limit: one step this many times the foundation's consolidation time a^2 / c_v
+#: (the excess pore pressure left is of the order of their ratio, relative to the load)
+DRAINED_STEP = 1e10
+
+
+#: the first time step, as a fraction of the first reported time
+FIRST_STEP = 1e-2
+
+
+DAY = 86400.0
+
+
+class _AtDebug:
+    """A logger's info at debug level, its warnings as they are."""
+
+    def __init__(self, log):
+        self.info, self.warning = log.debug, log.warning
+
+
+class TimeStepping:
+    """Consolidation of a model whose soil block has a pore pressure (SoilBlock with a
+    scene's [consolidation]): its drained limit, the undrained response at t = 0, then the
+    steps through the reported times. The model's fields end at the last reported time."""
+
+    def __init__(self, model, solver, log):
+        self.model, self.solver, self.log = model, solver, log
+        # (a step of the path with no load left: see the solver's relative_to_largest_load)
+        solver.relative_to_largest_load = True
+        scene = model.scene
+        self.c = scene.consolidation
+        self.soil = model.soil
+        _, c_v = stratum_coefficients(scene)
+        #: the surface soil's c_v, m^2/s
+        self.c_v = c_v[0]
+        a = scene.foundation_radius
+        #: a^2 / c_v, s: the foundation's consolidation time (surface soil's c_v)
+        self.time_scale = a**2 / self.c_v
+        #: the slowest stratum's: the drained limit's step is a multiple of it
+        self.slowest_time_scale = a**2 / min(c_v)
+        #: where the pore pressure is followed: on the axis, half a radius below the
+        #: foundation (halfway to the base where that is nearer). The largest excess pore
+        #: pressure is also reported, but at t = 0 it sits at the foundation's edge, where
+        #: the undrained stress is singular (it grows as the mesh is refined there)
+        D = scene.embedment
+        self.axis_depth = D + min(0.5 * a, 0.5 * (scene.domain.depth - D))
+        self._axis_point = np.array([[0.0, -self.axis_depth]])
+        #: the depths (m below the ground) of the isochrones: the pore pressure down the
+        #: axis at each reported time, to 3 radii below the foundation (or the base)
+        self.isochrone_depths = np.linspace(D, min(D + 3.0 * a, scene.domain.depth), 61)
+
+    def _isochrone(self) -> list[float]:
+
+        z = self.isochrone_depths
+        return evaluate_at(self.soil.pore_pressure, np.column_stack([np.zeros_like(z), -z]),
+                           cells=self.model.domain.cells("soil"))[:, 0].tolist()
+
+    def _state(self, t: float) -> dict:
+        found = self.model.foundation_results()
+        p = self.soil.pore_pressure
+        comm = p.function_space.mesh.comm
+        n = p.function_space.dofmap.index_map.size_local
+        local = float(np.max(p.x.array[:n])) if n else -np.inf
+
+        axis = float(evaluate_at(p, self._axis_point,
+                                 cells=self.model.domain.cells("soil"))[0, 0])
+        return {"t": t, "t_days": t / DAY, **{k: found[k] for k in ("w0", "w_edge", "wd",
+                                                                     "w_mean", "M0")},
+                "max_pore_pressure": comm.allreduce(local, op=MPI.MAX),
+                "axis_pore_pressure": axis}
+
+    def _solve(self, dt_eff: float, t: float | None = None) -> None:
+        """One step (a Mohr-Coulomb interface converged in it, its table logged at debug
+        level: a table a step would drown the log); a step that does not converge says
+        when, with the interface's history."""
+
+        self.soil.conductance.value = dt_eff / self.c.water_unit_weight
+        try:
+            solve(self.model, self.solver, _AtDebug(self.log))
+        except SolveError as e:
+            when = "the drained limit" if t is None else f"t = {t / DAY:.6g} days"
+            raise SolveError(f"consolidation, at {when} (load {self.model.applied_load:.6g} "
+                             f"N): {e}", e.history) from None
+
+    def _advance(self) -> None:
+        soil = self.soil
+        soil.u_nn.x.array[:] = soil.u_n.x.array
+        soil.u_n.x.array[:] = soil.u.x.array
+
+    def _set_loads(self, load) -> None:
+        model = self.model
+        model.set_loads(load)
+        # the equilibrium errors are relative to the path's largest load (its last may be
+        # none: a tank emptied)
+        model.path_load_scale = model.load_scale      # (the largest so far: see load_scale)
+
+    def run(self) -> dict:
+        soil, log, c, model = self.soil, self.log, self.c, self.model
+        scene = model.scene
+        path = load_path(scene)
+        # the drained limit first, under the path's last load, from rest (it does not
+        # depend on the path: a linear skeleton)
+        self._set_loads(path[-1][1])
+        soil.step_weights.set(1.0, 0.0, False)
+        self._solve(DRAINED_STEP * self.slowest_time_scale)
+        # (t = infinity: null in results.json, which takes no infinities)
+        drained = self._state(0.0) | {"t": None, "t_days": None}
+        log.info("consolidation: drained limit w0 = %.4g m (c_v = %.3g m^2/s, a^2 / c_v = "
+                 "%.3g days)", drained["w0"], self.c_v, self.time_scale / DAY)
+        for f in (soil.u, soil.u_n, soil.u_nn):
+            f.x.array[:] = 0.0
+        steps = path_steps(path, c.times, c.steps_per_decade)
+        reported = {float(t) for t in c.times}
+        history, at_times, isochrones, t_prev, dt_prev = [], [], [], 0.0, 0.0
+        for k, (t, kind, load) in enumerate(steps):
+            self._advance()
+            if kind == "jump":
+                # the load changes at once: undrained (no flow in a step of no time)
+                self._set_loads(load)
+                soil.step_weights.set(1.0, 0.0, False)
+                self._solve(0.0, t)
+                dt = 0.0
+            else:
+                self._set_loads(load_at(path, t))
+                dt = t - t_prev
+                self._solve(soil.step_weights.set(dt, 0.0 if kind == "restart" else dt_prev,
+                                                  True), t)
+            state = self._state(float(t))
+            state["applied_load"] = model.applied_load
+            history.append(state)
+            last_at_t = k + 1 == len(steps) or steps[k + 1][0] != t
+            if last_at_t and (t in reported or t == 0.0):
+                at_times.append(state)
+                isochrones.append(self._isochrone())
+                log.info("consolidation: t = %.4g days, w0 = %.4g m, excess pore pressure "
+                         "on the axis %.4g Pa (step %d of %d)", t / DAY, state["w0"],
+                         state["axis_pore_pressure"], k + 1, len(steps))
+            t_prev, dt_prev = t, dt
+        start = at_times[0]             # t = 0, after the loads applied at once
+        w_u, w_d = start["w0"], drained["w0"]
+
+        def degree(state):
+            return (state["w0"] - w_u) / (w_d - w_u) if w_d != w_u else 1.0
+
+        for state in history:
+            state["degree"] = degree(state)
+            state["Tv"] = state["t"] / self.time_scale
+        drained["degree"], drained["Tv"] = 1.0, None
+        drained["applied_load"] = None
+        out = {"times": list(c.times), "degree": at_times[-1]["degree"],
+               "undrained": start, "drained": drained,
+               "at_times": at_times, "history": history,
+               "c_v": self.c_v, "time_scale": self.time_scale, "axis_depth": self.axis_depth,
+               "isochrones": {"z": self.isochrone_depths.tolist(),
+                              "t_days": [s["t_days"] for s in at_times],
+                              "pore_pressure": isochrones},
+               "steps": len(steps) - 1, "permeability": c.permeability,
+               "drainage": c.drainage,
+               "integrator": "undrained at t = 0 (and at each load applied at once), then "
+                             "backward Euler once and variable-step BDF2, "
+                             f"{c.steps_per_decade} steps a decade from {FIRST_STEP:g} x "
+                             "the first reported time (restarted at each breakpoint of a "
+                             "load path); the drained limit as one step of "
+                             f"{DRAINED_STEP:g} a^2 / c_v"}
+        if scene.stages:
+            # each stage's state when its load is reached (after any jump there)
+            out["at_stages"] = [[h for h in history if h["t"] == t][-1]
+                                for t in scene.stage_times]
+        return out

@@ -1,0 +1,498 @@
+"""The soil block: the soil's displacement (and, in the mixed form or a consolidation, its
+pressures) on the parent (r, z) mesh, with its materials (strata, a ringwall and its fill), its
+stiffness forms (linear elasticity, the mixed u-p form, Biot's), its supports and its stresses.
+Eq. 3's elasticity per cell; the secant modulus of Eq. 19 is its DG0 field ``E``.
+"""
+from __future__ import annotations
+
+import math
+from functools import cached_property
+
+import dolfinx_solver  # noqa: F401  (loads MPI before dolfinx / petsc4py)
+import numpy as np
+import ufl
+from dolfinx import fem
+from dolfinx import mesh as dmesh
+from mpi4py import MPI
+
+from ..fem.blocks import cell_field, empty_form
+from ..fem.solvers import mass_solve
+from ..laws import biot as cf
+from ..laws import elasticity as soil_forms
+from ..laws.duncan_chang import initial_modulus
+from ..mesh import CELL_TAGS, FACET_TAGS, Domain
+from ..scene.scene import Scene
+from .memory import UnloadingMemory
+
+#: Cell tags of the strata of layered ground (stratum i: STRATUM_TAG + i), clear of the
+#: domain's own cell tags
+STRATUM_TAG = 100
+
+
+class SoilBlock:
+    """The soil field on the parent mesh: its space, modulus, stiffness forms and supports.
+
+    ``a`` is the displacement block (to which the interface adds its terms). A soil with
+    nu > ``MIXED_FROM_NU`` is solved in the mixed form (:func:`tankfx.soil.mixed_stiffness_forms`):
+    it then has a pressure too, ``unknowns`` = [u, p], and ``pressures`` = [(p, (a_up, a_pu,
+    a_pp), L_p)]; otherwise ``unknowns`` = [u]. On layered ground each stratum with such a
+    nu has a pressure of its own (``mixed_strata``), pinned outside its cells.
+    ``stress(u)`` is the stress of either form."""
+
+    #: Kondner's (a, b, nu) per cell as the secant iteration last converged on them (set
+    #: by :class:`tankfx.iterations.secant.HyperbolicIteration`; None before it has run)
+    kondner: tuple | None = None
+
+    def __init__(self, scene: Scene, domain: Domain):
+        msh = domain.mesh
+        self.scene, self.domain = scene, domain
+        s = scene.soil
+        self.V = fem.functionspace(msh, ("Lagrange", scene.mesh.degree, (2,)))
+        self.u = fem.Function(self.V, name="u")
+        self.r = soil_forms.radius(msh)
+        h = soil_forms.depth(msh)
+        strata = s.strata
+        #: the strata solved in the mixed form (nu > MIXED_FROM_NU), each with a pressure
+        #: of its own: p = -lambda tr(eps) jumps where lambda does, at a layer's top, which
+        #: one pressure continuous over the layers cannot follow (measured: w0 1.6-1.8 %
+        #: off on three layers, against 3e-5 without a mixed layer)
+        # (and Duncan & Chang's soil throughout: Soil.mixed_strata)
+        dc = s.model == "duncan_chang"
+        self.mixed_strata = s.mixed_strata
+        self.mixed = bool(self.mixed_strata)
+        self.stratum = np.zeros(0, dtype=np.int32)     # per local cell (layered ground)
+        #: per local cell, its stratum's constants (Soil.at_depth; layered ground and
+        #: Duncan & Chang's soil, else None)
+        self.cell_strata = None
+        #: which local cells are a ringwall's, and its fill's (none without); the secant
+        #: iteration leaves both (``linear_cells``) at their own modulus
+        ring = scene.ringwall
+        self.ringwall_cells = np.zeros(len(domain.cell_midpoints), dtype=bool)
+        self.fill_cells = self.ringwall_cells.copy()
+        #: a ringwall's cells (and its fill's) are materials of their own: the last
+        #: "strata" (linear, in the displacement form), after the ground's
+        self.n_materials = len(strata) + (ring is not None) + \
+            (ring is not None and ring.fill_E is not None)
+        if s.layers or dc or ring is not None:
+            # per cell, its stratum's values (the layers' tops are lines of the mesh, so
+            # no cell straddles two): E = E_top (1 + lambda (h - top)) within each; and a
+            # Poisson's ratio per cell, which a failed Duncan-Chang cell changes
+            depth = -domain.cell_midpoints[:, 1]
+            self.stratum = s.stratum_of(depth).astype(np.int32)
+            values = self.cell_strata = s.at_depth(depth)
+            if ring is not None:
+                self.ringwall_cells = ring.holds(*domain.cell_midpoints.T, scene.embedment)
+                self.fill_cells = ring.fill_holds(*domain.cell_midpoints.T, scene.embedment)
+                for k, (cells, E, nu) in enumerate(((self.ringwall_cells, ring.E, ring.nu),
+                                                    (self.fill_cells, ring.fill_E,
+                                                     ring.fill_nu))):
+                    self.stratum[cells] = len(strata) + k
+                    for key, value in (("E_top", E), ("E_gradient", 0.0), ("top", 0.0),
+                                       ("nu", nu)):
+                        values[key][cells] = value
+            self.E_s, self.gradient, top, self.nu = (
+                cell_field(msh, values[key], key) for key in ("E_top", "E_gradient", "top",
+                                                               "nu"))
+            h = h - top
+        else:
+            # Constants rather than floats: the compiled forms are then shared by every
+            # scene of the same structure (sweeps, benchmarks) instead of recompiled per
+            # value.
+            self.E_s = fem.Constant(msh, s.E)
+            self.nu = fem.Constant(msh, s.nu)
+            self.gradient = fem.Constant(msh, s.E_gradient)
+        self.E = soil_forms.modulus_with_depth(self.E_s, self.gradient, h)
+        if s.nonlinear:
+            # the secant modulus, one value per cell, starting at the initial tangent modulus
+            # (at the cell's centroid, like the paper's element modulus)
+            if dc:      # at the geostatic confinement (depth: the cells', above)
+
+                initial = initial_modulus(s, depth, values)
+                # a ringwall and its fill are no soil of this law: their own E
+                initial[self.linear_cells] = values["E_top"][self.linear_cells]
+                modulus = cell_field(msh, initial, "secant_modulus")
+            else:
+                Q0 = fem.functionspace(msh, ("DG", 0))
+                modulus = fem.Function(Q0, name="secant_modulus")
+                modulus.interpolate(fem.Expression(self.E, Q0.element.interpolation_points))
+            self.E = modulus
+        self.trial, self.test = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
+        self._cell_measures(self.n_materials)
+        self.unknowns = [self.u]
+        #: per mixed stratum: (its pressure, (a_up, a_pu, a_pp), its zero load)
+        self.pressures = []
+        #: the stratum of each pressure (pinned outside its cells)
+        self.pressure_strata = list(self.mixed_strata)
+        #: a consolidating soil's excess pore pressure is its one pressure (Biot)
+        self.consolidating = scene.consolidation is not None
+        if self.consolidating:
+            self.mixed_strata, self.mixed = [], True
+        displacement_form = [i for i in range(self.n_materials) if i not in self.mixed_strata]
+        self.a = 0
+        if self.consolidating:
+            self._pore_pressure(msh)
+        elif displacement_form:
+            self.a = soil_forms.stiffness_form(self.trial, self.test, self.E, self.nu, self.r,
+                                               self.dx_strata(displacement_form))
+        for i in self.mixed_strata:
+            # a space of its own per pressure: Dirichlet conditions go to the blocks by
+            # their space, and each pressure is pinned outside its own stratum
+            Q = fem.functionspace(msh, ("Lagrange", scene.mesh.degree - 1))
+            p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
+            a_uu, a_up, a_pu, a_pp = soil_forms.mixed_stiffness_forms(
+                self.trial, p, self.test, q, self.E, self.nu, self.r, self.dx_strata([i]))
+            self.a += a_uu
+            others = self.dx_outside(i)
+            if others is not None:
+                # a zero term elsewhere puts the pressure's pinned dofs in the sparsity
+                # pattern, so that their Dirichlet rows get a diagonal
+                a_pp += fem.Constant(msh, 0.0) * p * q * others
+            name = "pressure" if len(strata) == 1 else f"pressure_{i}"
+            self.pressures.append((fem.Function(Q, name=name), (a_up, a_pu, a_pp),
+                                   fem.Constant(msh, 0.0) * q * self.dx_strata([i])))
+        self.unknowns += [pr for pr, _, _ in self.pressures]
+        #: each cell's most loaded state and unloading line along a load path (a nonlinear
+        #: soil with an unloading modulus), else None
+        self.memory = None
+        if s.unloading_modulus_ratio is not None:
+
+            self.memory = UnloadingMemory(self.E, scene.mesh.degree, s.unloading_modulus_ratio,
+                                          self._cell_pressure() if self.mixed else None)
+        if domain.has_void:
+            # A zero term over the void: it puts the void's dofs in the sparsity pattern, so
+            # that their Dirichlet rows get a diagonal (it adds nothing to any value).
+            self.a += fem.Constant(msh, 0.0) * ufl.inner(self.trial, self.test) * self.dx_void
+        self.bcs = self._supports()
+        self.supported_facets = domain.facets("far_side", "bottom")
+
+    def _pore_pressure(self, msh) -> None:
+        """Biot's blocks (tankfx.consolidation) for the excess pore pressure, one degree
+        below the displacement, with the drained boundaries by Nitsche's method; the time
+        step enters through ``conductance`` (dt k / gamma_w) and ``step_weights``, the
+        earlier states through ``u_n``, ``u_nn``."""
+
+        scene = self.scene
+        c, deg = scene.consolidation, scene.mesh.degree
+        Q = fem.functionspace(msh, ("Lagrange", deg - 1))
+        p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
+        #: dt_eff / gamma_w (s m^3/N), times each stratum's permeability in the forms
+        self.conductance = fem.Constant(msh, 0.0)
+        strata = scene.soil.strata
+        k, _ = cf.stratum_coefficients(scene)
+        # a ringwall (and its fill) has no pore pressure: k 0 there (its own materials
+        # follow the ground's strata)
+        k += [0.0] * (self.n_materials - len(strata))
+        #: Darcy's k (m/s): one value, or per cell by stratum (layers, a ringwall)
+        self.permeability = fem.Constant(msh, k[0]) if self.n_materials == 1 else \
+            cell_field(msh, np.array(k)[self.stratum], "permeability")
+        self.step_weights = w = cf.StepWeights(msh)
+        self.u_n, self.u_nn = (fem.Function(self.V, name=n) for n in ("u_n", "u_nn"))
+        flow = self.conductance * self.permeability
+        #: the ground's strata: where the pore water is (not a ringwall's concrete, nor
+        #: its fill, which drains)
+        self.ground = tuple(range(len(strata)))
+        dx_ground = self.dx_strata(self.ground)
+        _, a_up, a_pu, a_pp = cf.biot_forms(self.trial, p, self.test, q, self.E, self.nu,
+                                            flow, self.r, dx_ground)
+        a_uu = soil_forms.stiffness_form(self.trial, self.test, self.E, self.nu, self.r,
+                                         self.dx)
+        drained = ["surface"] + (["contact"] if scene.plate is None else []) + \
+            (["bottom"] if c.drainage == "top_and_bottom" else [])
+        ds = ufl.Measure("ds", domain=msh, subdomain_data=self.domain.facet_tags)
+        a_pp += cf.drainage_form(p, q, flow, self.r,
+                                 ds(tuple(FACET_TAGS[n] for n in drained)), deg - 1)
+        fill_faces = self._fill_faces(msh)
+        if fill_faces is not None:
+            # a ringwall's fill drains: the ground's faces on it are drained boundaries,
+            # from the ground's side (the fill's own pore pressure is pinned to 0)
+            chi = self.in_ground
+            a_pp += sum(cf.drainage_form(p(side), q(side), flow(side), self.r,
+                                         fill_faces, deg - 1, side=side, weight=chi(side))
+                        for side in ("+", "-"))
+        others = self.dx_outside(self.ground)
+        if others is not None:
+            # (the pressure dofs there are pinned, see pins: a zero term gives their
+            # Dirichlet rows a diagonal)
+            a_pp += fem.Constant(msh, 0.0) * p * q * others
+        self.a = a_uu
+        self.pressures.append((fem.Function(Q, name="pore_pressure"), (a_up, a_pu, a_pp),
+                               cf.previous_volume_load([(w.previous, self.u_n),
+                                                        (w.before, self.u_nn)],
+                                                       q, self.r, dx_ground)))
+        # one pore pressure, continuous over the strata (its flux too, naturally); none
+        # in a ringwall (no flow across its faces) and none in its fill (drained: the
+        # ground drains into it)
+        self.pressure_strata = [self.ground]
+
+    def _fill_faces(self, msh):
+        """The interior-facet measure of the faces between a ringwall's fill and the ground
+        (None without a fill, on every rank alike)."""
+        if not msh.comm.allreduce(bool(self.fill_cells.any()), op=MPI.LOR):
+            return None
+        tdim = msh.topology.dim
+        msh.topology.create_connectivity(tdim - 1, tdim)
+        f2c = msh.topology.connectivity(tdim - 1, tdim)
+        n = msh.topology.index_map(tdim - 1).size_local + \
+            msh.topology.index_map(tdim - 1).num_ghosts
+        ground = np.isin(self.stratum, self.ground)
+        ground[self.domain.cells("void")] = False
+        fill, start = self.fill_cells, f2c.offsets[:n]
+        two = np.flatnonzero(np.diff(f2c.offsets)[:n] == 2)     # interior facets
+        c0, c1 = f2c.array[start[two]], f2c.array[start[two] + 1]
+        faces = two[(fill[c0] & ground[c1]) | (fill[c1] & ground[c0])].astype(np.int32)
+        tags = dmesh.meshtags(msh, tdim - 1, faces, np.ones(len(faces), dtype=np.int32))
+        return ufl.Measure("dS", domain=msh, subdomain_data=tags)(1)
+
+    @cached_property
+    def in_ground(self) -> fem.Function:
+        """DG0: 1 in the consolidating ground's cells, 0 in a ringwall's and its fill's
+        (where there is no pore pressure)."""
+        return cell_field(self.domain.mesh, np.isin(self.stratum, self.ground)
+                           .astype(float), "in_ground")
+
+    @property
+    def pore_pressure(self) -> fem.Function | None:
+        """The excess pore pressure (Pa, compression positive) of a consolidating soil."""
+        return self.pressures[0][0] if self.consolidating else None
+
+    @property
+    def linear_cells(self) -> np.ndarray:
+        """The local cells a nonlinear soil's secant iteration leaves at their modulus: a
+        ringwall's and its fill's."""
+        return self.ringwall_cells | self.fill_cells
+
+    def _cell_measures(self, n_strata: int) -> None:
+        """The soil's ``dx`` and the void's ``dx_void``, and per stratum those of
+        :meth:`dx_strata` and :meth:`dx_outside`: all from one set of cell tags, since a
+        form's cell integrals must share theirs. One stratum: the domain's tags; layered
+        ground: tags by stratum (soil cells of stratum i: STRATUM_TAG + i, the void: its
+        tag of the domain)."""
+        msh, dom = self.domain.mesh, self.domain
+        self.n_strata = n_strata
+        tags, soil_ids = dom.cell_tags, (CELL_TAGS["soil"],)
+        if n_strata > 1:
+            tag = np.full(len(self.stratum), CELL_TAGS["void"], dtype=np.int32)
+            soil = dom.cells("soil")
+            tag[soil] = STRATUM_TAG + self.stratum[soil]
+            cells = np.arange(len(tag), dtype=np.int32)
+            tags = dmesh.meshtags(msh, 2, cells, tag)
+            soil_ids = tuple(STRATUM_TAG + i for i in range(n_strata))
+        self._dx_tagged = ufl.Measure("dx", domain=msh, subdomain_data=tags, metadata={
+            "quadrature_degree": soil_forms.quadrature_degree(self.scene.mesh.degree)})
+        self.dx = self._dx_tagged(soil_ids if n_strata > 1 else soil_ids[0])
+        self.dx_void = ufl.Measure("dx", domain=msh, subdomain_data=tags)(CELL_TAGS["void"])
+
+    def dx_strata(self, strata):
+        """The measure of the soil cells of the given strata (indices into Soil.strata)."""
+        if len(set(strata)) == self.n_strata:
+            return self.dx
+        return self._dx_tagged(tuple(STRATUM_TAG + int(i) for i in strata))
+
+    def dx_outside(self, i):
+        """The measure of every cell but stratum i's soil (or the strata in a tuple's; None
+        where there is none)."""
+        inside = {i} if isinstance(i, (int, np.integer)) else set(i)
+        if self.n_strata == 1 or inside >= set(range(self.n_strata)):
+            return self.dx_void if self.domain.has_void else None
+        ids = [STRATUM_TAG + j for j in range(self.n_strata) if j not in inside]
+        if self.domain.has_void:
+            ids.append(CELL_TAGS["void"])
+        return self._dx_tagged(tuple(ids))
+
+    def stratum_cells(self, i) -> np.ndarray:
+        """Local soil cells (owned and ghost) of stratum i (or of the strata in a tuple)."""
+        soil = self.domain.cells("soil")
+        return soil if self.n_strata == 1 else soil[np.isin(self.stratum[soil], i)]
+
+    def _supports(self) -> list[fem.DirichletBC]:
+        V, dom = self.V, self.domain
+        fdim = dom.mesh.topology.dim - 1
+        Vr = V.sub(0)
+        axis = fem.locate_dofs_topological(Vr, fdim, dom.facets("axis"))
+        far = fem.locate_dofs_topological(V, fdim, dom.facets("far_side", "bottom"))
+        zero = np.zeros(2, dtype=np.float64)
+        bcs = [fem.dirichletbc(0.0, axis, Vr),                 # symmetry: u_r = 0 on r = 0
+               fem.dirichletbc(zero, far, V)]                  # rigid far boundary
+        bcs += self.pins(V, [(pr.function_space, i) for i, (pr, _, _) in
+                             zip(self.pressure_strata, self.pressures)])
+        return bcs
+
+    def pins(self, V, pressure_spaces) -> list[fem.DirichletBC]:
+        """The supports that are not boundary conditions: the void's dofs of the
+        displacement space ``V`` that touch no soil cell (it carries no stiffness), and
+        each mixed stratum's pressure (``pressure_spaces``: (space, stratum index))
+        everywhere outside its cells."""
+        dom, bcs = self.domain, []
+        if dom.has_void:
+            void = fem.locate_dofs_topological(V, 2, dom.cells("void"))
+            soil = fem.locate_dofs_topological(V, 2, dom.cells("soil"))
+            bcs.append(fem.dirichletbc(np.zeros(V.dofmap.index_map_bs),
+                                       np.setdiff1d(void, soil), V))
+        for Q, i in pressure_spaces:
+            imap = Q.dofmap.index_map
+            every = np.arange(imap.size_local + imap.num_ghosts, dtype=np.int32)
+            own = fem.locate_dofs_topological(Q, 2, self.stratum_cells(i))
+            pinned = np.setdiff1d(every, own).astype(np.int32)
+            if dom.mesh.comm.allreduce(len(pinned)):
+                bcs.append(fem.dirichletbc(0.0, pinned, Q))
+        return bcs
+
+    def dofs(self) -> dict[str, int]:
+        out = {"soil": self.V.dofmap.index_map.size_global * self.V.dofmap.index_map_bs}
+        if self.mixed:
+            name = "pore_pressure" if self.consolidating else "soil_pressure"
+            out[name] = sum(pr.function_space.dofmap.index_map.size_global
+                            for pr, _, _ in self.pressures)
+        return out
+
+    def stress(self, u=None):
+        """The soil stress (3 x 3, tension positive) of a displacement (default: the
+        solution, with the stress its unloading cells keep), with the solution's pressure
+        in the mixed form."""
+        out = self.stress_of(soil_forms.strain(self.u if u is None else u, self.r),
+                             [pr for pr, _, _ in self.pressures])
+        if u is None and self.memory is not None:
+            out += self.initial_stress()
+        return out
+
+    def _cell_pressure(self):
+        """The mixed form's pressure of each cell's own stratum (UFL; the displacement
+        form's cells: 0)."""
+        pressures = [pr for pr, _, _ in self.pressures]
+        if self.n_strata == 1:
+            return pressures[0]
+        return sum(c * pr for c, pr in zip(self._in_mixed, pressures))
+
+    @cached_property
+    def _in_mixed(self) -> list[fem.Function]:
+        """Per mixed stratum, its cells' indicator (DG0)."""
+        return [cell_field(self.domain.mesh, (self.stratum == i).astype(float), f"in_{i}")
+                for i in self.mixed_strata]
+
+    @cached_property
+    def _nu_displacement_form(self) -> fem.Function:
+        """Poisson's ratio of the displacement form's cells, 0 in the mixed form's (where
+        lambda may be infinite), for an expression valid in every cell (layered ground;
+        only a mixed cell's nu ever changes, a failed Duncan-Chang cell's)."""
+        in_mixed = np.isin(self.stratum, self.mixed_strata)
+        nu = self.nu.x.array[self.nu.function_space.dofmap.list[:, 0]]
+        return cell_field(self.domain.mesh, np.where(in_mixed, 0.0, nu),
+                           "nu_displacement_form")
+
+    def initial_stress(self):
+        """The stress the unloading cells keep (tankfx.hyperbolic.UnloadingMemory): with
+        their most loaded state's strain eps_p and modulus E_p (nu_p), sigma_p - D(E_ur)
+        eps_p, which the displacement form writes D(E_p - E_ur) eps_p (nu fixed). The mixed
+        form's pressure stays the whole pressure, p = p_p - lambda_ur tr(eps - eps_p) on
+        the line (continuous over the cells, whichever branch each is on; its constraint's
+        right-hand side in :meth:`load_rows`), so that its fixed part is only the shear's,
+        2 (mu_p - mu_ur) eps_p."""
+        m, r = self.memory, self.r
+        eps_p = soil_forms.strain(m.peak_u, r)
+        if not self.mixed:
+            return m.unloading * soil_forms.stress(eps_p, m.peak_modulus - self.E, self.nu)
+        mixed = 2.0 * (soil_forms.lame(m.peak_modulus, m.peak_nu)[1] -
+                       soil_forms.lame(self.E, self.nu)[1]) * eps_p
+        if self.n_strata == 1:
+            return m.unloading * mixed
+        # the displacement form's strata by their own law
+        chi = sum(self._in_mixed)
+        return m.unloading * ((1.0 - chi) * soil_forms.stress(
+            eps_p, m.peak_modulus - self.E, self._nu_displacement_form) + chi * mixed)
+
+    def stress_of(self, eps, pressures):
+        """The stress of a strain tensor ``eps`` with the mixed strata's ``pressures`` (one
+        per mixed stratum, in order): of this soil's materials (also for the overturning's
+        first harmonic, whose strain and pressures are amplitudes)."""
+        if not self.mixed:
+            return soil_forms.stress(eps, self.E, self.nu)
+        if self.consolidating:      # total stress: the skeleton's less the pore pressure
+            p = pressures[0]
+            if self.n_materials > len(self.ground):     # (none in a ringwall, its fill)
+                p = p * self.in_ground
+            return soil_forms.stress(eps, self.E, self.nu) - p * ufl.Identity(3)
+        if self.n_strata == 1:
+            return soil_forms.mixed_stress(eps, pressures[0], self.E, self.nu)
+        # per cell the form of its stratum, by indicators (an expression valid in every
+        # cell, for projections and cell fields)
+        chi = self._in_mixed
+        out = (1.0 - sum(chi)) * soil_forms.stress(eps, self.E, self._nu_displacement_form)
+        for c, pr in zip(chi, pressures):
+            out += c * soil_forms.mixed_stress(eps, pr, self.E, self.nu)
+        return out
+
+    def matrix_rows(self, a_uu):
+        """The soil's rows of a block matrix, from its displacement block: [[a_uu]] or,
+        mixed, [[a_uu, a_up_1, ...], [a_pu_1, a_pp_1, None, ...], ...]: a pressure per
+        mixed stratum."""
+        m = len(self.pressures)
+        rows = [[a_uu] + [blocks[0] for _, blocks, _ in self.pressures]]
+        for j, (_, (_, a_pu, a_pp), _) in enumerate(self.pressures):
+            rows.append([a_pu] + [a_pp if k == j else None for k in range(m)])
+        return rows
+
+    def split_rows(self, a_uu_fixed, a_uu_varying=None) -> tuple[list, list]:
+        """The soil's rows (:meth:`matrix_rows`) in two parts that sum to those of
+        ``a_uu_fixed + a_uu_varying``, for a solver that assembles the fixed part once:
+        fixed, ``a_uu_fixed``, the pressures' couplings and their own blocks unless they are
+        a consolidation's flow terms (which change with the time step); varying,
+        ``a_uu_varying`` and those flow terms. A diagonal block that a part lacks is an
+        :func:`empty_form`."""
+        fixed = self.matrix_rows(a_uu_fixed)
+        m = len(self.pressures)
+        varying = [[empty_form(self.V) if a_uu_varying is None else a_uu_varying] + [None] * m]
+        for j, (pressure, (_, _, a_pp), _) in enumerate(self.pressures):
+            varying.append([None] * (m + 1))
+            if self.consolidating:
+                fixed[j + 1][j + 1] = empty_form(pressure.function_space)
+                varying[-1][j + 1] = a_pp
+            else:
+                varying[-1][j + 1] = empty_form(pressure.function_space)
+        return fixed, varying
+
+    def load_rows(self, L_u):
+        """The soil's rows of a block load vector: [L_u] or, mixed, [L_u, L_p_1, ...]; the
+        stress the unloading cells keep is a load of the displacement row."""
+        L_p = [L for _, _, L in self.pressures]
+        if self.memory is not None:
+            w = 2.0 * math.pi * self.r
+            L_u = L_u - ufl.inner(self.initial_stress(),
+                                  soil_forms.strain(self.test, self.r)) * w * self.dx
+            # mixed: on its line a cell's pressure is p_p - lambda_ur tr(eps - eps_p), so
+            # that the constraint -tr(eps) - p / lambda_ur has the right-hand side
+            # -tr(eps_p) - p_p / lambda_ur there
+            m = self.memory
+            if self.mixed:
+                rhs = m.unloading * (ufl.tr(soil_forms.strain(m.peak_u, self.r)) +
+                                     m.peak_p * soil_forms.inverse_lambda(self.E, self.nu))
+                L_p = [L - rhs * ufl.TestFunction(pr.function_space) * w * self.dx_strata([i])
+                       for L, (pr, _, _), i in zip(L_p, self.pressures, self.pressure_strata)]
+        return [L_u] + L_p
+
+    def residual(self, a_uu, L_u):
+        """The displacement equations' residual a(u, v) - L(v) (support reactions)."""
+        res = ufl.action(a_uu, self.u) - L_u
+        for pr, (a_up, _, _), _ in self.pressures:
+            res += ufl.action(a_up, pr)
+        return res
+
+    def vertical_stress(self, stress=None, name: str = "sigma_zz") -> fem.Function:
+        """sigma_zz (compression positive) of the solution's stress (or of ``stress``),
+        L2-projected (r-weighted) onto the continuous displacement space: point values of
+        the raw stress on the axis, a boundary of the meridian plane, are noisy for nearly
+        incompressible soil; the projection is not."""
+        msh = self.domain.mesh
+        Q = fem.functionspace(msh, ("Lagrange", self.scene.mesh.degree))
+        s, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
+        sigma = -(self.stress() if stress is None else stress)[1, 1]
+        out = fem.Function(Q, name=name)
+        bcs = []
+        if self.domain.has_void:
+            void = fem.locate_dofs_topological(Q, 2, self.domain.cells("void"))
+            soil = fem.locate_dofs_topological(Q, 2, self.domain.cells("soil"))
+            bcs = [fem.dirichletbc(0.0, np.setdiff1d(void, soil), Q)]
+        a = s * q * self.r * self.dx
+        if self.domain.has_void:
+            a += fem.Constant(msh, 0.0) * s * q * self.dx_void
+        mass_solve(a, sigma * q * self.r * self.dx, bcs, out, name="stress projection")
+        return out

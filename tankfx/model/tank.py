@@ -1,0 +1,505 @@
+"""The tank: soil, foundation plate and wall in one block system.
+
+Block 0 is the soil displacement on the parent (r, z) mesh; block 1 the structure (u, beta, Q
+of :mod:`tankfx.structure`) on the facet submesh made of the plate's underside facets and, if
+there is a wall, the wall's meridian facets. Plate and wall share the junction vertex, so the
+joint is rigid (continuous u and beta), for a_t = a_p and for a wall inside the plate edge.
+
+The two are tied by the interface penalty of :mod:`tankfx.interface` on the plate underside
+and, for an embedded tank, on the wall's outer face below the ground. Mixed-domain blocks are
+integrated over the parent's facets (``ds`` where the facet is on the outside of the mesh,
+``dS`` where the tank's void lies on its other side); pure structure blocks over the submesh.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from functools import cached_property
+
+import numpy as np
+import ufl
+from dolfinx import fem
+from dolfinx import mesh as dmesh
+
+from ..fem.blocks import OutOfBalance, empty_form
+from ..fem.evaluate import allsum, evaluate_at
+from ..laws import interface
+from ..laws import shell as st
+from ..mesh import FACET_TAGS, Domain
+from ..scene.scene import Scene
+from ..scene.sections import vertical_load, vertical_load_scale
+from .interface import InterfaceBlock
+from .soil import SoilBlock
+from .structure import ShellResultants
+
+#: Warn when the interface compliance adds more than this fraction to the settlement ...
+POLLUTION_WARNING = 1e-3
+
+
+#: ... when the penalty exceeds the soil element's stiffness E / h by more than this: it then
+#: ties the soil's quadratic trace to the structure's cubic one point by point (measured on
+#: a bonded plate, Kp = 1: M0 -0.5 % at 10 x the default 1e3 E / h, -2.1 % at 100 x) ...
+OVERSTIFF_WARNING = 3e4
+
+
+#: ... and when it costs more than half of the solve's 16 digits.
+CONDITIONING_WARNING = 1e8
+
+
+#: Soil-side facet tags that carry the interface, with the soil's outward normal n and the
+#: tangent t there (the structure's n and t on those cells).
+_INTERFACE = {"contact": ((0.0, 1.0), (1.0, 0.0)), "wall_embedded": ((-1.0, 0.0), (0.0, 1.0))}
+
+
+_SUB_TAG = {"contact": st.PLATE, "wall": st.WALL, "wall_embedded": st.WALL_EMBEDDED}
+
+
+class TankModel:
+    """Soil, plate and (optional) wall of a scene as one block system: its forms ``a``,
+    ``L``, supports ``bcs`` and unknowns, the interface states, and the structure's results.
+    ``face_offset=False`` puts the shells' mid-surfaces on the contact lines (only for
+    measuring what the offset is worth)."""
+
+    def __init__(self, scene: Scene, domain: Domain, face_offset: bool = True):
+        self.scene, self.domain = scene, domain
+        parent = domain.mesh
+        self.soil = soil = SoilBlock(scene, domain)
+
+        # ---- structure submesh and its cell tags (plate / wall / embedded wall)
+        names = ["contact"] + (["wall", "wall_embedded"] if scene.wall is not None else [])
+        facets = domain.facets(*names)
+        sub, emap, _, _ = dmesh.create_submesh(parent, 1, facets)
+        sub.topology.create_connectivity(0, 1)
+        self.mesh, self.entity_maps = sub, [emap]
+        n_sub = sub.topology.index_map(1).size_local + sub.topology.index_map(1).num_ghosts
+        parent_facets = emap.sub_topology_to_topology(np.arange(n_sub, dtype=np.int32), False)
+        ftag = np.zeros(parent.topology.index_map(1).size_local
+                        + parent.topology.index_map(1).num_ghosts, dtype=np.int32)
+        ftag[domain.facet_tags.indices] = domain.facet_tags.values
+        by_value = {FACET_TAGS[k]: v for k, v in _SUB_TAG.items()}
+        values = np.array([by_value[v] for v in ftag[parent_facets]], dtype=np.int32)
+        self.cell_tags = dmesh.meshtags(sub, 1, np.arange(n_sub, dtype=np.int32), values)
+        self.plate_cells = self.cell_tags.find(st.PLATE)
+        self.wall_cells = np.sort(np.concatenate([self.cell_tags.find(st.WALL),
+                                                  self.cell_tags.find(st.WALL_EMBEDDED)]))
+
+        # ---- properties per structure cell (DG0): plate and wall differ
+        Q0 = fem.functionspace(sub, ("DG", 0))
+        self.cell_dof = Q0.dofmap.list[:, 0]   # DG0 dof of each local cell
+
+        def cellwise(plate_value, wall_value, name):
+            f = fem.Function(Q0, name=name)
+            f.x.array[self.cell_dof[self.plate_cells]] = plate_value
+            f.x.array[self.cell_dof[self.wall_cells]] = wall_value
+            return f
+
+        pl, wa = scene.plate, scene.wall
+        wall_or = (lambda attr: getattr(wa, attr)) if wa is not None else (lambda attr: 0.0)
+        self.E = cellwise(pl.E, wall_or("E"), "E")
+        self.nu = cellwise(pl.nu, wall_or("nu"), "nu")
+        # thickness by position: an annular ring, a wall's courses (the mesh has vertices
+        # where it steps)
+        #: (r, z) of every local structure cell's midpoint, in cell order
+        self.cell_midpoints = mid = dmesh.compute_midpoints(
+            sub, 1, np.arange(n_sub, dtype=np.int32))[:, :2]
+        t_plate = pl.thickness_at(mid[self.plate_cells, 0])
+        t_wall = wa.thickness_at(mid[self.wall_cells, 1] + scene.embedment) \
+            if wa is not None else 0.0
+        self.thickness = cellwise(t_plate, t_wall, "thickness")
+        # the mesh lines are the faces in contact with the soil (outer faces flush where the
+        # wall's courses step); the mid-surfaces lie half a thickness inside
+        # (face_offset=False puts them on the mesh lines, for comparison)
+        self.offset = cellwise(0.5 * t_plate if face_offset else 0.0,
+                               0.5 * t_wall if face_offset else 0.0, "offset")
+        self.W = st.structure_space(sub, 3)
+        self.w = fem.Function(self.W, name="structure")
+        # ---- the interface: its state carriers, stiffnesses and states
+        self.interface = InterfaceBlock(scene, domain, soil, sub, self.cell_tags, mid, self.w,
+                                        self.entity_maps)
+        self.warnings = self.interface.warnings
+
+        # ---- spaces, unknowns, forms
+        self.unknowns = soil.unknowns + [self.w]      # [u, (p,) structure]
+        self.r_b = ufl.SpatialCoordinate(sub)[0]
+        self.t_b = st.tangent(sub)
+        self.dx_b = ufl.Measure("dx", domain=sub, subdomain_data=self.cell_tags)
+        self.a = self._bilinear_forms()
+        self.L = self._loads()
+        self.bcs = soil.bcs + self._symmetry()
+
+    # ------------------------------------------------------------------ set-up
+    def _bilinear_forms(self):
+        soil, r_b, t_b = self.soil, self.r_b, self.t_b
+        u_b, beta, Q = ufl.TrialFunctions(self.W)
+        v_b, gamma, P = ufl.TestFunctions(self.W)
+        th = self.thickness
+        # structure: shell energy and Kirchhoff constraint
+        a_bb = (st.shell_stiffness(u_b, beta, v_b, gamma, r_b, t_b, self.E, self.nu, th,
+                                   self.dx_b, self.offset)
+                + st.kirchhoff_constraint(Q, gamma, v_b, t_b, r_b, self.dx_b)
+                + st.kirchhoff_constraint(P, beta, u_b, t_b, r_b, self.dx_b))
+        # the interface on the structure's side, -u_b in the jump; the soil's side and the
+        # cross terms are integrated over the parent's facets below
+        ifc = self.interface
+        i_bb = interface.interface_form(u_b, v_b, st.normal(t_b), t_b, ifc.k_n, ifc.k_s, ifc.mu,
+                                        r_b, ifc.dx)
+        i_ss, i_sb, i_bs = 0, 0, 0
+        r = soil.r
+        for _, n, t, pieces in ifc.measures():
+            for measure, R in pieces:
+                kn, ks, mu = R(ifc.k_n), R(ifc.k_s), R(ifc.mu)
+                i_ss += interface.interface_form(R(soil.trial), R(soil.test), n, t, kn, ks, mu,
+                                                 r, measure)
+                i_sb -= interface.interface_form(R(u_b), R(soil.test), n, t, kn, ks, mu, r,
+                                                 measure)
+                i_bs -= interface.interface_form(R(soil.trial), R(v_b), n, t, kn, ks, mu, r,
+                                                 measure)
+        self.a_split = self._split_forms(a_bb, (i_ss, i_sb, i_bs, i_bb))
+        return self._block_rows(soil.matrix_rows(soil.a + i_ss), i_sb, i_bs, a_bb + i_bb)
+
+    @staticmethod
+    def _block_rows(soil_rows, a_sb, a_bs, a_bb) -> list:
+        """The soil's rows (with its pressures', in the mixed form), then the structure's."""
+        rows = [row + [a_sb if i == 0 else None] for i, row in enumerate(soil_rows)]
+        rows.append([a_bs] + [None] * (len(soil_rows) - 1) + [a_bb])
+        return rows
+
+    def _split_forms(self, a_bb, interface_blocks):
+        """(fixed, varying): block forms that sum to the model's matrix, for a direct solver
+        that assembles the fixed part once and only the varying one at every solve
+        (:class:`tankfx.solve.DirectSolver`). Between the solves of a linear soil what
+        changes is a Mohr-Coulomb interface (its states) and a consolidation's flow terms
+        (the time step: they are proportional to the conductance); None where neither
+        does. Measured on the clay tank's consolidation, 81k dofs, 57 solves: the matrix's
+        assemblies 5.1 s, their whole run 20.9 s, before the split."""
+        soil = self.soil
+        mohr_coulomb = self.scene.interface.condition == "mohr_coulomb"
+        if not (mohr_coulomb or soil.consolidating):
+            return None
+        i_ss, i_sb, i_bs, i_bb = interface_blocks
+        if mohr_coulomb:
+            fixed, varying = soil.split_rows(soil.a, i_ss)
+            return (self._block_rows(fixed, None, None, a_bb),
+                    self._block_rows(varying, i_sb, i_bs, i_bb))
+        fixed, varying = soil.split_rows(soil.a + i_ss)
+        return (self._block_rows(fixed, i_sb, i_bs, a_bb + i_bb),
+                self._block_rows(varying, None, None, empty_form(self.W)))
+
+    def _loads(self):
+        s, r_b = self.scene, self.r_b
+        v_f, gamma, _ = ufl.TestFunctions(self.W)
+        # loads act on the mid-surface (for pressures normal to the wall or plate it is the
+        # same as on the face; it matters for the wall's self-weight)
+        v_b = st.mid_surface_displacement(v_f, gamma, self.t_b, self.offset)
+        x = ufl.SpatialCoordinate(self.mesh)
+        soil_load = ufl.inner(fem.Constant(self.domain.mesh, (0.0, 0.0)), self.soil.test) * \
+            self.soil.dx
+        ring, self.ringwall_weight = s.ringwall, None
+        if ring is not None and ring.unit_weight and any(ld.self_weight
+                                                           for ld in (s.load, *s.stages)):
+            # its weight in excess of the soil's, on its own cells (the material after the
+            # ground's strata)
+            self.ringwall_weight = fem.Constant(self.domain.mesh, 0.0)
+            soil_load += -self.ringwall_weight * self.soil.test[1] * 2.0 * math.pi * \
+                self.soil.r * self.soil.dx_strata([len(s.soil.strata)])
+        w = 2.0 * math.pi * r_b
+        dx_p = self.dx_b(st.PLATE)
+        dx_w = self.dx_b((st.WALL, st.WALL_EMBEDDED))
+        # load values are Constants: a load path changes them without recompiling
+        c = self.load_constants = {k: fem.Constant(self.mesh, 0.0) for k in (
+            "pressure", "liquid_unit_weight", "liquid_height", "plate_weight", "wall_weight",
+            "roof_line_load", "gas_pressure")}
+        self.set_loads(s.load)
+        # self-weight: a unit weight times the cell's thickness (a ring, courses)
+        th = self.thickness
+        load = -(c["pressure"] + c["plate_weight"] * th) * v_b[1] * w * dx_p
+        if s.wall is not None:
+            inside = ufl.conditional(ufl.lt(r_b, s.wall.radius), 1.0, 0.0)
+            gl, hl = c["liquid_unit_weight"], c["liquid_height"]
+            load += -gl * hl * inside * v_b[1] * w * dx_p
+            height = x[1] + s.embedment          # above the wall base
+            load += gl * ufl.max_value(hl - height, 0.0) * v_b[0] * w * dx_w  # outward
+            load += -c["wall_weight"] * th * v_b[1] * w * dx_w
+            # a gas pressure: on the floor inside the wall and on the whole wall, outward
+            load += -c["gas_pressure"] * inside * v_b[1] * w * dx_p
+            load += c["gas_pressure"] * v_b[0] * w * dx_w
+        if s.wall is not None and any(ld.roof_weight or ld.gas_pressure
+                                      for ld in (s.load, *s.stages)):
+            # the roof on the wall's top edge (a vertex of the structure mesh: its ds): its
+            # weight down, the gas's push on it (p pi a_t^2) up
+            top = dmesh.locate_entities_boundary(
+                self.mesh, 0, lambda x: np.isclose(x[1], s.wall.height - s.embedment)
+                & np.isclose(x[0], s.wall.radius))
+            tags = dmesh.meshtags(self.mesh, 0, top, np.full(len(top), 1, dtype=np.int32))
+            ds_top = ufl.Measure("ds", domain=self.mesh, subdomain_data=tags)(1)
+            load += -(c["roof_line_load"] - 0.5 * s.wall.radius * c["gas_pressure"]) * \
+                v_b[1] * w * ds_top
+        if s.interface.condition == "mohr_coulomb":
+            # the cohesion carried by slipping elements, c_s (dj . t), dj = v_soil - v_face
+            ifc = self.interface
+            load -= interface.interface_load(v_f, self.t_b, ifc.c_s, r_b, ifc.dx)
+            for _, n, t, pieces in ifc.measures():
+                for measure, R in pieces:
+                    soil_load += interface.interface_load(R(self.soil.test), t, R(ifc.c_s),
+                                                          self.soil.r, measure)
+        return self.soil.load_rows(soil_load) + [load]
+
+    def _symmetry(self):
+        """u_r = 0 and beta = 0 at the plate centre."""
+        sub = self.mesh
+        centre = dmesh.locate_entities(sub, 0, lambda x: np.isclose(x[0], 0.0))
+        bcs = []
+        for space in (self.W.sub(0).sub(0), self.W.sub(1)):
+            V, _ = space.collapse()
+            dofs = fem.locate_dofs_topological((space, V), 0, centre)
+            bcs.append(fem.dirichletbc(fem.Function(V), dofs, space))
+        return bcs
+
+    def set_loads(self, load) -> None:
+        """Apply the loads of a ``Load`` (the forms stay; their Constants change)."""
+        s = self.scene = replace(self.scene, load=load)
+        c = self.load_constants
+        c["pressure"].value = load.pressure
+        c["liquid_unit_weight"].value = load.liquid_unit_weight if s.wall is not None else 0.0
+        c["liquid_height"].value = load.liquid_height
+        # unit weights (N/m^3), times each cell's thickness in the load form
+        c["plate_weight"].value = s.plate.unit_weight if load.self_weight else 0.0
+        c["wall_weight"].value = s.wall.unit_weight \
+            if (load.self_weight and s.wall is not None) else 0.0
+        c["roof_line_load"].value = load.roof_weight / (2 * math.pi * s.wall.radius) \
+            if s.wall is not None else 0.0
+        c["gas_pressure"].value = load.gas_pressure if s.wall is not None else 0.0
+        if self.ringwall_weight is not None:
+            self.ringwall_weight.value = s.ringwall.unit_weight if load.self_weight else 0.0
+
+    # ------------------------------------------------------------------ quantities
+    @property
+    def reference_pressure(self) -> float:
+        """p of Eq. 23: the uniform pressure on the plate, plus the liquid's and a gas's on
+        its floor."""
+        ld = self.scene.load
+        gas = ld.gas_pressure if self.scene.wall is not None else 0.0
+        return ld.pressure + ld.liquid_unit_weight * ld.liquid_height + gas
+
+    @property
+    def applied_load(self) -> float:
+        """Downward resultant of all applied loads, N (closed form): those on the structure
+        and a ringwall's net weight."""
+        s = self.scene
+        return vertical_load(s.load, s.plate, s.wall, s.ringwall)
+
+    #: the largest load scale of a consolidation's load path so far, N (its last load may
+    #: be none: a tank emptied); 0 otherwise
+    path_load_scale = 0.0
+
+    @property
+    def load_scale(self) -> float:
+        """The size of the vertical loads, N, for the relative equilibrium error (along a
+        consolidation's load path, its largest so far)."""
+        s = self.scene
+        return max(vertical_load_scale(s.load, s.plate, s.wall, s.ringwall),
+                   self.path_load_scale)
+
+    def dofs(self) -> dict[str, int]:
+        im = self.W.dofmap.index_map
+        return self.soil.dofs() | {"structure": im.size_global * self.W.dofmap.index_map_bs}
+
+    def begin_stage(self) -> None:
+        """Start a load stage: the interface's states so far are the starting guess (see
+        :meth:`InterfaceBlock.begin_stage`)."""
+        self.interface.begin_stage()
+
+    @cached_property
+    def _out_of_balance(self) -> OutOfBalance:
+        return OutOfBalance(self.a, self.L, self.unknowns, self.bcs, self.entity_maps)
+
+    def out_of_balance(self) -> float:
+        """||A u - f|| / ||f||: the out-of-balance force of the current fields under the
+        current interface coefficients, relative to the load vector (over all blocks, the
+        supports' rows left out; zero, to round-off, at a converged state)."""
+        return self._out_of_balance()
+
+    def soil_residual(self):
+        a_ss, a_sb = self.a[0][0], self.a[0][-1]
+        return self.soil.residual(a_ss, self.L[0]) + ufl.action(a_sb, self.w)
+
+    # The results' expressions and forms, compiled once per model: the results are read at
+    # every step of a consolidation (and every stage of a path).
+    @cached_property
+    def _resultants(self) -> ShellResultants:
+        return ShellResultants(self.w, self.r_b, self.t_b, self.E, self.nu, self.thickness,
+                                  self.offset)
+
+    @cached_property
+    def _w_mean_form(self):
+        u_b = ufl.split(self.w)[0]
+        return fem.form(-u_b[1] * 2.0 * math.pi * self.r_b * self.dx_b(st.PLATE))
+
+    def _fields(self):
+        """Structure resultants interpolated cell-wise (DG2), for point evaluation."""
+        out = self._resultants()
+        out["sigma_n"], out["tau"] = self.interface.contact_stresses()
+        out["status"] = self.interface.status_field()
+        return out
+
+    def stations(self, cells, along: int | None = None):
+        """Gathered vertex and midpoint coordinates of the given structure cells, sorted (by
+        the coordinate ``along``: 0 for r, 1 for z)."""
+        sub = self.mesh
+        owned = cells[cells < sub.topology.index_map(1).size_local]
+        conn = sub.topology.connectivity(1, 0)
+        verts = np.unique(np.concatenate([conn.links(c) for c in owned])) if len(owned) \
+            else np.empty(0, dtype=np.int32)
+        x = dmesh.compute_midpoints(sub, 0, verts.astype(np.int32))[:, :2] if len(verts) \
+            else np.empty((0, 2))
+        mids = dmesh.compute_midpoints(sub, 1, owned)[:, :2] if len(owned) \
+            else np.empty((0, 2))
+        pts = np.concatenate(self.mesh.comm.allgather(np.concatenate([x, mids])))
+        pts = np.unique(np.round(pts, 12), axis=0)
+        pts = pts[np.lexsort((pts[:, 0], pts[:, 1]))] if len(pts) else pts
+        return pts if along is None else pts[np.argsort(pts[:, along])]
+
+    def _contact(self, F, pts, cells):
+        """Interface tractions (cell averages) at the stations."""
+        return (evaluate_at(F["sigma_n"], pts, cells)[:, 0],
+                evaluate_at(F["tau"], pts, cells)[:, 0])
+
+    def foundation_results(self) -> dict:
+        F = self._fields()
+        self._F = F
+        s = self.scene
+        pts = self.stations(self.plate_cells, along=0)
+        cells = self.plate_cells
+        u = evaluate_at(F["u"], pts, cells)
+        w = -u[:, 1]
+        M_r = evaluate_at(F["M_s"], pts, cells)[:, 0]
+        ap = s.plate.radius
+        w_mean = allsum(self.mesh.comm, fem.assemble_scalar(self._w_mean_form)) / \
+            (math.pi * ap**2)
+        self._w_mean = float(w_mean)
+        return {"w0": float(w[0]), "w_edge": float(w[-1]), "wd": float(w.max() - w.min()),
+                "w_mean": float(w_mean), "M0": float(M_r[0])}
+
+    def structure_results(self) -> dict:
+        F, s = self._F, self.scene
+        pts = self.stations(self.plate_cells, along=0)
+        cells = self.plate_cells
+        u = evaluate_at(F["u"], pts, cells)
+        sn, tau = self._contact(F, pts, cells)
+        plate = {"r": pts[:, 0].tolist(), "w": (-u[:, 1]).tolist(), "u_r": u[:, 0].tolist(),
+                 "rotation": evaluate_at(F["beta"], pts, cells)[:, 0].tolist(),
+                 "M_r": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist(),
+                 "M_theta": evaluate_at(F["M_theta"], pts, cells)[:, 0].tolist(),
+                 "Q_r": evaluate_at(F["Q"], pts, cells)[:, 0].tolist(),
+                 "contact_normal": sn.tolist(), "contact_shear": tau.tolist(),
+                 "contact_status": self._status_at(F, pts, cells)}
+        profiles = {"plate": plate}
+        if s.wall is not None:
+            cells = self.wall_cells
+            pts = self.stations(cells, along=1)
+            u = evaluate_at(F["u"], pts, cells)
+            N_theta = evaluate_at(F["N_theta"], pts, cells)[:, 0]
+            # (at a course joint both come from the course below)
+            thickness = evaluate_at(self.thickness, pts, cells)[:, 0]
+            wall = {"z": (pts[:, 1] + s.embedment).tolist(), "u_r": u[:, 0].tolist(),
+                    "u_z": u[:, 1].tolist(),
+                    "rotation": evaluate_at(F["beta"], pts, cells)[:, 0].tolist(),
+                    "M_z": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist(),
+                    "N_z": evaluate_at(F["N_s"], pts, cells)[:, 0].tolist(),
+                    "N_theta": N_theta.tolist(), "thickness": thickness.tolist(),
+                    "hoop_stress": (N_theta / thickness).tolist(),
+                    "Q": evaluate_at(F["Q"], pts, cells)[:, 0].tolist()}
+            if s.embedment > 0.0:
+                sn, tau = self._contact(F, pts, cells)
+                below = pts[:, 1] <= 1e-12
+                wall["contact_normal"] = np.where(below, sn, 0.0).tolist()
+                wall["contact_shear"] = np.where(below, tau, 0.0).tolist()
+                wall["contact_status"] = [st_ if b else "none" for st_, b in
+                                          zip(self._status_at(F, pts, cells), below)]
+            profiles["wall"] = wall
+        # what the interface carries: every load but a ringwall's weight, which its own
+        # cells carry to the soil
+        applied = vertical_load(s.load, s.plate, s.wall)
+        scale = max(vertical_load_scale(s.load, s.plate, s.wall), self.path_load_scale)
+        contact = self.interface.contact_resultant()
+        out = {"profiles": profiles,
+               "equilibrium": {"contact_resultant": contact,
+                               "contact_relative_error": abs(contact - applied) / scale},
+               "interface": self.interface.summary()}
+        if s.wall is not None:
+            out["junction"] = self._junction(F)
+            out["courses"] = self._courses(F)
+        out["settlement_summary"] = self._settlement_summary(plate)
+        return out
+
+    def _courses(self, F) -> list[dict]:
+        """Per course of the wall (one for a uniform wall), heights above its foot: the
+        largest hoop stress N_theta / t (Pa; tension positive: what a tank code checks
+        against its allowable stress) and where, and the largest |M_z| (N m/m) and where."""
+        s = self.scene
+        height = self.cell_midpoints[self.wall_cells, 1] + s.embedment
+        out = []
+        for bottom, top, t in s.wall.course_table:
+            cells = self.wall_cells[(height > bottom) & (height < top)]
+            pts = self.stations(cells)
+            hoop = evaluate_at(F["N_theta"], pts, cells)[:, 0] / t
+            M = evaluate_at(F["M_s"], pts, cells)[:, 0]
+            z = pts[:, 1] + s.embedment
+            i, j = int(np.argmax(hoop)), int(np.argmax(np.abs(M)))
+            out.append({"bottom": bottom, "top": top, "thickness": t,
+                        "max_hoop_stress": float(hoop[i]), "at": float(z[i]),
+                        "max_abs_M_z": float(abs(M[j])), "M_at": float(z[j])})
+        return out
+
+    def _settlement_summary(self, plate) -> dict:
+        """What tank codes ask of the foundation (API 653 Annex B style), from the plate
+        profile: the uniform (mean) settlement, the centre-to-edge dish, and the settlement
+        of the shell's edge. An axisymmetric model has no planar tilt or out-of-plane
+        settlement around the shell: those need a 3D model or measured data."""
+        r = np.asarray(plate["r"])
+        w = np.asarray(plate["w"])
+        s = self.scene
+        at = s.wall.radius if s.wall is not None else s.plate.radius
+        w_shell = float(np.interp(at, r, w))
+        return {"uniform_settlement": self._w_mean, "shell_settlement": w_shell,
+                "dish": float(w[0] - w_shell), "dish_over_radius": float((w[0] - w_shell) / at),
+                "planar_tilt": None,
+                "note": "axisymmetric: no planar tilt or differential settlement around the "
+                        "shell"}
+
+    def _status_at(self, F, pts, cells) -> list[str]:
+        """The interface state of the element at each station (vertices: the element on the
+        axis side)."""
+        codes = evaluate_at(F["status"], pts, cells)[:, 0]
+        return [interface.STATUS_NAMES.get(int(round(c)), "none") for c in codes]
+
+    def _junction(self, F) -> dict:
+        """Moments at the wall-plate joint, N m/m. The mesh vertex is the joint's outer
+        corner (where the faces meet); about it the membrane forces of the mid-surfaces, half
+        a thickness away, add to the moments, and the members balance:
+        sum over plate sides of +-(M_r - N_r t_p / 2) = M_z - N_z t_t / 2."""
+        s = self.scene
+        corner = np.array([[s.wall.radius, -s.embedment]])
+        mids = self.cell_midpoints[self.plate_cells, 0]
+        inner = self.plate_cells[mids < s.wall.radius]
+        outer = self.plate_cells[mids > s.wall.radius]
+        # the plate's thickness on each side of the wall (an annular ring's, if it has one)
+        e_in, e_out = 0.5 * s.plate.thickness_at(s.wall.radius * np.array([1 - 1e-9,
+                                                                           1 + 1e-9]))
+        e_w = 0.5 * s.wall.thickness
+
+        def about_corner(cells, e):
+            if self.mesh.comm.allreduce(len(cells)) == 0:
+                return 0.0, 0.0
+            M = evaluate_at(F["M_s"], corner, cells)[0, 0]
+            return M, M - evaluate_at(F["N_s"], corner, cells)[0, 0] * e
+
+        M_in, Mc_in = about_corner(inner, e_in)
+        M_out, Mc_out = about_corner(outer, e_out)
+        M_w, Mc_w = about_corner(self.wall_cells, e_w)
+        # the surface bending stresses 6 M / t^2 at the joint (Pa; what a steel tank's
+        # corner is checked for), in the wall's bottom course and the plate inside it
+        return {"M_plate": M_in, "M_plate_outside": M_out, "M_wall": M_w,
+                "M_plate_about_corner": Mc_in - Mc_out, "M_wall_about_corner": Mc_w,
+                "wall_bending_stress": 6.0 * abs(M_w) / (2 * e_w) ** 2,
+                "plate_bending_stress": 6.0 * abs(M_in) / (2 * e_in) ** 2}

@@ -1,0 +1,137 @@
+"""The results.json contract: the keys a solved stage reports, their conventions, the
+non-dimensional set of Eq. 23, the load path's stage table, and the versions of the software.
+The result keys are public; see the README, "Results".
+"""
+from __future__ import annotations
+
+import platform
+from importlib import metadata
+
+import dolfinx_solver  # noqa: F401  (loads MPI before dolfinx / petsc4py)
+import numpy as np
+
+from ..fem.evaluate import evaluate_at, nodal_values_on_facets
+from ..fem.solvers import reaction_force
+from ..mesh import Domain
+from ..scene.scene import Scene
+
+CONVENTIONS = {
+    "units": "SI: m, Pa, N, N m/m",
+    "w": "settlement, positive downward",
+    "u_r": "radial displacement, positive outward",
+    "profiles.axis.z": "depth below the ground surface, positive downward",
+    "sigma_zz": "vertical soil stress, positive in compression",
+    "nondim": "Eqs. 21-23 of Zaman & Mahmood: w = p a w_bar / E_s, M = p a^2 M_bar, "
+              "E_s = soil modulus at the ground surface, a = plate (or load) radius, "
+              "p = reference_pressure = load.pressure + liquid (and gas) pressure on the plate "
+              "floor",
+    "M_r, M_theta, M_z": "bending moments per unit length, positive when the plate's "
+                         "underside (the wall's outer face) is in tension: sagging plate "
+                         "moment positive",
+    "N_theta": "hoop force per unit length, tension positive",
+    "Q_r, Q": "transverse shear force per unit length on a section facing +r (plate) or +z "
+              "(wall), positive upward on the plate and inward on the wall",
+    "rotation": "counter-clockwise rotation of the meridian in the (r, z) plane, rad",
+    "contact_normal": "interface normal stress, positive in compression, Pa",
+    "contact_shear": "interface shear stress exerted by the soil on the structure, positive "
+                     "outward (+r) under the plate and upward on the wall, Pa",
+    "profiles.wall.z": "height above the plate underside (the wall base), m",
+    "reaction": "upward force of the supports on the soil, N",
+    "overturning": "first Fourier harmonic: an amplitude f is the value at theta = 0 of "
+                   "f cos(theta) (f sin(theta) for u_theta and N_z_theta); theta = 0 is the "
+                   "side a positive overturning_moment presses down and base_shear pushes "
+                   "towards; toe / heel: the sides pressed down / lifted (axisymmetric "
+                   "+ / - amplitude); tilt in rad, positive towards theta = 0",
+}
+
+
+def versions() -> dict[str, str]:
+    out = {"python": platform.python_version()}
+    for pkg in ("tankfx", "dolfinx-solver-real", "fenics-basix", "fenics-ffcx", "fenics-ufl",
+                "petsc4py", "gmsh", "numpy", "mpi4py"):
+        try:
+            out[pkg] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            pass
+    import dolfinx
+
+    out["dolfinx"] = dolfinx.__version__
+    return out
+
+
+def stage_summary(r: dict) -> dict:
+    """A stage's key numbers, for the load path's table in the last stage's results."""
+    out = {"stage": r["stage"], "load": r["scene"]["load"],
+           "applied_load": r["equilibrium"]["applied_load"],
+           **{k: r[k] for k in ("w0", "w_edge", "wd", "w_mean", "M0", "nondim")},
+           "soil_iterations": r["soil"]["iterations"], "linear_solves": r["linear_solves"],
+           "tilt": r["overturning"]["tilt"] if "overturning" in r else None}
+    if "unloading_cells" in r["soil"]:
+        out["unloading_cells"] = r["soil"]["unloading_cells"]
+    if "interface" in r:
+        out["interface"] = {k: v for k, v in r["interface"].items()
+                            if k.endswith("_length") or k in ("converged", "iterations")}
+    return out
+
+
+def axis_pore_pressure(model, domain: Domain, z_axis, sigma_zz) -> dict:
+    """A consolidating soil's excess pore pressure down the axis and the effective vertical
+    stress sigma_zz - p (both compression positive; the total sigma_zz less the pore
+    water's share): what an engineer's hand calculation of consolidation starts from."""
+    p = model.soil.pore_pressure
+    if p is None:
+        return {}
+    pw = evaluate_at(p, np.column_stack([np.zeros_like(z_axis), -z_axis]),
+                     cells=domain.cells("soil"))[:, 0]
+    return {"pore_pressure": pw.tolist(), "sigma_zz_effective": (sigma_zz - pw).tolist()}
+
+
+def results_of(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
+    a = scene.foundation_radius
+    D = scene.embedment
+    p = model.reference_pressure
+    E_s = scene.soil.E
+    u = model.soil.u
+    found = model.foundation_results()
+
+    # ground-surface profile (the loaded area or plate underside, and the free surface out to
+    # 5 a), nodal values of the soil
+    x, vals = nodal_values_on_facets(u, domain.facets("contact", "surface"))
+    keep = x[:, 0] <= 5.0 * a + 1e-12
+    surface = {"r": x[keep, 0].tolist(), "z": x[keep, 1].tolist(),
+               "w": (-vals[keep, 1]).tolist(), "u_r": vals[keep, 0].tolist()}
+
+    # down the axis 10 a, or to the base of a shallower domain
+    z_axis = np.linspace(D, min(D + 10.0 * a, scene.domain.depth), 201)
+    sz = evaluate_at(sigma_zz, np.column_stack([np.zeros_like(z_axis), -z_axis]),
+                     cells=domain.cells("soil"))[:, 0]
+
+    applied = model.applied_load
+    reaction = reaction_force(model.soil_residual(), model.soil.V, 1,
+                              model.soil.supported_facets, entity_maps=model.entity_maps)
+    # Eq. 23 scales by p: without a pressure or liquid (self-weight only) there is none,
+    # and the non-dimensional measures are null rather than NaN (not valid JSON)
+    w_scale, m_scale = p * a / E_s, p * a**2
+    out = {
+        "title": scene.title,
+        "converged": True,
+        **found,
+        "nondim": {"w0": found["w0"] / w_scale if p > 0 else None,
+                   "wd": found["wd"] / w_scale if p > 0 else None,
+                   "M0": None if found["M0"] is None or p <= 0 else found["M0"] / m_scale,
+                   "Kp": scene.Kp, "Kt": scene.Kt},
+        "reference_pressure": p,
+        "profiles": {"surface": surface,
+                     "axis": {"z": z_axis.tolist(), "sigma_zz": sz.tolist(),
+                              **axis_pore_pressure(model, domain, z_axis, sz)}},
+        "equilibrium": {"applied_load": applied, "reaction": reaction,
+                        "relative_error": abs(reaction - applied) / model.load_scale},
+        "conventions": CONVENTIONS,
+        "scene": scene.to_dict(),
+    }
+    extra = model.structure_results()
+    if extra is not None:
+        out["profiles"].update(extra.pop("profiles"))
+        out["equilibrium"].update(extra.pop("equilibrium"))
+        out.update(extra)
+    return out

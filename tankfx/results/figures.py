@@ -1,0 +1,716 @@
+"""PyVista figures, off screen to PNG (or on screen when asked and a display is there).
+
+Every figure is built on rank 0 from data gathered across all ranks, never from one rank's
+part of the mesh. Call these functions on all ranks; only rank 0 writes a file.
+"""
+from __future__ import annotations
+
+import logging
+import os
+from pathlib import Path
+
+import numpy as np
+from dolfinx import fem, plot
+
+from .fields import soil_cell_fields
+
+#: The figures ``write_figures`` may write (which ones depends on the scene).
+FIGURES = ("section.png", "stress_level.png", "settlement.png", "moments.png", "profiles.png",
+           "contact.png", "load_path.png", "overturning.png", "overturning_wall.png",
+           "tilt.png", "consolidation.png", "isochrones.png")
+
+
+if not os.environ.get("DISPLAY"):
+    # no X server: render through EGL rather than let VTK try (and warn about) X first
+    os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+
+
+def offscreen_pyvista():
+    import pyvista
+
+    pyvista.OFF_SCREEN = True
+    return pyvista
+
+
+def save_figure(plotter, path, section_view: bool = False) -> Path:
+    """Write the plotter's image to ``path`` (PNG) and close it; a section view is seen
+    from +z-normal with (r, z) axes."""
+    if section_view:
+        plotter.view_xy()
+        plotter.show_bounds(xtitle="r [m]", ytitle="z [m]", location="outer", font_size=10)
+    path = Path(path)
+    plotter.screenshot(str(path))
+    plotter.close()
+    return path
+
+
+def gather_grid(fields: dict[str, fem.Function], cells: np.ndarray | None = None):
+    """A PyVista grid on rank 0 (None elsewhere) of the owned cells of all ranks, carrying the
+    given fields interpolated to the mesh vertices (P1)."""
+    first = next(iter(fields.values()))
+    msh = first.function_space.mesh
+    comm = msh.comm
+    tdim = msh.topology.dim
+    n_owned = msh.topology.index_map(tdim).size_local
+    if cells is None:
+        cells = np.arange(n_owned, dtype=np.int32)
+    cells = cells[cells < n_owned]
+    # the grid of a scalar P1 space: its points are the P1 dofs, so values need no mapping
+    P1 = fem.functionspace(msh, ("Lagrange", 1))
+    topology, cell_types, x = plot.vtk_mesh(P1, entities=cells)
+    data = {}
+    for name, f in fields.items():
+        shape = f.function_space.value_shape
+        V1 = fem.functionspace(msh, ("Lagrange", 1, shape) if shape else ("Lagrange", 1))
+        g = fem.Function(V1)
+        g.interpolate(f)
+        data[name] = g.x.array.reshape(len(x), -1)
+    parts = comm.gather((topology, cell_types, x, data), root=0)
+    if comm.rank != 0:
+        return None
+    pv = offscreen_pyvista()
+    grids = []
+    for topo, types, pts, vals in parts:
+        if len(types) == 0:
+            continue
+        grid = pv.UnstructuredGrid(topo, types, pts)
+        for name, v in vals.items():
+            grid.point_data[name] = v if v.shape[1] > 1 else v[:, 0]
+        grids.append(grid)
+    return grids[0].merge(grids[1:]) if len(grids) > 1 else grids[0]
+
+
+def ringwall_outline(scene) -> list[np.ndarray]:
+    """The ringwall's outline in the section, as a closed polyline, and its fill's bottom
+    (none without)."""
+    ring = scene.ringwall
+    if ring is None:
+        return []
+    top, bottom = -scene.embedment, -scene.embedment - ring.depth
+    lines = [np.array([[ring.inner_radius, top], [ring.inner_radius, bottom],
+                       [ring.outer_radius, bottom], [ring.outer_radius, top],
+                       [ring.inner_radius, top]])]
+    if ring.fill_E is not None:          # the fill's bottom
+        lines.append(np.array([[0.0, bottom], [ring.inner_radius, bottom]]))
+    return lines
+
+
+def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, extent: float,
+                 depth_offset: float = 0.0, label: str = "sigma_zz [kPa]",
+                 scalar_scale: float = 1e-3, title: str = "", soil_cells=None,
+                 structure: dict | None = None, layer_depths=(), outlines=(),
+                 r_min: float = 0.0) -> Path | None:
+    """The (r, z) section within ``extent`` of the foundation centre, deformed (the scale is
+    printed on the figure) and coloured by ``scalar``; ``structure`` (a gathered
+    results dict) adds the plate and wall as thick lines, ``layer_depths`` the soil layers'
+    tops and ``outlines`` other lines in the soil (polylines of (r, z) vertices, e.g. a
+    ringwall's) as white lines, deformed with the soil; ``r_min`` > 0 shows the window
+    r_min <= r <= extent, as deep as it is wide, instead (e.g. around a wall's foot).
+    Returns the PNG path on rank 0."""
+    grid = gather_grid({"u": u, "s": scalar}, soil_cells)
+    if grid is None:
+        return None
+    pv = offscreen_pyvista()
+    near = grid.clip_box([r_min, extent, -depth_offset - (extent - r_min), 1e9, -1.0, 1.0],
+                         invert=False)
+    disp = np.zeros((near.n_points, 3))
+    disp[:, :2] = near.point_data["u"]
+    umax = float(np.abs(disp).max()) or 1.0
+    scale = 0.1 * (extent - r_min) / umax
+    members = []
+    if structure is not None and "plate" in structure["profiles"]:
+        # (undeformed points, displacements) of the plate and the wall
+        pl, z0 = structure["profiles"]["plate"], -depth_offset
+        members.append((np.column_stack([pl["r"], np.full(len(pl["r"]), z0)]),
+                        np.column_stack([pl["u_r"], -np.asarray(pl["w"])])))
+        if "wall" in structure["profiles"]:
+            wa = structure["profiles"]["wall"]
+            at = structure["scene"]["wall"]["radius"]
+            members.append((np.column_stack([np.full(len(wa["z"]), at),
+                                             z0 + np.asarray(wa["z"])]),
+                            np.column_stack([wa["u_r"], wa["u_z"]])))
+    tops = []
+    polylines = [np.array([[r_min, -d], [extent, -d]]) for d in layer_depths] + \
+        [np.asarray(o, dtype=float) for o in outlines]
+    for vertices in polylines:
+        # sampled from the undeformed section: the soil's displacement along the line
+        t = np.linspace(0.0, 1.0, 400 // (len(vertices) - 1))
+        pts = np.concatenate([a + t[:, None] * (b - a)
+                              for a, b in zip(vertices[:-1], vertices[1:])])
+        pts = np.column_stack([pts, np.zeros(len(pts))])
+        line = pv.PolyData(pts).sample(near)
+        valid = line.point_data["vtkValidPointMask"].astype(bool)
+        if valid.sum() > 1:
+            moved = pts[valid].copy()
+            moved[:, :2] += scale * line.point_data["u"][valid]
+            tops.append(moved)
+    near.points = near.points + scale * disp
+    near.point_data[label] = near.point_data["s"] * scalar_scale
+    p = pv.Plotter(off_screen=True, window_size=(1100, 900))
+    # the colour range leaves out the singular peaks at the foundation edge (1 % of nodes)
+    clim = np.percentile(near.point_data[label], [0.5, 99.5])
+    p.add_mesh(near, scalars=label, cmap="viridis", show_edges=True, edge_color="grey",
+               line_width=0.3, clim=clim, above_color="yellow",
+               scalar_bar_args={"title": label, "vertical": True})
+    for line in members:
+        # the plate and wall, displaced with the same scale (within a window: its part)
+        x, d = line
+        if r_min > 0.0:
+            z0, half = -depth_offset, extent - r_min
+            keep = (x[:, 0] >= r_min) & (x[:, 0] <= extent) & (x[:, 1] <= z0 + half)
+            x, d = x[keep], d[keep]
+            if len(x) < 2:
+                continue
+        pts = np.column_stack([x + scale * d, np.zeros(len(x))])
+        p.add_mesh(pv.lines_from_points(pts), color="black", line_width=6)
+    for pts in tops:
+        p.add_mesh(pv.lines_from_points(pts), color="white", line_width=3)
+    p.add_text(f"{title}\ndisplacements x {scale:.3g}", font_size=11)
+    return save_figure(p, path, section_view=True)
+
+
+def plot_cutaway(u: fem.Function, scalar: fem.Function, path: str | Path, *, extent: float,
+                 depth_offset: float = 0.0, label: str = "sigma_zz [kPa]",
+                 scalar_scale: float = 1e-3, title: str = "", soil_cells=None,
+                 structure: dict | None = None, angle: float = 270.0) -> Path | None:
+    """The near-field (r, z) section revolved about the axis through ``angle`` degrees: a 3D
+    cut-away of the soil coloured by ``scalar`` (the cut faces show the section), with the
+    plate and wall revolved as surfaces, undeformed. Built from the grid gathered over all
+    ranks; rank 0 writes the PNG."""
+    grid = gather_grid({"u": u, "s": scalar}, soil_cells)
+    if grid is None:
+        return None
+    pv = offscreen_pyvista()
+    near = grid.clip_box([0.0, extent, -depth_offset - extent, 1e9, -1.0, 1.0], invert=False)
+    surf = near.extract_surface(algorithm="dataset_surface")
+    # the meridian plane (r, z) becomes the plane y = 0 of the 3D view: (x, y, z) = (r, 0, z)
+    surf.points = np.column_stack([surf.points[:, 0], np.zeros(surf.n_points),
+                                   surf.points[:, 1]])
+    surf.point_data[label] = surf.point_data["s"] * scalar_scale
+    solid = surf.extrude_rotate(resolution=72, angle=angle, rotation_axis=(0.0, 0.0, 1.0),
+                                capping=True)
+    p = pv.Plotter(off_screen=True, window_size=(1100, 900))
+    clim = np.percentile(surf.point_data[label], [0.5, 99.5])
+    p.add_mesh(solid, scalars=label, cmap="viridis", clim=clim, ambient=0.35,
+               scalar_bar_args={"title": label, "vertical": True})
+    if structure is not None and "plate" in structure["profiles"]:
+        z0 = -depth_offset
+        sc = structure["scene"]
+        lines = [np.array([[0.0, 0.0, z0], [sc["plate"]["radius"], 0.0, z0]])]
+        if "wall" in sc:
+            at = sc["wall"]["radius"]
+            lines.append(np.array([[at, 0.0, z0], [at, 0.0, z0 + sc["wall"]["height"]]]))
+        for pts in lines:
+            shell = pv.lines_from_points(pts).extrude_rotate(
+                resolution=72, angle=angle, rotation_axis=(0.0, 0.0, 1.0), capping=False)
+            p.add_mesh(shell, color="lightgrey", opacity=0.85, show_edges=False)
+    p.add_text(f"{title}\ncut-away, {angle:g} degrees of the axisymmetric solution",
+               font_size=11)
+    # look into the missing quarter (between `angle` and 360 degrees), from above
+    e, zc = extent, -depth_offset - 0.5 * extent
+    mid = np.radians(0.5 * (angle + 360.0))
+    p.camera_position = [(2.6 * e * np.cos(mid), 2.6 * e * np.sin(mid), zc + 1.8 * e),
+                         (0.0, 0.0, zc), (0.0, 0.0, 1.0)]
+    p.reset_camera()                    # same direction, zoomed to fit everything
+    return save_figure(p, path)
+
+
+def plot_surface_settlement(results: dict, path: str | Path, *, reference=None,
+                            title: str = "") -> Path | None:
+    """Non-dimensional settlement w E_s / (p a) along the ground surface against r / a, with an
+    optional reference curve ``reference(r) -> w`` (same units as results). Rank 0 only."""
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank != 0:
+        return None
+    pv = offscreen_pyvista()
+    scene = results["scene"]
+    a = scene["load"]["load_radius"]
+    scale = results["reference_pressure"] * a / scene["soil"]["E"]
+    r = np.asarray(results["profiles"]["surface"]["r"])
+    w = np.asarray(results["profiles"]["surface"]["w"])
+    chart = pv.Chart2D(x_label="r / a", y_label="w E_s / (p a)")
+    chart.title = title
+    chart.line(r / a, w / scale, width=3, color="tab:blue", label="tankfx")
+    if reference is not None:
+        rr = np.linspace(0.0, r.max(), 60)
+        chart.scatter(rr / a, reference(rr) / scale, color="tab:red", size=8,
+                      label="closed form")
+    p = pv.Plotter(off_screen=True, window_size=(900, 600))
+    p.add_chart(chart)
+    return save_figure(p, path)
+
+
+def _member_diagram(pv, base, direction, normal, s, values, scale, color_pos, color_neg):
+    """Filled diagram of ``values`` along a member: base + s*direction, offset along normal."""
+    pts_base = base[None, :] + s[:, None] * direction[None, :]
+    pts_top = pts_base + (scale * values)[:, None] * normal[None, :]
+    meshes = []
+    for i in range(len(s) - 1):
+        quad = np.array([pts_base[i], pts_base[i + 1], pts_top[i + 1], pts_top[i]])
+        quad3 = np.column_stack([quad, np.zeros(4)])
+        poly = pv.PolyData(quad3, faces=[4, 0, 1, 2, 3])
+        poly.cell_data["sign"] = [1.0 if values[i] + values[i + 1] >= 0 else -1.0]
+        meshes.append(poly)
+    diagram = meshes[0].merge(meshes[1:]) if len(meshes) > 1 else meshes[0]
+    outline = pv.lines_from_points(np.column_stack([pts_top, np.zeros(len(s))]))
+    return diagram, outline
+
+
+def plot_moment_diagrams(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """The engineer's moment diagram drawn on the structure: M_r along the plate (drawn below
+    it when sagging) and M_z along the wall (drawn outside it when the outer face is in
+    tension), from the gathered profiles of ``results``. Rank 0 writes the PNG."""
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank != 0:
+        return None
+    pv = offscreen_pyvista()
+    sc = results["scene"]
+    a, D = sc["plate"]["radius"], sc["plate"].get("embedment", 0.0)
+    plate = results["profiles"]["plate"]
+    wall = results["profiles"].get("wall")
+    mmax = max(np.abs(plate["M_r"]).max(), np.abs(wall["M_z"]).max() if wall else 0.0) or 1.0
+    scale = 0.25 * a / mmax
+    p = pv.Plotter(off_screen=True, window_size=(1200, 800))
+    r = np.asarray(plate["r"])
+    diag, outline = _member_diagram(pv, np.array([0.0, -D]), np.array([1.0, 0.0]),
+                                    np.array([0.0, -1.0]), r, np.asarray(plate["M_r"]),
+                                    scale, "tab:blue", "tab:red")
+    p.add_mesh(diag, scalars="sign", cmap=["tab:red", "tab:blue"], show_scalar_bar=False,
+               opacity=0.6)
+    p.add_mesh(outline, color="black", line_width=2)
+    members = [np.array([[0.0, -D, 0.0], [a, -D, 0.0]])]
+    if wall is not None:
+        at = sc["wall"]["radius"]
+        z = np.asarray(wall["z"])
+        diag, outline = _member_diagram(pv, np.array([at, -D]), np.array([0.0, 1.0]),
+                                        np.array([1.0, 0.0]), z, np.asarray(wall["M_z"]),
+                                        scale, "tab:blue", "tab:red")
+        p.add_mesh(diag, scalars="sign", cmap=["tab:red", "tab:blue"], show_scalar_bar=False,
+                   opacity=0.6)
+        p.add_mesh(outline, color="black", line_width=2)
+        members.append(np.array([[at, -D, 0.0], [at, -D + z.max(), 0.0]]))
+        p.add_point_labels(np.array([[at + 0.05 * a, -D + 0.05 * a, 0.0]]),
+                           [f"M_z(base) = {wall['M_z'][0] / 1e3:.3g} kN m/m"], font_size=14,
+                           shape_opacity=0.3)
+    for m in members:
+        p.add_mesh(pv.Line(m[0], m[1]), color="grey", line_width=8)
+    p.add_point_labels(np.array([[0.0, -D - scale * plate["M_r"][0], 0.0]]),
+                       [f"M0 = {plate['M_r'][0] / 1e3:.3g} kN m/m"], font_size=14,
+                       shape_opacity=0.3)
+    ground = pv.Line((0.0, 0.0, 0.0), (1.3 * a, 0.0, 0.0))
+    p.add_mesh(ground, color="saddlebrown", line_width=2)
+    p.add_text(f"{title}\nbending moments (blue: plate underside / wall outer face in "
+               f"tension; red: the other face)\nscale: {scale * 1e3:.3g} m per kN m/m",
+               font_size=11)
+    return save_figure(p, path, section_view=True)
+
+
+def plot_structure_profiles(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """Line charts: plate moments (M_r, M_theta), contact stresses under the plate, and the
+    wall's moment M_z and hoop force N_theta (for a wall of courses its hoop stress
+    N_theta / t), against position. Rank 0 writes the PNG."""
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank != 0:
+        return None
+    pv = offscreen_pyvista()
+    plate = results["profiles"]["plate"]
+    wall = results["profiles"].get("wall")
+    ncol = 3 if wall else 2
+    p = pv.Plotter(off_screen=True, window_size=(600 * ncol, 500), shape=(1, ncol))
+    r = np.asarray(plate["r"])
+    c1 = pv.Chart2D(x_label="r [m]", y_label="moment [kN m/m]")
+    c1.title = f"{title}: plate moments"
+    c1.line(r, np.asarray(plate["M_r"]) / 1e3, color="tab:blue", width=3, label="M_r")
+    c1.line(r, np.asarray(plate["M_theta"]) / 1e3, color="tab:orange", width=3,
+            label="M_theta")
+    p.subplot(0, 0)
+    p.add_chart(c1)
+    c2 = pv.Chart2D(x_label="r [m]", y_label="contact stress [kPa]")
+    c2.title = "contact under the plate (compression +)"
+    c2.line(r, np.asarray(plate["contact_normal"]) / 1e3, color="tab:green", width=3,
+            label="normal")
+    c2.line(r, np.asarray(plate["contact_shear"]) / 1e3, color="tab:purple", width=3,
+            label="shear")
+    p.subplot(0, 1)
+    p.add_chart(c2)
+    if wall:
+        z = np.asarray(wall["z"])
+        c3 = pv.Chart2D(x_label="value", y_label="height above the base z [m]")
+        c3.line(np.asarray(wall["M_z"]) / 1e3, z, color="tab:blue", width=3, label="M_z")
+        if len(results.get("courses", [])) > 1:
+            # a wall of courses: its hoop stress, which a tank code checks course by course
+            c3.title = "wall: M_z [kN m/m], hoop stress N_theta / t [MPa]"
+            c3.line(np.asarray(wall["hoop_stress"]) / 1e6, z, color="tab:red", width=3,
+                    label="N_theta / t")
+        else:
+            c3.title = "wall: M_z [kN m/m], N_theta / 10 [kN/m]"
+            c3.line(np.asarray(wall["N_theta"]) / 1e4, z, color="tab:red", width=3,
+                    label="N_theta / 10")
+        p.subplot(0, 2)
+        p.add_chart(c3)
+    return save_figure(p, path)
+
+
+def plot_sweep(rows: list[dict], axes: dict, path: str | Path, title: str = "") -> Path | None:
+    """The non-dimensional results (w0_bar, wd_bar, M0_bar; and where the cases overturn,
+    the tilt) against the sweep's first numeric axis, one curve per value of the other axes
+    (e.g. per interface condition), as in the paper's figure families. Rank 0 writes the
+    PNG."""
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank != 0 or not rows:
+        return None
+    pv = offscreen_pyvista()
+    numeric = [k for k, v in axes.items() if all(isinstance(x, (int, float)) for x in v)]
+    if not numeric:
+        return None
+    x_key = numeric[0]
+    others = [k for k in axes if k != x_key]
+    groups: dict[tuple, list[dict]] = {}
+    for row in rows:
+        if row.get("converged"):
+            groups.setdefault(tuple(row[k] for k in others), []).append(row)
+    values = np.asarray(axes[x_key], dtype=float)
+    use_log = bool(np.all(values > 0) and values.max() / values.min() >= 100)
+    colors = ["tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple", "tab:brown"]
+    panels = [("nondim.w0", "w0_bar"), ("nondim.wd", "wd_bar"), ("nondim.M0", "M0_bar")]
+    if any(row.get("overturning.tilt") is not None for row in rows):
+        panels.append(("overturning.tilt", "tilt [rad]"))
+    p = pv.Plotter(off_screen=True, window_size=(600 * len(panels), 550),
+                   shape=(1, len(panels)))
+    for col, (key, label) in enumerate(panels):
+        chart = pv.Chart2D(x_label=("log10 " if use_log else "") + x_key, y_label=label)
+        chart.title = f"{title}: {label}" if col == 0 and title else label
+        for g, (group, members) in enumerate(sorted(groups.items(), key=lambda kv: str(kv[0]))):
+            members = [m for m in members if m.get(key) is not None]
+            if not members:
+                continue
+            members.sort(key=lambda m: m[x_key])
+            x = np.array([m[x_key] for m in members], dtype=float)
+            y = np.array([m[key] for m in members], dtype=float)
+            xs = np.log10(x) if use_log else x
+            name = ", ".join(f"{k}={v}" for k, v in zip(others, group)) or "tankfx"
+            chart.line(xs, y, color=colors[g % len(colors)], width=3, label=name)
+            chart.scatter(xs, y, color=colors[g % len(colors)], size=8)
+        p.subplot(0, col)
+        p.add_chart(chart)
+    return save_figure(p, path)
+
+
+def plot_curves(x, panels: dict[str, dict[str, np.ndarray]], path: str | Path,
+                x_label: str, title: str = "", log_x: bool = False,
+                legend_left: bool = False) -> Path | None:
+    """Side-by-side line charts against one x: ``panels`` maps each panel's y label to its
+    curves (label -> y values, NaN where a curve has none; a curve of one value is drawn
+    as a dashed level across the chart, e.g. a limit); ``log_x`` a logarithmic x axis,
+    ``legend_left`` the legends in the upper left corner (for curves that rise to the
+    right). Rank 0 writes the PNG."""
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank != 0:
+        return None
+    pv = offscreen_pyvista()
+    x = np.asarray(x, dtype=float)
+    colors = ["tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple", "tab:brown",
+              "tab:pink", "tab:gray", "tab:olive", "tab:cyan"]
+    p = pv.Plotter(off_screen=True, window_size=(600 * len(panels), 550),
+                   shape=(1, len(panels)))
+    for col, (y_label, curves) in enumerate(panels.items()):
+        chart = pv.Chart2D(x_label=x_label, y_label=y_label)
+        if log_x:
+            chart.x_axis.log_scale = True
+        if legend_left:
+            chart.legend.SetHorizontalAlignment(chart.legend.LEFT)
+        chart.title = f"{title}: {y_label}" if col == 0 and title else y_label
+        for k, (label, y) in enumerate(curves.items()):
+            y = np.atleast_1d(np.asarray(y, dtype=float))
+            color = colors[k % len(colors)]
+            if len(y) == 1:
+                chart.line([x.min(), x.max()], [y[0], y[0]], color=color, width=2,
+                           style="--", label=label)
+                continue
+            ok = np.isfinite(y)
+            chart.line(x[ok], y[ok], color=color, width=3, label=label)
+            chart.scatter(x[ok], y[ok], color=color, size=8)
+        p.subplot(0, col)
+        p.add_chart(chart)
+    return save_figure(p, path)
+
+
+def plot_load_path(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """A load path's settlements (and the plate's centre moment) against the applied
+    vertical load, stage by stage (e.g. a tank's filling): from the last stage's results.
+    Rank 0 writes the PNG."""
+    stages = results.get("stages")
+    if not stages:
+        return None
+    # from the unloaded state (before the first stage nothing is loaded; a soil with an
+    # unloading modulus comes back along its unloading lines, not to the origin)
+    x = np.array([0.0] + [st["applied_load"] for st in stages]) / 1e3
+
+    def curve(key, scale):
+        return [0.0] + [st[key] * scale for st in stages]
+
+    panels = {"settlement [mm]": {"w0 (centre)": curve("w0", 1e3),
+                                  "w_edge": curve("w_edge", 1e3)},
+              "wd [mm]": {"differential": curve("wd", 1e3)}}
+    if stages[-1].get("M0") is not None:
+        panels["M0 [kN m/m]"] = {"centre moment": curve("M0", 1e-3)}
+    return plot_curves(x, panels, path, "applied vertical load [kN]", title=title)
+
+
+def plot_consolidation(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """A consolidation's settlements (and the plate's centre moment) and its excess pore
+    pressure (on the axis, and the largest) against time (log scale, days), between the
+    undrained start and the drained limit (dashed); along a load path, the load too. Rank 0
+    writes the PNG."""
+    c = results.get("consolidation")
+    if not c:
+        return None
+    steps = c["history"][1:]           # t > 0 (the undrained start is a dashed level)
+    x = np.array([s["t_days"] for s in steps])
+
+    def curve(key, scale):
+        return np.array([s[key] * scale for s in steps])
+
+    # (the undrained start and the drained limit as dashed levels: those of the load, not
+    # of a load path's, which starts from none and may end with none)
+    on_path = "at_stages" in c
+    levels = {} if on_path else {"w0 undrained": [1e3 * c["undrained"]["w0"]],
+                              "w0 drained": [1e3 * c["drained"]["w0"]]}
+    panels = {"settlement [mm]": {"w0 (centre)": curve("w0", 1e3),
+                                  "w_edge": curve("w_edge", 1e3), **levels},
+              "excess pore pressure [kPa]": {
+                  f"on the axis, {c['axis_depth']:.3g} m deep": curve("axis_pore_pressure",
+                                                                       1e-3),
+                  "largest": curve("max_pore_pressure", 1e-3)}}
+    if steps[-1].get("M0") is not None:
+        panels["M0 [kN m/m]"] = {"centre moment": curve("M0", 1e-3), **({} if on_path else {
+            "undrained": [1e-3 * c["undrained"]["M0"]],
+            "drained": [1e-3 * c["drained"]["M0"]]})}
+    if on_path:                      # the load against time too
+        panels["applied vertical load [MN]"] = {"load": curve("applied_load", 1e-6)}
+    return plot_curves(x, panels, path, "time [days]", title=title, log_x=True,
+                       legend_left=True)
+
+
+def plot_isochrones(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """A consolidation's isochrones: the excess pore pressure down the axis at each
+    reported time (depth below the ground surface along the horizontal axis). Rank 0
+    writes the PNG."""
+    c = results.get("consolidation")
+    if not c or "isochrones" not in c:
+        return None
+    iso = c["isochrones"]
+    curves = {f"t = {t:.4g} d": 1e-3 * np.asarray(p)
+              for t, p in zip(iso["t_days"], iso["pore_pressure"])}
+    return plot_curves(iso["z"], {"excess pore pressure on the axis [kPa]": curves}, path,
+                       "depth below the ground surface [m]", title=title)
+
+
+def plot_overturning(results: dict, path: str | Path, wall_path: str | Path | None = None,
+                     title: str = "") -> list[Path]:
+    """The overturning load's effect (the first harmonic superposed on the axisymmetric
+    state): along the plate, the contact stress and the settlement without it, on the side
+    pressed down (toe, theta = 0) and on the other (heel); along the wall (``wall_path``),
+    its axial membrane stress N_z / t at toe and heel. Rank 0 writes the PNGs."""
+    o = results.get("overturning")
+    if o is None:
+        return []
+    plate0, plate1 = results["profiles"]["plate"], o["profiles"]["plate"]
+    kpa = 1e-3
+    panels = {"contact stress [kPa]": {
+                  "axisymmetric": np.asarray(plate0["contact_normal"]) * kpa,
+                  "toe (theta = 0)": np.asarray(plate1["contact_normal_toe"]) * kpa,
+                  "heel (theta = 180 deg)": np.asarray(plate1["contact_normal_heel"]) * kpa,
+                  "no tension": [0.0]},
+              "settlement [mm]": {
+                  "axisymmetric": np.asarray(plate0["w"]) * 1e3,
+                  "toe": np.asarray(plate1["w_toe"]) * 1e3,
+                  "heel": np.asarray(plate1["w_heel"]) * 1e3}}
+    heading = f"{title}: overturning" if title else "overturning"
+    out = [plot_curves(plate1["r"], panels, path, "r [m]", title=heading)]
+    wall1 = o["profiles"].get("wall")
+    if wall_path is not None and wall1 is not None and "axial_stress_toe" in wall1:
+        t = np.asarray(results["profiles"]["wall"]["thickness"])
+        mpa = 1e-6
+        panels = {"axial stress N_z / t [MPa]": {
+            "axisymmetric": np.asarray(results["profiles"]["wall"]["N_z"]) / t * mpa,
+            "toe": np.asarray(wall1["axial_stress_toe"]) * mpa,
+            "heel": np.asarray(wall1["axial_stress_heel"]) * mpa}}
+        out.append(plot_curves(wall1["z"], panels, wall_path, "height above the wall's foot [m]",
+                               title=heading))
+    return [p for p in out if p is not None]
+
+
+def plot_tilt(results: dict, path: str | Path, title: str = "",
+              exaggeration: float | None = None) -> Path | None:
+    """The plate and wall revolved in 3D, displaced by the overturning load alone (its first
+    harmonic: u_r, u_z amplitudes times cos theta, u_theta times sin theta), exaggerated
+    (by default so that the largest displacement is a tenth of the plate's radius), over
+    the undeformed outline and coloured by that settlement: the tank tilting towards
+    theta = 0 (+x). (The axisymmetric settlement, tens of times larger in a full tank,
+    would hide the tilt.) Rank 0 writes the PNG."""
+    from mpi4py import MPI
+
+    o = results.get("overturning")
+    if MPI.COMM_WORLD.rank != 0 or o is None:
+        return None
+    pv = offscreen_pyvista()
+    theta = np.linspace(0.0, 2.0 * np.pi, 97)[None, :]
+    c, s = np.cos(theta), np.sin(theta)
+    members = []
+    sc = results["scene"]
+    depth = sc["plate"].get("embedment", 0.0)
+    for name in ("plate", "wall"):
+        if name not in o["profiles"]:
+            continue
+        p1 = o["profiles"][name]
+        if name == "plate":
+            r = np.asarray(p1["r"])[:, None]
+            z = np.full_like(r, -depth)
+            uz = -np.asarray(p1["w"])[:, None] * c
+        else:
+            z = np.asarray(p1["z"])[:, None] - depth
+            r = np.full_like(z, sc["wall"]["radius"])
+            uz = np.asarray(p1["u_z"])[:, None] * c
+        members.append((r, z, np.asarray(p1["u_r"])[:, None] * c,
+                        np.asarray(p1["u_theta"])[:, None] * s, uz))
+    a = sc["plate"]["radius"]
+    largest = max(np.max(np.abs([ur, ut, uz])) for _, _, ur, ut, uz in members)
+    scale = exaggeration if exaggeration is not None else 0.1 * a / max(largest, 1e-300)
+    p = pv.Plotter(off_screen=True, window_size=(1100, 850))
+    lim = max(np.max(np.abs(uz)) for *_, uz in members) * 1e3
+    for r, z, ur, ut, uz in members:
+        # the undeformed outline: a few meridians' worth of lines
+        k = max(len(r) // 12, 1)
+        r_o, z_o = np.append(r[::k], r[-1:], axis=0), np.append(z[::k], z[-1:], axis=0)
+        outline = pv.StructuredGrid(r_o * c[:, ::4], r_o * s[:, ::4], z_o + 0.0 * c[:, ::4])
+        p.add_mesh(outline, style="wireframe", color="grey", opacity=0.3)
+        rr = r + scale * ur
+        grid = pv.StructuredGrid(rr * c - scale * ut * s, rr * s + scale * ut * c,
+                                 z + scale * uz)
+        grid.point_data["settlement [mm]"] = (-uz * 1e3).ravel(order="F")
+        p.add_mesh(grid, scalars="settlement [mm]", cmap="coolwarm", clim=(-lim, lim),
+                   show_edges=False,
+                   scalar_bar_args={"title": "settlement [mm]", "vertical": True})
+    p.add_text(f"{title}\nthe overturning's displacements alone (first harmonic), x "
+               f"{scale:.3g}: tilt {1e3 * o['tilt']:.3g} mm/m towards +x", font_size=11)
+    # from the side (theta = -90 deg) and above, to see the floor through the open top
+    p.camera_position = [(0.0, -3.0 * a, 2.2 * a), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)]
+    p.reset_camera()
+    return save_figure(p, path)
+
+
+def plot_contact(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """Contact normal and shear stress along the plate underside (and the embedded wall
+    face), with the Mohr-Coulomb limit c + sigma_n tan phi drawn beside the shear and the
+    slipping and separated elements marked. Rank 0 writes the PNG."""
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank != 0:
+        return None
+    pv = offscreen_pyvista()
+    sc = results["scene"]
+    ifc = sc.get("interface", {})
+    mc = ifc.get("condition") == "mohr_coulomb"
+    parts = [("plate", "r [m]", "r")]
+    if "contact_status" in results["profiles"].get("wall", {}):
+        parts.append(("wall", "height above the base z [m]", "z"))
+    p = pv.Plotter(off_screen=True, window_size=(900 * len(parts), 550), shape=(1, len(parts)))
+    for col, (part, xlabel, xkey) in enumerate(parts):
+        prof = results["profiles"][part]
+        x = np.asarray(prof[xkey])
+        status = np.asarray(prof["contact_status"])
+        keep = status != "none"
+        x = x[keep]
+        sn = np.asarray(prof["contact_normal"])[keep] / 1e3
+        tau = np.asarray(prof["contact_shear"])[keep] / 1e3
+        status = status[keep]
+        chart = pv.Chart2D(x_label=xlabel, y_label="stress [kPa]")
+        chart.title = f"{title}: {'plate underside' if part == 'plate' else 'embedded wall face'}"
+        chart.line(x, sn, color="tab:green", width=3, label="normal (compression +)")
+        chart.line(x, tau, color="tab:purple", width=3, label="shear")
+        if mc:
+            limit = ifc.get("cohesion", 0.0) / 1e3 + np.maximum(sn, 0.0) * ifc["tan_phi"]
+            chart.line(x, limit, color="black", width=1, style="--", label="c + sigma_n tan phi")
+            chart.line(x, -limit, color="black", width=1, style="--")
+        for state, color in (("slip", "tab:orange"), ("separated", "tab:gray"),
+                             ("rebonded", "tab:cyan")):
+            sel = status == state
+            if sel.any():
+                chart.scatter(x[sel], np.zeros(sel.sum()), color=color, size=9,
+                              label=f"{state} ({sel.sum()} stations)")
+        p.subplot(0, col)
+        p.add_chart(chart)
+    return save_figure(p, path)
+
+
+def write_figures(solution, directory: str | Path) -> list[Path]:
+    """A solved scene's figures in ``directory``: the deformed section coloured by sigma_zz
+    (and, for a hyperbolic soil, by Kondner's stress level: how near each cell is to the
+    ultimate deviator); with a plate, the moment diagrams, the plate (and wall) profiles and
+    the contact stresses; without, the surface settlement. Collective; returns the paths
+    written (on rank 0; an empty list elsewhere). A figure rank 0 cannot render (no EGL or
+    display) is left out with a warning, and the others are still drawn: the other ranks
+    take part in every section's gathering whatever rank 0's renderer does."""
+
+    directory = Path(directory)
+    r, scene = solution.results, solution.scene
+    title = scene.title or ""
+    section = {"extent": (1.6 if scene.plate is not None else 3.0) * scene.foundation_radius,
+               "depth_offset": scene.embedment, "title": title,
+               "soil_cells": solution.domain.cells("soil"), "structure": r,
+               "layer_depths": [layer.depth for layer in scene.soil.layers],
+               "outlines": ringwall_outline(scene)}
+    figures = [(plot_section, (solution.u, solution.sigma_zz, directory / "section.png"),
+                section)]
+    ring = scene.ringwall
+    if ring is not None:
+        # the ringwall is small beside the tank: a window around it too
+        half = max(2.0 * (ring.outer_radius - ring.inner_radius), 1.5 * ring.depth)
+        centre = 0.5 * (ring.inner_radius + ring.outer_radius)
+        figures.append((plot_section, (solution.u, solution.sigma_zz,
+                                       directory / "ringwall_section.png"),
+                        {**section, "r_min": max(centre - half, 0.0), "extent": centre + half,
+                         "title": f"{title}: the ringwall"}))
+    if scene.soil.nonlinear:
+        level = soil_cell_fields(solution.model)["stress_level"]
+        figures.append((plot_section, (solution.u, level, directory / "stress_level.png"),
+                        {**section, "label": "q / q_ult", "scalar_scale": 1.0}))
+    if "stages" in r:
+        figures.append((plot_load_path, (r, directory / "load_path.png"), {"title": title}))
+    if scene.plate is not None:
+        figures += [(plot_moment_diagrams, (r, directory / "moments.png"), {"title": title}),
+                    (plot_structure_profiles, (r, directory / "profiles.png"),
+                     {"title": title}),
+                    (plot_contact, (r, directory / "contact.png"), {"title": title})]
+    else:
+        figures.append((plot_surface_settlement, (r, directory / "settlement.png"),
+                        {"title": title}))
+    if "consolidation" in r:
+        figures += [(plot_consolidation, (r, directory / "consolidation.png"),
+                     {"title": title}),
+                    (plot_isochrones, (r, directory / "isochrones.png"), {"title": title})]
+    if "overturning" in r:
+        figures += [(plot_overturning, (r, directory / "overturning.png",
+                                        directory / "overturning_wall.png"),
+                     {"title": title}),
+                    (plot_tilt, (r, directory / "tilt.png"), {"title": title})]
+    written = []
+    for plot_fn, args, kwargs in figures:
+        try:
+            path = plot_fn(*args, **kwargs)
+        except Exception as e:      # rank 0's rendering, after the gathering
+            logging.getLogger("tankfx").warning(
+                "%s not written (%s: %s); --no-figures skips the figures", args[-1].name,
+                type(e).__name__, e)
+            continue
+        if isinstance(path, list):
+            written += path
+        elif path is not None:
+            written.append(path)
+    return written
