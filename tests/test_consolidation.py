@@ -1,5 +1,6 @@
-"""Consolidation (Biot, tankfx.consolidation): Terzaghi's column, the undrained and drained
-limits of the flexible load and of a tank, a wide load on a thin layer, the scene's rules."""
+"""Consolidation (Biot: tankfx.laws.biot, tankfx.iterations.time_stepping): Terzaghi's column,
+the undrained and drained limits of the flexible load and of a tank, a wide load on a thin
+layer, the scene's rules."""
 import math
 
 import numpy as np
@@ -70,7 +71,7 @@ def test_nitsche_penalty_does_not_matter(monkeypatch):
     column's settlement the same to 9e-6 of the final at T_v = 0.01, where the drained
     boundary's layer is thinnest, and 1.5e-8 at T_v = 1 (consistent terms: the penalty
     only has to be large enough)."""
-    import tankfx.consolidation as cf
+    import tankfx.laws.biot as cf
 
     errors = []
     for penalty in (5.0, 1e3):
@@ -415,7 +416,7 @@ def test_a_mohr_coulomb_interface_emptied_to_a_twentieth(monkeypatch):
     converges from every element stuck. The states are only a starting guess (the law
     keeps no slip): starting every step from stuck states gives the same history (equal
     at two steps a decade; 1.5e-5 measured at three)."""
-    from tankfx.model.tank import TankModel
+    from tankfx.iterations import active_set
 
     tank = small_tank(interface={"condition": "mohr_coulomb", "tan_phi": 0.5})
     tank["consolidation"] = {"permeability": 1e-9, "steps_per_decade": 2,
@@ -427,7 +428,7 @@ def test_a_mohr_coulomb_interface_emptied_to_a_twentieth(monkeypatch):
     assert r["equilibrium"]["relative_error"] < 1e-9
     w = [s["w0"] for s in r["consolidation"]["at_times"]]
     assert w[1] > w[2] > w[3] > 0.0               # emptied, and swelling back
-    monkeypatch.setattr(TankModel, "CARRIED_STATES_SOLVES", 0)
+    monkeypatch.setattr(active_set, "CARRIED_STATES_SOLVES", 0)
     fresh = analyse(Scene.from_dict(tank)).results["consolidation"]["at_times"]
     for key in ("w0", "M0"):
         assert [s[key] for s in fresh] == pytest.approx(

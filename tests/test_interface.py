@@ -266,7 +266,7 @@ def test_slip_follows_its_jump_and_sits_on_the_limit():
     1.7 % and M0 by 1.4 %, and node states cycled there. Element and node states agree on
     the result."""
     element = analyse(_demo_tank(tan_phi=0.1))
-    m = element.model
+    m = element.model.interface
     r = element.results
     assert r["interface"]["converged"] and r["interface"]["frozen_elements"] == 0
     assert r["interface"]["history"][-1]["out_of_balance"] < 1e-6

@@ -362,7 +362,7 @@ def test_a_figure_rank_0_cannot_render_leaves_the_others(tmp_path_factory, monke
     comm = MPI.COMM_WORLD
     out = comm.bcast(tmp_path_factory.mktemp("figures") if comm.rank == 0 else None)
     solution = analyse(Scene.from_dict(small_tank(soil=HYPERBOLIC_SOIL)), comm)
-    save, calls = plots._save, []
+    save, calls = plots.save_figure, []
 
     def failing_once(plotter, path, *args, **kwargs):
         calls.append(path)

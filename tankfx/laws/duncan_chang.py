@@ -7,7 +7,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .kondner import MIN_CONFINEMENT, geostatic_stress, kondner_parameters, principal_strains
+from .kondner import (
+    MIN_CONFINEMENT,
+    geostatic_stress,
+    kondner_parameters,
+    principal_strains,
+    secant_modulus,
+)
 
 
 def duncan_chang_parameters(soil, sigma_3, st):
@@ -83,7 +89,7 @@ def duncan_chang_secant(soil, st, geostatic, stress, G, eps_min, eps_max) -> dic
         total = fixed + (np.exp(ln_G) / G)[:, None] * dev
         _, most_tensile = principal_strains(total[:, 0], total[:, 1], total[:, 2], total[:, 3])
         a, b = duncan_chang_parameters(soil, -most_tensile, st)
-        G_K = 1.0 / (a + b * eps_p) / (2.0 * (1.0 + nu))
+        G_K = secant_modulus(eps_p, a, b) / (2.0 * (1.0 + nu))
         with np.errstate(divide="ignore"):           # unstrained cells: no plastic branch
             G_f = R_f / b / (2.0 * spread)
         return np.minimum(G_K, G_f), G_K > G_f, a, b

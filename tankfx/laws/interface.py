@@ -64,6 +64,12 @@ def interface_load(j_test, t, c, r, measure):
     return -c * ufl.dot(j_test, t) * 2.0 * math.pi * r * measure
 
 
+def mohr_coulomb_limit(sigma_n, cohesion, tan_phi):
+    """The interface's shear strength, Eq. 13: tau_y = c + sigma_n tan phi (sigma_n
+    compression positive; an opening interface, sigma_n < 0, keeps only its cohesion)."""
+    return cohesion + np.maximum(sigma_n, 0.0) * tan_phi
+
+
 def element_states(jn, jt, k_n, k_s, cohesion, tan_phi):
     """Mohr-Coulomb state of each interface element from its average jump (numpy arrays).
 
@@ -73,7 +79,7 @@ def element_states(jn, jt, k_n, k_s, cohesion, tan_phi):
     """
     sigma_n = k_n * jn
     trial = k_s * jt
-    limit = cohesion + np.maximum(sigma_n, 0.0) * tan_phi
+    limit = mohr_coulomb_limit(sigma_n, cohesion, tan_phi)
     status = np.where(jn < 0.0, SEPARATED, np.where(np.abs(trial) <= limit, STICK, SLIP))
     return status, np.sign(trial)
 

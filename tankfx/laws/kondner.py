@@ -108,6 +108,12 @@ def stress_level(eps_min, eps_max, nu, a, b):
     return kondner_deviator(major_strain(eps_min, eps_max, nu), a, b) * b
 
 
+def secant_modulus(eps_p, a, b):
+    """The secant modulus of Kondner's law at the major strain eps_p, Eq. 19:
+    E = (sigma_1 - sigma_3)_m / eps_p = 1 / (a + b eps_p) (the initial modulus 1/a at eps_p = 0)."""
+    return 1.0 / (a + b * eps_p)
+
+
 def secant_update(E, nu, eps_min, eps_max, a, b):
     """Per cell: (q_c, q_m, misfit, E_new, at_ultimate) of the current strains and moduli.
 
@@ -118,7 +124,7 @@ def secant_update(E, nu, eps_min, eps_max, a, b):
     eps_p = major_strain(eps_min, eps_max, nu)
     q_c = E * eps_p
     q_m = kondner_deviator(eps_p, a, b)
-    E_new = 1.0 / (a + b * eps_p)
+    E_new = secant_modulus(eps_p, a, b)
     misfit = np.abs(E - E_new) / E          # = |q_c - q_m| / q_c (Eq. 18)
     at_ultimate = q_m * b >= ULTIMATE_FRACTION
     return q_c, q_m, misfit, E_new, at_ultimate

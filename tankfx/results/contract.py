@@ -12,6 +12,7 @@ import numpy as np
 
 from ..fem.evaluate import evaluate_at, nodal_values_on_facets
 from ..fem.solvers import reaction_force
+from ..laws.rigidity import nondimensional
 from ..mesh import Domain
 from ..scene.scene import Scene
 
@@ -109,16 +110,11 @@ def results_of(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
     applied = model.applied_load
     reaction = reaction_force(model.soil_residual(), model.soil.V, 1,
                               model.soil.supported_facets, entity_maps=model.entity_maps)
-    # Eq. 23 scales by p: without a pressure or liquid (self-weight only) there is none,
-    # and the non-dimensional measures are null rather than NaN (not valid JSON)
-    w_scale, m_scale = p * a / E_s, p * a**2
     out = {
         "title": scene.title,
         "converged": True,
         **found,
-        "nondim": {"w0": found["w0"] / w_scale if p > 0 else None,
-                   "wd": found["wd"] / w_scale if p > 0 else None,
-                   "M0": None if found["M0"] is None or p <= 0 else found["M0"] / m_scale,
+        "nondim": {**nondimensional(found["w0"], found["wd"], found["M0"], p, a, E_s),
                    "Kp": scene.Kp, "Kt": scene.Kt},
         "reference_pressure": p,
         "profiles": {"surface": surface,

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 from dolfinx import fem, plot
 
+from ..laws.interface import mohr_coulomb_limit
 from .fields import soil_cell_fields
 
 #: The figures ``write_figures`` may write (which ones depends on the scene).
@@ -635,7 +636,7 @@ def plot_contact(results: dict, path: str | Path, title: str = "") -> Path | Non
         chart.line(x, sn, color="tab:green", width=3, label="normal (compression +)")
         chart.line(x, tau, color="tab:purple", width=3, label="shear")
         if mc:
-            limit = ifc.get("cohesion", 0.0) / 1e3 + np.maximum(sn, 0.0) * ifc["tan_phi"]
+            limit = mohr_coulomb_limit(sn, ifc.get("cohesion", 0.0) / 1e3, ifc["tan_phi"])
             chart.line(x, limit, color="black", width=1, style="--", label="c + sigma_n tan phi")
             chart.line(x, -limit, color="black", width=1, style="--")
         for state, color in (("slip", "tab:orange"), ("separated", "tab:gray"),
