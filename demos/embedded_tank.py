@@ -20,10 +20,10 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
-from tankfx import analyse, load_scene
+from tankfx import analyse, load_scene, write_json
 from tankfx.cli import setup_logging
-from tankfx import write_json
-from tankfx.results.figures import plot_contact, plot_cutaway, plot_moment_diagrams, plot_section, plot_structure_profiles
+from tankfx.results.figures import (plot_contact, plot_cutaway, plot_moment_diagrams, plot_section,
+                                    plot_structure_profiles)
 from tankfx.results.fields import soil_cell_fields, write_fields
 from tankfx.results.report import summary_table
 

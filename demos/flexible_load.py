@@ -16,9 +16,8 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
-from tankfx import analyse, load_scene
+from tankfx import analyse, load_scene, write_json
 from tankfx.verification import reference as ref
-from tankfx import write_json
 from tankfx.results.figures import plot_section, plot_surface_settlement
 
 comm = MPI.COMM_WORLD

@@ -26,9 +26,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from tankfx import Scene, load_scene
-from tankfx.analysis import analyse_path
-from tankfx import write_json
+from tankfx import Scene, analyse_path, load_scene, write_json
 from tankfx.results.figures import plot_contact, plot_curves
 
 comm = MPI.COMM_WORLD

@@ -20,9 +20,8 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
-from tankfx import Scene, analyse, load_scene
+from tankfx import Scene, analyse, load_scene, write_json
 from tankfx.verification import reference as ref
-from tankfx import write_json
 from tankfx.results.figures import plot_curves, plot_moment_diagrams
 
 comm = MPI.COMM_WORLD

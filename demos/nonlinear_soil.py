@@ -18,8 +18,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from tankfx import Scene, analyse, load_scene
-from tankfx import write_json
+from tankfx import Scene, analyse, load_scene, write_json
 from tankfx.studies.excess import first_order_excess
 from tankfx.results.figures import plot_sweep
 

@@ -25,8 +25,7 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
-from tankfx import analyse, load_scene
-from tankfx import write_json
+from tankfx import analyse, load_scene, write_json
 from tankfx.results.figures import plot_curves, plot_overturning, plot_tilt
 from tankfx.verification.reference import rigid_disc_rocking_stiffness
 

@@ -23,9 +23,9 @@ from pathlib import Path
 import numpy as np
 from mpi4py import MPI
 
-from tankfx import analyse, load_scene
-from tankfx import write_json
-from tankfx.results.figures import plot_curves, plot_section, plot_structure_profiles, ringwall_outline
+from tankfx import analyse, load_scene, write_json
+from tankfx.results.figures import (plot_curves, plot_section, plot_structure_profiles,
+                                    ringwall_outline)
 
 comm = MPI.COMM_WORLD
 say = print if comm.rank == 0 else (lambda *a, **k: None)

@@ -14,8 +14,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from tankfx import analyse, load_scene
-from tankfx import write_json
+from tankfx import analyse, load_scene, write_json
 from tankfx.results.figures import plot_moment_diagrams, plot_structure_profiles
 
 comm = MPI.COMM_WORLD

@@ -24,9 +24,8 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from tankfx import analyse, load_scene
+from tankfx import analyse, load_scene, write_json
 from tankfx.verification import reference as ref
-from tankfx import write_json
 from tankfx.results.figures import plot_consolidation, plot_isochrones, plot_section
 from tankfx.results.fields import write_profiles
 

@@ -19,8 +19,7 @@ from pathlib import Path
 
 from mpi4py import MPI
 
-from tankfx import analyse, load_scene
-from tankfx import write_json
+from tankfx import analyse, load_scene, write_json
 from tankfx.results.figures import plot_load_path
 
 comm = MPI.COMM_WORLD
