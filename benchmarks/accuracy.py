@@ -6,10 +6,11 @@ time and against dofs), and whether the defaults sit on the efficient front.
 
 Cases (references as in tests/): the flexible load (Boussinesq: w0, w_edge, sigma_zz on the
 axis), the rigid smooth punch (w0: Boussinesq; M0: the rigid plate's closed form,
-tankfx.reference.rigid_plate_centre_moment) and rigid bonded punch (w0: Mossakovskii-Spence;
+tankfx.verification.reference.rigid_plate_centre_moment) and rigid bonded punch (w0:
+Mossakovskii-Spence;
 M0: its own finest solution), the free raft at Kp = 0.1 and 10 (Brown 1969: w0, wd, M0), the
 flexible load on layered ground (three layers on a rigid base, the middle one undrained: w0 and
-w_edge against Burmister's solution, tankfx.reference.layered_surface_settlement), and
+w_edge against Burmister's solution, tankfx.verification.reference.layered_surface_settlement), and
 the rocking rigid disc (the first harmonic: its rocking stiffness against Borowicka's, and
 its element-averaged contact pressure for 0.1 a < r < 0.9 a),
 the nonlinear embedded tank of `make demo` (hyperbolic soil, Mohr-Coulomb interface) against

@@ -2,12 +2,12 @@
 
     python benchmarks/consolidation.py [--quick] [--out results/benchmarks]
 
-1. Terzaghi's column (tankfx.consolidation.Oedometer, 40 P2 elements over 10 m, drained at
+1. Terzaghi's column (tankfx.verification.rigs.Oedometer, 40 P2 elements over 10 m, drained at
    the top): the largest error of the settlement at T_v = 0.01, 0.05, 0.2, 0.5, 1 (relative
    to the final settlement) against the steps per decade, for BDF2 (tankfx's) and backward
    Euler; the time is that of the steps (the mesh is small: the step alone decides).
-2. Mandel's cylinder (tankfx.consolidation.MandelCylinder) against its closed form
-   (tankfx.reference.mandel_cylinder): the largest error of the centre's pore pressure
+2. Mandel's cylinder (tankfx.verification.rigs.MandelCylinder) against its closed form
+   (tankfx.verification.reference.mandel_cylinder): the largest error of the centre's pore pressure
    (relative to its start) over cells and steps per decade.
 3. The tank on soft clay of demos/tank_on_clay.py: w0 and M0 after a year against the
    finest run (the default mesh level 1, 40 steps a decade), over mesh levels and steps per

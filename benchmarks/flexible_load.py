@@ -5,7 +5,8 @@ element degrees, and the cost of truncating the half-space.
 
 Part 1 runs each (degree, level) case in a fresh process (`python -m tankfx run`), so "whole
 process" includes start-up, meshing and form compilation (JIT cached after the first run of a
-form). Errors are relative, against the closed forms of tankfx.reference. Level 0 is the
+form). Errors are relative, against the closed forms of tankfx.verification.reference. Level 0 is
+the
 default mesh (edge_size 0.002 a, near_size 0.1 a); each level up halves both sizes, each level
 down doubles them.
 

@@ -122,7 +122,7 @@ def brown_raft(rows):
 
 def wall_of_courses(rows):
     say("\n5. Wall of three courses (20, 12, 8 mm), clamped, full of water: the stepped-shell "
-        "solution (tankfx.reference)")
+        "solution (tankfx.verification.reference)")
     say(f"{'el./course':>10s} {'err M (of M0)':>14s} {'err w (of max)':>15s} {'time s':>7s}")
     from tankfx.verification.reference import stepped_wall_under_liquid
 

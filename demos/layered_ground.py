@@ -8,7 +8,7 @@
 #
 # First the method is checked where the answer is known: a flexible load on layered ground,
 # against Burmister's layered elastic solution (evaluated by Hankel transform in
-# `tankfx.reference`). Then the tank is solved for clay layers from none to very thick.
+# `tankfx.verification.reference`). Then the tank is solved for clay layers from none to very thick.
 #
 # Run: `python demos/layered_ground.py` (or under `mpiexec -n 2`); `--coarse` for a quick
 # run. Results and figures go to `results/layered_ground/`.

@@ -24,6 +24,7 @@ from .iterations.time_stepping import TimeStepping
 from .mesh import SURFACE_GRADING, Domain, build_domain
 from .model.build import build_model
 from .model.overturning import RockingModel
+from .model.protocol import Model
 from .results.contract import results_of, stage_summary, versions
 from .results.overturning import superpose
 from .scene.scene import Scene
@@ -42,7 +43,8 @@ class Solution:
     sigma_zz: fem.Function
     results: dict
     model: object = None
-    #: the overturning's first harmonic (tankfx.rocking.RockingModel) where the load has one
+    #: the overturning's first harmonic (tankfx.model.overturning.RockingModel) where the load has
+    # one
     harmonic: object = None
 
 
@@ -84,10 +86,54 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     element separated at one stage and in contact at the next is reported ``rebonded``.
     (Each stage is the response to its total load, as in the paper; slip is not
     accumulated along the path.) Returns one solution per stage."""
+    stages = _load_stages(scene, loads)
+    t_start = time.perf_counter()
+    timings: dict[str, float] = {}
+    domain, model, solver, one_shot = _set_up(scene, stages[0], comm, timings)
+    warnings = _warnings(scene, model)
+    for w in warnings:
+        log.warning("warning: %s", w)
+    dofs = model.dofs()
+    log.info("dofs: %s (soil P%d); assembling and solving with MUMPS",
+             ", ".join(f"{k} {v}" for k, v in dofs.items()), scene.mesh.degree)
+    solutions = []
+    rocking = None          # the first harmonic, built by the first stage that overturns
+    for k, load in enumerate(stages):
+        if k > 0:
+            log.info("load stage %d of %d", k + 1, len(stages))
+            model.set_loads(load)
+        t = time.perf_counter()
+        stage_scene, soil_iteration, consolidation = _solve_stage(
+            scene, load, model, solver, one_shot, nested)
+        timings["assemble_solve"] = time.perf_counter() - t
+        log.info("solved in %.2f s", timings["assemble_solve"])
+
+        t = time.perf_counter()
+        sigma_zz = model.soil.vertical_stress()
+        results = results_of(stage_scene, domain, model, sigma_zz)
+        timings["post"] = time.perf_counter() - t
+        timings["total"] = time.perf_counter() - t_start
+        _record_stage(results, scene, solver, dofs, timings, comm, warnings,
+                      k + 1 if len(stages) > 1 else None, soil_iteration, consolidation)
+        # (a consolidation's: the load at its last reported time, on the state then)
+        load = stage_scene.load
+        if load.overturning:
+            rocking = _overturning(model, rocking, load, results, log, sigma_zz)
+        solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,
+                                  sigma_zz=sigma_zz, results=results, model=model,
+                                  harmonic=rocking if load.overturning else None))
+    if len(solutions) > 1:
+        solutions[-1].results["stages"] = [stage_summary(s.results) for s in solutions]
+    return solutions
+
+
+def _load_stages(scene: Scene, loads: list) -> list[Load]:
+    """The loads of a path as ``Load`` objects, checked against the scene: a consolidation
+    follows its own [[stages]] in time, and a flexible load keeps its meshed circle."""
     stages = [ld if isinstance(ld, Load) else scene.with_changes(load=ld).load for ld in loads]
     if scene.consolidation is not None:
         # one analysis in time: its load path (scene.stages at scene.stage_times) is
-        # followed by the time stepping (tankfx.consolidation.load_path)
+        # followed by the time stepping (tankfx.iterations.time_stepping.load_path)
         if stages not in ([scene.load], list(scene.stages)):
             raise ValueError("a consolidation's load path is its scene's [[stages]], each "
                              "with its time: give them in the scene, not as loads here")
@@ -98,8 +144,12 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                 raise ValueError(f"load.load_radius: every load stage keeps the meshed loaded "
                                  f"circle ({scene.load.load_radius:g} m), got "
                                  f"{ld.load_radius:g} m; analyse the other radius separately")
-    t_start = time.perf_counter()
-    timings: dict[str, float] = {}
+    return stages
+
+
+def _set_up(scene: Scene, first: Load, comm: MPI.Comm, timings: dict) -> tuple:
+    """The mesh, the model under the first load and its solver; ``one_shot``: a linear soil
+    under a bonded or smooth interface, whose stages share one factorisation."""
     log.info("scene '%s': meshing on rank 0, distributing over %d rank(s)", scene.title,
              comm.size)
     t = time.perf_counter()
@@ -112,7 +162,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                  " (mixed form)" if k in scene.soil.mixed_strata else "")
 
     t = time.perf_counter()
-    model = build_model(replace(scene, load=stages[0]), domain)
+    model = build_model(replace(scene, load=first), domain)
     linear_soil = scene.soil.model == "linear"
     mohr_coulomb = scene.interface.condition == "mohr_coulomb"
     # one factorisation: a linear soil under a bonded or smooth interface (its load stages
@@ -125,6 +175,12 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                          # consolidation's time step change the matrix: the rest is kept
                          split=model.a_split if linear_soil else None)
     timings["forms"] = time.perf_counter() - t
+    return domain, model, solver, one_shot
+
+
+def _warnings(scene: Scene, model: Model) -> list[str]:
+    """What the set-up found: the model's (the interface's penalty), the mesh's grading
+    against a soil stiffening fast with depth, and a nonlinear elastic soil unloaded."""
     warnings = list(model.warnings)
     grading = mesh_grading_warning(scene)
     if grading:
@@ -137,85 +193,70 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             f"unloads along its loading curve and keeps no permanent settlement: read "
             f"these stages as the same load applied afresh, not as unloading (give [soil] "
             f"unloading_modulus_ratio for a soil that remembers)")
-    for w in warnings:
-        log.warning("warning: %s", w)
-    dofs = model.dofs()
-    log.info("dofs: %s (soil P%d); assembling and solving with MUMPS",
-             ", ".join(f"{k} {v}" for k, v in dofs.items()), scene.mesh.degree)
-    solutions = []
-    rocking = None          # the first harmonic, built by the first stage that overturns
-    for k, load in enumerate(stages):
-        stage_scene = replace(scene, load=load)
-        if k > 0:
-            log.info("load stage %d of %d", k + 1, len(stages))
-            model.set_loads(load)
-        if model.soil.memory is not None:
-            # a remembering soil's path may unload to nothing: its equilibrium errors are
-            # relative to the path's largest load so far
-            model.path_load_scale = model.load_scale
-        t = time.perf_counter()
-        soil_iteration = None
-        model.begin_stage()
-        consolidation = None
-        if scene.soil.nonlinear:
+    return warnings
 
-            soil_iteration = HyperbolicIteration(model).run(
-                lambda: solve(model, solver, log, single_pass=not nested), log)
-        elif scene.consolidation is not None:
 
-            consolidation = TimeStepping(model, solver, log).run()
-            # (the load at the last reported time: a load path's may lie between stages)
-            stage_scene = replace(scene, load=model.scene.load)
-        else:
-            solve(model, solver, log)
-            if one_shot:
-                solver.keep_matrix()       # only the load changes from stage to stage
-        timings["assemble_solve"] = time.perf_counter() - t
-        log.info("solved in %.2f s", timings["assemble_solve"])
+def _solve_stage(scene: Scene, load: Load, model: Model, solver, one_shot: bool,
+                 nested: bool) -> tuple:
+    """Solve one stage of the path by the iteration the scene needs: the secant iteration
+    of a nonlinear soil, the time stepping of a consolidation, or one solve (with the
+    Mohr-Coulomb iteration where the interface has one). Returns the stage's scene, the
+    soil iteration's record and the consolidation's history (None where not run)."""
+    stage_scene = replace(scene, load=load)
+    if model.soil.memory is not None:
+        # a remembering soil's path may unload to nothing: its equilibrium errors are
+        # relative to the path's largest load so far
+        model.path_load_scale = model.load_scale
+    soil_iteration = consolidation = None
+    model.begin_stage()
+    if scene.soil.nonlinear:
+        soil_iteration = HyperbolicIteration(model).run(
+            lambda: solve(model, solver, log, single_pass=not nested), log)
+    elif scene.consolidation is not None:
+        consolidation = TimeStepping(model, solver, log).run()
+        # (the load at the last reported time: a load path's may lie between stages)
+        stage_scene = replace(scene, load=model.scene.load)
+    else:
+        solve(model, solver, log)
+        if one_shot:
+            solver.keep_matrix()       # only the load changes from stage to stage
+    return stage_scene, soil_iteration, consolidation
 
-        t = time.perf_counter()
-        sigma_zz = model.soil.vertical_stress()
-        results = results_of(stage_scene, domain, model, sigma_zz)
-        timings["post"] = time.perf_counter() - t
-        timings["total"] = time.perf_counter() - t_start
-        results["dofs"] = dofs | {"total": solver.matrix_size}
-        results["timings_s"] = dict(timings)
-        results["mpi_ranks"] = comm.size
-        results["versions"] = versions()
-        if len(stages) > 1:
-            results["stage"] = k + 1
-        results["soil"] = soil_iteration or {"model": "linear", "iterations": 0}
-        results["soil"]["model"] = scene.soil.model
-        results["linear_solves"] = solver.solves
-        results["warnings"] = list(warnings)
-        held = results["soil"].get("held_on_loading_curve")
-        if held:
-            results["warnings"].append(
-                f"{held} soil cells at their largest strain so far changed between their "
-                f"loading curve and their unloading line at every iteration and were held on "
-                f"the curve (the paper's law) to converge")
-            log.warning("warning: %s", results["warnings"][-1])
-        results["linear_solver"] = {
-            "method": scene.solver.method, "solves": solver.solves,
-            "factorisation": solver.factorisation, "assembly": solver.assembly,
-            "scaling": solver.scaling,
-            "last_relative_residual": solver.relative_residual,
-            "keeps_freed_memory": keep_freed_memory(),
-            "numpy_blas_threads": limit_blas_threads()}
-        if scene.solver.method == "iterative":
-            results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
-        if consolidation is not None:
-            results["consolidation"] = consolidation
-        # (a consolidation's: the load at its last reported time, on the state then)
-        load = stage_scene.load
-        if load.overturning:
-            rocking = _overturning(model, rocking, load, results, log, sigma_zz)
-        solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,
-                                  sigma_zz=sigma_zz, results=results, model=model,
-                                  harmonic=rocking if load.overturning else None))
-    if len(solutions) > 1:
-        solutions[-1].results["stages"] = [stage_summary(s.results) for s in solutions]
-    return solutions
+
+def _record_stage(results: dict, scene: Scene, solver, dofs: dict, timings: dict,
+                  comm: MPI.Comm, warnings: list[str], stage: int | None,
+                  soil_iteration: dict | None, consolidation: dict | None) -> None:
+    """Add to a stage's results what the run cost and how it converged: dofs, timings,
+    ranks, versions, the soil's iteration, the linear solver, the warnings, and a
+    consolidation's history."""
+    results["dofs"] = dofs | {"total": solver.matrix_size}
+    results["timings_s"] = dict(timings)
+    results["mpi_ranks"] = comm.size
+    results["versions"] = versions()
+    if stage is not None:
+        results["stage"] = stage
+    results["soil"] = soil_iteration or {"model": "linear", "iterations": 0}
+    results["soil"]["model"] = scene.soil.model
+    results["linear_solves"] = solver.solves
+    results["warnings"] = list(warnings)
+    held = results["soil"].get("held_on_loading_curve")
+    if held:
+        results["warnings"].append(
+            f"{held} soil cells at their largest strain so far changed between their "
+            f"loading curve and their unloading line at every iteration and were held on "
+            f"the curve (the paper's law) to converge")
+        log.warning("warning: %s", results["warnings"][-1])
+    results["linear_solver"] = {
+        "method": scene.solver.method, "solves": solver.solves,
+        "factorisation": solver.factorisation, "assembly": solver.assembly,
+        "scaling": solver.scaling,
+        "last_relative_residual": solver.relative_residual,
+        "keeps_freed_memory": keep_freed_memory(),
+        "numpy_blas_threads": limit_blas_threads()}
+    if scene.solver.method == "iterative":
+        results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
+    if consolidation is not None:
+        results["consolidation"] = consolidation
 
 
 def _overturning(model, rocking, load, results: dict, log, sigma_zz):

@@ -41,7 +41,7 @@ def small_tank(**sections) -> dict:
 def incompressible_hyperbolic_punch(a: float = 1e-7) -> dict:
     """A rigid 1 m plate (Kp = 1e3), smooth, on a hyperbolic soil at nu = 0.5 (the mixed
     form) of initial modulus 1/a, under 1 kPa (a thousandth of the ultimate deviator 1/b):
-    the saddle-point system whose unscaled factorisation fails (tankfx.solve)."""
+    the saddle-point system whose unscaled factorisation fails (tankfx.fem.solvers)."""
     return {"soil": {"model": "hyperbolic", "hyperbolic_a": a, "hyperbolic_b": 1e-6,
                      "nu": 0.5},
             "plate": {"radius": 1.0, "Kp": 1e3, "E": 30e9, "nu": 0.2},

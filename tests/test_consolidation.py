@@ -108,7 +108,8 @@ def _mandel_errors(cells, per_decade):
 
 def test_mandel_cylinder():
     """The cylinder shortened between smooth impervious plates and drained on its side,
-    against the closed form derived by Laplace transform (tankfx.reference.mandel_cylinder):
+    against the closed form derived by Laplace transform
+    (tankfx.verification.reference.mandel_cylinder):
     the undrained start (p = -G strain, force 3 G pi a^2 |strain|) to round-off; then the
     mean and the centre's pore pressure within 0.5 % of the start, the force within 0.02 %
     of it, on 16 x 16 cells at 20 steps a decade: the centre's pressure first rises 13 %

@@ -80,7 +80,7 @@ def test_bad_courses_and_rings_are_refused_with_key_and_fix(data, key, fix):
 def test_wall_of_courses_on_a_rigid_foundation_is_the_clamped_stepped_shell():
     """On a foundation far stiffer than the wall (soil E = 1e11 Pa, plate 1 m thick) the
     wall's base is clamped: its moments and displacements are those of the stepped shell
-    solved exactly (tankfx.reference.stepped_wall_under_liquid), water to the top. The
+    solved exactly (tankfx.verification.reference.stepped_wall_under_liquid), water to the top. The
     courses' outer faces are flush in tankfx and centred in the reference: with no axial
     force that changes only the hoop radius, by t / 2R < 0.1 %."""
     courses = COURSES[:3]

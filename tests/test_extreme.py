@@ -111,7 +111,7 @@ def test_wall_rigidity_range():
 def test_modulus_rising_from_almost_zero_at_the_surface():
     """E = E_s (1 + lambda h) with E_s = 10 kPa: at lambda = 50 /m the modulus doubles
     within 2 cm, and the mesh grades its elements from 0.25 / lambda at the surface
-    (tankfx.mesh.SURFACE_GRADING): against the Riccati reference (tankfx.reference;
+    (tankfx.mesh.SURFACE_GRADING): against the Riccati reference (tankfx.verification.reference;
     measured on the coarse mesh w0 -2.8e-5, w_edge -9.7e-4; before the grading -2.3 % in
     w0 on the default mesh). At lambda = 1e3 and 1e4 /m (a modulus doubling within 1 and
     0.1 mm) no matrix is singular, the residual stays small, and the grading's floor (the

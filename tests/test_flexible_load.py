@@ -90,7 +90,7 @@ def test_whole_surface_profile(solved):
 
 @pytest.mark.parametrize("nu", [0.3, 0.499])
 def test_cell_stresses_near_the_axis(nu):
-    """The fields file's cell values (`tankfx.post.soil_cell_fields`) in the cells hugging
+    """The fields file's cell values (`tankfx.results.fields.soil_cell_fields`) in the cells hugging
     the axis (r < 0.15 z), 0.25 a < z < 3 a: the deviator |sigma_z - sigma_r| and the mean
     stress (sigma_z + 2 sigma_r) / 3 of Boussinesq's axis stresses (sigma_theta = sigma_r
     there), to 1 % of p; nu = 0.499 through the mixed form's pressure."""

@@ -1,5 +1,5 @@
 """Layered ground (`[[soil.layers]]`): the flexible load against Burmister's layered
-solution (Hankel transform, `tankfx.reference.layered_surface_settlement`), against the
+solution (Hankel transform, `tankfx.verification.reference.layered_surface_settlement`), against the
 oedometer where the load is wide, and against the homogeneous ground where the layers are
 alike; nearly incompressible layers in the mixed form, one pressure per layer; the mesh
 follows the layers' tops; a tank on layers in equilibrium; a hyperbolic soil reading each

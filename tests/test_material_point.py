@@ -1,5 +1,5 @@
 """Kondner's law at a material point: a soil cylinder in a homogeneous triaxial-like state,
-driven through the same Picard iteration (:class:`tankfx.hyperbolic.HyperbolicIteration`)
+driven through the same Picard iteration (:class:`tankfx.iterations.secant.HyperbolicIteration`)
 as the half-space, must follow (s1 - s3) = e_p / (a + b e_p) at every strain level.
 
 The cylinder (radius 0.5 m, height 1 m, axisymmetric) stands on a frictionless base and is

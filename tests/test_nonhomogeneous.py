@@ -1,6 +1,7 @@
 """Soil whose modulus grows with depth, E(h) = E_s (1 + lambda h) (the paper's
 non-homogeneous soil): against an independent reference (the half-space's impedance by a
-Riccati equation per wavenumber, tankfx.reference.gradient_surface_settlement), a refined
+Riccati equation per wavenumber, tankfx.verification.reference.gradient_surface_settlement), a
+refined
 self-reference, monotonicity in lambda, and the homogeneous limit lambda = 0 (Gibson's
 closed form for the incompressible limit is in test_extreme.py)."""
 import numpy as np

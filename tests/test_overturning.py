@@ -1,5 +1,5 @@
-"""Overturning: the first Fourier harmonic of soil, shells and interface (tankfx.harmonic,
-tankfx.rocking) against rigid-body kinematics, plate and beam theory, the antisymmetric
+"""Overturning: the first Fourier harmonic of soil, shells and interface (tankfx.laws.harmonic,
+tankfx.model.overturning) against rigid-body kinematics, plate and beam theory, the antisymmetric
 Boussinesq problem, Borowicka's rocking disc and the equilibrium of moment and shear."""
 import math
 

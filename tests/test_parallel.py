@@ -343,7 +343,7 @@ def test_consolidation_around_a_ringwall_and_its_fill_parallel_equals_serial():
 
 @needs_two_ranks
 def test_failed_unscaled_factorisation_redone_scaled_parallel_equals_serial():
-    """An unscaled factorisation that fails (tankfx.solve) is redone scaled on all ranks
+    """An unscaled factorisation that fails (tankfx.fem.solvers) is redone scaled on all ranks
     together: the same solves and numbers as serially."""
     from tankfx.fem.solvers import RESCALED
 

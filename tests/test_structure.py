@@ -87,7 +87,7 @@ def test_uniform_plate_bending_is_exact_on_a_coarse_mesh():
 
 # ---- members whose thickness steps: a wall of courses, a plate with a thickened annular
 # ring, against the thin-shell and thin-plate equations solved exactly stretch by stretch
-# (tankfx.reference: continuity of w, slope, moment and shear at each step)
+# (tankfx.verification.reference: continuity of w, slope, moment and shear at each step)
 
 COURSES = [(2.0, 0.020), (3.0, 0.012), (3.0, 0.008)]     # (height, thickness) from the base
 

@@ -48,7 +48,8 @@ def test_rigid_limit_smooth_and_bonded_punch(nu):
 def test_rigid_plate_centre_moment_converges_to_the_rigid_limit():
     """Kp = 1e3, smooth: the centre moment tends to that of a free plate under q and the
     rigid punch's contact pressure q a / (2 sqrt(a^2 - r^2)) (closed form in
-    tankfx.reference, 0.07736 q a^2 at nu_p = 0.3). The contact stress is singular at the
+    tankfx.verification.reference, 0.07736 q a^2 at nu_p = 0.3). The contact stress is singular at
+    the
     edge, so M0 converges slower than w0: measured +0.38 % at the default mesh, +0.10 % with
     edge and near sizes halved (a plate of Kp = 1e4: +0.42 / +0.13 %)."""
     from tankfx.verification.reference import rigid_plate_centre_moment

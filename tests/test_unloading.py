@@ -1,7 +1,7 @@
 """A nonlinear soil (Kondner's, Duncan & Chang's) with an unloading modulus ([soil]
 unloading_modulus_ratio): along a load path each cell remembers its most loaded state and
 below it follows a line of E_ur = ratio x its initial modulus
-(tankfx.hyperbolic.UnloadingMemory).
+(tankfx.model.memory.UnloadingMemory).
 
 The references: a laterally confined layer, whose settlements along the path follow from
 Kondner's law in closed form; the rebound of a flexible load, which is the linear response

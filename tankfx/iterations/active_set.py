@@ -2,11 +2,11 @@
 separation of a tank's interface (:class:`tankfx.model.interface.InterfaceBlock`), solved to a
 fixed point.
 
-:mod:`tankfx.interface` holds the law (the tractions of each state and the decision from a
+:mod:`tankfx.laws.interface` holds the law (the tractions of each state and the decision from a
 jump); this module drives it: solve, decide every element's (or node's) state from its jump,
 set the traction coefficients, and repeat until no state changes and the out-of-balance
 force is negligible, with the reversed-slip secant law and the holds of a cycling active set
-that make it terminate. :mod:`tankfx.hyperbolic` is its counterpart for the soil.
+that make it terminate. :mod:`tankfx.laws.kondner` is its counterpart for the soil.
 """
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ class InterfaceIteration:
     """The Mohr-Coulomb active-set iteration of a model's interface block (Eqs. 6-16).
 
     Each pass solves the linear system with the current states, then re-decides every
-    element's state from its average jump (:func:`tankfx.interface.element_states`), or
+    element's state from its average jump (:func:`tankfx.laws.interface.element_states`), or
     every node's from its own jump (``states = "node"``; "element" below reads "node"), and
     computes the out-of-balance force of the solution under the new states (the paper's
     excess forces, Eqs. 14-16; the paper re-solves with them on a fixed stiffness, here the
@@ -38,7 +38,7 @@ class InterfaceIteration:
     satisfies |tau| <= c + sigma_n tan phi and sigma_n >= 0, its friction along its slip);
     a state that recurs (a cycling active set) is held in the weaker state
     (``on_cycle = "hold"``) or refused (``"stop"``); after ``max_iterations`` solves, a
-    fourth cycle, or separation everywhere it raises :class:`~tankfx.solve.SolveError`
+    fourth cycle, or separation everywhere it raises :class:`~tankfx.fem.solvers.SolveError`
     with the history.
     """
 

@@ -10,7 +10,7 @@ excess pore pressure p (compression positive, the hydrostatic part left out) are
     d/dt tr eps(u) - div((k / gamma_w) grad p) = 0      (Darcy's flow, k in m/s).
 
 Backward Euler over a step dt gives the same saddle-point blocks as the mixed (u, p) soil
-of :mod:`tankfx.soil` (Taylor-Hood, p one degree below u), with the flow in place of the
+of :mod:`tankfx.laws.elasticity` (Taylor-Hood, p one degree below u), with the flow in place of the
 compressibility block:
 
     a(u, v) - (p, tr eps(v))                   = loads

@@ -22,7 +22,7 @@ so both conditions are Dirichlet conditions. :func:`cylindrical` turns them back
 (A, Z, V).
 
 Shells: the Kirchhoff-Love shell of revolution with straight meridians (the elements of
-:mod:`tankfx.structure`), with Koiter's linear bending strains (the change of the second
+:mod:`tankfx.laws.shell`), with Koiter's linear bending strains (the change of the second
 fundamental form less its membrane part), so that both rigid motions of the first harmonic
 (a translation along x, a rotation about y) strain nothing, exactly: Donnell's simplified
 curvatures do not have that property for this harmonic. The same unknowns as in the
@@ -78,7 +78,7 @@ def soil_stiffness(U, W, E, nu, r, dx):
 
 def mixed_soil_forms(U, p, W, q, E, nu, r, dx):
     """The mixed (u, p) form of the first harmonic (p the amplitude of the pressure, cos):
-    the blocks (a_uu, a_up, a_pu, a_pp) as :func:`tankfx.soil.mixed_stiffness_forms`."""
+    the blocks (a_uu, a_up, a_pu, a_pp) as :func:`tankfx.laws.elasticity.mixed_stiffness_forms`."""
     mu = soil_forms.lame(E, nu)[1]
     w = WEIGHT * r
     eps_u, eps_w = soil_strain(U, r), soil_strain(W, r)
@@ -117,7 +117,7 @@ def shell_strains(u, V, beta, r, t, offset=0.0):
     gamma = 2 eps_s_theta and kappa_s_theta go with sin(theta), the rest with cos).
 
     ``u`` = (A, Z) and ``V`` are the displacements of the line the mesh follows, the face
-    opposite n, ``offset`` from the mid-surface (as in :func:`tankfx.structure.shell_strains`);
+    opposite n, ``offset`` from the mid-surface (as in :func:`tankfx.laws.shell.shell_strains`);
     beta = d(u.n)/ds. The meridian is straight (t constant on a cell): its curvature b_ss is
     0 and the parallel's is b_theta = t_z / r.
     """
@@ -170,7 +170,7 @@ def shell_stiffness(w_trial, w_test, r, t, E, nu, thickness, dx, offset=0.0):
 
 
 def kirchhoff_constraint(Q, beta, u, t, r, dx):
-    """Q (beta - d(u.n)/ds), pi r weighted (see :func:`tankfx.structure.kirchhoff_constraint`)."""
+    """Q (beta - d(u.n)/ds), pi r weighted (see :func:`tankfx.laws.shell.kirchhoff_constraint`)."""
     return Q * (beta - ufl.dot(st.arc_derivative(u, t), st.normal(t))) * WEIGHT * r * dx
 
 
@@ -205,7 +205,7 @@ def shell_resultants(w, r, t, E, nu, thickness, offset=0.0) -> dict:
 
 def interface_tractions(jump, j_theta, n, t, k_n, k_s, mu=0.0):
     """(sigma_n, tau, tau_theta) amplitudes of a jump (u, V): the interface law of
-    :func:`tankfx.interface.tractions` about a converged state, and k_s on the
+    :func:`tankfx.laws.interface.tractions` about a converged state, and k_s on the
     circumferential jump (zero where an element slips or is separated)."""
     sigma_n = k_n * ufl.dot(jump, n)
     return sigma_n, k_s * ufl.dot(jump, t) + mu * sigma_n, k_s * j_theta

@@ -21,7 +21,7 @@ to an interface element (a facet): it is decided from the element's average norm
 tangential jump. With ``states = "node"`` it belongs to each node of the soil's trace, where
 the interface is integrated by the Gauss-Lobatto rule on those nodes (the same functions
 decide it, from the node's jump; the coefficients are then DG_k fields with the nodes at
-the Gauss-Lobatto points, see :class:`tankfx.coupled.TankModel`). The stiffnesses default to
+the Gauss-Lobatto points, see :class:`tankfx.model.tank.TankModel`). The stiffnesses default to
 ``PENALTY_FACTOR`` times the soil modulus at the facet over the facet length: the compliance
 this adds is h / (factor a) of the foundation's (about 2e-6 at the default mesh), so the
 bonded and smooth limits are reproduced; ``normal_stiffness`` / ``shear_stiffness`` of the

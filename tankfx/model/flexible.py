@@ -83,10 +83,6 @@ class FlexibleLoad:
         """||A u - f|| / ||f|| of the current solution (see :class:`OutOfBalance`)."""
         return self._out_of_balance()
 
-    def structure_results(self) -> None:
-        """None: a flexible load has no structure."""
-        return None
-
     def soil_residual(self):
         return self.soil.residual(self.soil.a, self.L_u)
 

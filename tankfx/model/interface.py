@@ -137,7 +137,7 @@ class InterfaceBlock:
 
     def _penalty(self, values):
         """Interface stiffnesses of the contact cells, per state carrier, and the traction
-        coefficients (k_n, k_s, mu, c_s of :mod:`tankfx.interface`) of their current state."""
+        coefficients (k_n, k_s, mu, c_s of :mod:`tankfx.laws.interface`) of their current state."""
         s, sub = self.scene, self.mesh
         cells = np.arange(len(values), dtype=np.int32)
         mid = self.cell_midpoints

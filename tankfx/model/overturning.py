@@ -3,7 +3,7 @@
 A wind or earthquake load on a tank reaches its foundation as a base shear V and an
 overturning moment M (API 650 Annex E's "ringwall moment" and base shear). Both vary as
 cos(theta) around the tank, so they excite the first Fourier harmonic alone
-(:mod:`tankfx.harmonic`); solved on the same mesh, about the converged axisymmetric state
+(:mod:`tankfx.laws.harmonic`); solved on the same mesh, about the converged axisymmetric state
 (the secant moduli of a nonlinear soil, the interface states of a Mohr-Coulomb interface),
 it superposes on the axisymmetric result: the response at an angle theta is
 ``axisymmetric + cos(theta) x amplitude`` (sin for the circumferential components).
@@ -44,7 +44,7 @@ from ..laws.elasticity import stress as elastic
 
 
 class RockingModel:
-    """The first harmonic of a :class:`tankfx.coupled.TankModel`, on its mesh, materials and
+    """The first harmonic of a :class:`tankfx.model.tank.TankModel`, on its mesh, materials and
     interface states (build it after the axisymmetric solve). ``solve(moment, shear)``
     solves for the amplitudes; ``results()`` gives the profiles and the summary."""
 

@@ -68,6 +68,3 @@ class Model(Protocol):
 
     def foundation_results(self) -> dict:
         """w0, w_edge, wd, w_mean and M0 (None without a plate) of the current solution."""
-
-    def structure_results(self) -> dict | None:
-        """The structure's profiles, equilibrium and summaries (None without a structure)."""

@@ -33,7 +33,8 @@ class SoilBlock:
     """The soil field on the parent mesh: its space, modulus, stiffness forms and supports.
 
     ``a`` is the displacement block (to which the interface adds its terms). A soil with
-    nu > ``MIXED_FROM_NU`` is solved in the mixed form (:func:`tankfx.soil.mixed_stiffness_forms`):
+    nu > ``MIXED_FROM_NU`` is solved in the mixed form
+    (:func:`tankfx.laws.elasticity.mixed_stiffness_forms`):
     it then has a pressure too, ``unknowns`` = [u, p], and ``pressures`` = [(p, (a_up, a_pu,
     a_pp), L_p)]; otherwise ``unknowns`` = [u]. On layered ground each stratum with such a
     nu has a pressure of its own (``mixed_strata``), pinned outside its cells.
@@ -166,7 +167,7 @@ class SoilBlock:
         self.supported_facets = domain.facets("far_side", "bottom")
 
     def _pore_pressure(self, msh) -> None:
-        """Biot's blocks (tankfx.consolidation) for the excess pore pressure, one degree
+        """Biot's blocks (tankfx.laws.biot) for the excess pore pressure, one degree
         below the displacement, with the drained boundaries by Nitsche's method; the time
         step enters through ``conductance`` (dt k / gamma_w) and ``step_weights``, the
         earlier states through ``u_n``, ``u_nn``."""
@@ -380,7 +381,7 @@ class SoilBlock:
                            "nu_displacement_form")
 
     def initial_stress(self):
-        """The stress the unloading cells keep (tankfx.hyperbolic.UnloadingMemory): with
+        """The stress the unloading cells keep (tankfx.model.memory.UnloadingMemory): with
         their most loaded state's strain eps_p and modulus E_p (nu_p), sigma_p - D(E_ur)
         eps_p, which the displacement form writes D(E_p - E_ur) eps_p (nu fixed). The mixed
         form's pressure stays the whole pressure, p = p_p - lambda_ur tr(eps - eps_p) on

@@ -1,11 +1,11 @@
 """The tank: soil, foundation plate and wall in one block system.
 
 Block 0 is the soil displacement on the parent (r, z) mesh; block 1 the structure (u, beta, Q
-of :mod:`tankfx.structure`) on the facet submesh made of the plate's underside facets and, if
+of :mod:`tankfx.laws.shell`) on the facet submesh made of the plate's underside facets and, if
 there is a wall, the wall's meridian facets. Plate and wall share the junction vertex, so the
 joint is rigid (continuous u and beta), for a_t = a_p and for a wall inside the plate edge.
 
-The two are tied by the interface penalty of :mod:`tankfx.interface` on the plate underside
+The two are tied by the interface penalty of :mod:`tankfx.laws.interface` on the plate underside
 and, for an embedded tank, on the wall's outer face below the ground. Mixed-domain blocks are
 integrated over the parent's facets (``ds`` where the facet is on the outside of the mesh,
 ``dS`` where the tank's void lies on its other side); pure structure blocks over the submesh.
@@ -167,7 +167,7 @@ class TankModel:
     def _split_forms(self, a_bb, interface_blocks):
         """(fixed, varying): block forms that sum to the model's matrix, for a direct solver
         that assembles the fixed part once and only the varying one at every solve
-        (:class:`tankfx.solve.DirectSolver`). Between the solves of a linear soil what
+        (:class:`tankfx.fem.solvers.DirectSolver`). Between the solves of a linear soil what
         changes is a Mohr-Coulomb interface (its states) and a consolidation's flow terms
         (the time step: they are proportional to the conductance); None where neither
         does. Measured on the clay tank's consolidation, 81k dofs, 57 solves: the matrix's
@@ -359,14 +359,10 @@ class TankModel:
         pts = pts[np.lexsort((pts[:, 0], pts[:, 1]))] if len(pts) else pts
         return pts if along is None else pts[np.argsort(pts[:, along])]
 
-    def _contact(self, F, pts, cells):
-        """Interface tractions (cell averages) at the stations."""
-        return (evaluate_at(F["sigma_n"], pts, cells)[:, 0],
-                evaluate_at(F["tau"], pts, cells)[:, 0])
-
     def foundation_results(self) -> dict:
         F = self._fields()
-        self._F = F
+        #: the fields of the last solution read (the structure's results read them again)
+        self.last_fields = F
         s = self.scene
         pts = self.stations(self.plate_cells, along=0)
         cells = self.plate_cells
@@ -376,130 +372,6 @@ class TankModel:
         ap = s.plate.radius
         w_mean = allsum(self.mesh.comm, fem.assemble_scalar(self._w_mean_form)) / \
             (math.pi * ap**2)
-        self._w_mean = float(w_mean)
+        self.last_w_mean = float(w_mean)
         return {"w0": float(w[0]), "w_edge": float(w[-1]), "wd": float(w.max() - w.min()),
                 "w_mean": float(w_mean), "M0": float(M_r[0])}
-
-    def structure_results(self) -> dict:
-        F, s = self._F, self.scene
-        pts = self.stations(self.plate_cells, along=0)
-        cells = self.plate_cells
-        u = evaluate_at(F["u"], pts, cells)
-        sn, tau = self._contact(F, pts, cells)
-        plate = {"r": pts[:, 0].tolist(), "w": (-u[:, 1]).tolist(), "u_r": u[:, 0].tolist(),
-                 "rotation": evaluate_at(F["beta"], pts, cells)[:, 0].tolist(),
-                 "M_r": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist(),
-                 "M_theta": evaluate_at(F["M_theta"], pts, cells)[:, 0].tolist(),
-                 "Q_r": evaluate_at(F["Q"], pts, cells)[:, 0].tolist(),
-                 "contact_normal": sn.tolist(), "contact_shear": tau.tolist(),
-                 "contact_status": self._status_at(F, pts, cells)}
-        profiles = {"plate": plate}
-        if s.wall is not None:
-            cells = self.wall_cells
-            pts = self.stations(cells, along=1)
-            u = evaluate_at(F["u"], pts, cells)
-            N_theta = evaluate_at(F["N_theta"], pts, cells)[:, 0]
-            # (at a course joint both come from the course below)
-            thickness = evaluate_at(self.thickness, pts, cells)[:, 0]
-            wall = {"z": (pts[:, 1] + s.embedment).tolist(), "u_r": u[:, 0].tolist(),
-                    "u_z": u[:, 1].tolist(),
-                    "rotation": evaluate_at(F["beta"], pts, cells)[:, 0].tolist(),
-                    "M_z": evaluate_at(F["M_s"], pts, cells)[:, 0].tolist(),
-                    "N_z": evaluate_at(F["N_s"], pts, cells)[:, 0].tolist(),
-                    "N_theta": N_theta.tolist(), "thickness": thickness.tolist(),
-                    "hoop_stress": (N_theta / thickness).tolist(),
-                    "Q": evaluate_at(F["Q"], pts, cells)[:, 0].tolist()}
-            if s.embedment > 0.0:
-                sn, tau = self._contact(F, pts, cells)
-                below = pts[:, 1] <= 1e-12
-                wall["contact_normal"] = np.where(below, sn, 0.0).tolist()
-                wall["contact_shear"] = np.where(below, tau, 0.0).tolist()
-                wall["contact_status"] = [st_ if b else "none" for st_, b in
-                                          zip(self._status_at(F, pts, cells), below)]
-            profiles["wall"] = wall
-        # what the interface carries: every load but a ringwall's weight, which its own
-        # cells carry to the soil
-        applied = vertical_load(s.load, s.plate, s.wall)
-        scale = max(vertical_load_scale(s.load, s.plate, s.wall), self.path_load_scale)
-        contact = self.interface.contact_resultant()
-        out = {"profiles": profiles,
-               "equilibrium": {"contact_resultant": contact,
-                               "contact_relative_error": abs(contact - applied) / scale},
-               "interface": self.interface.summary()}
-        if s.wall is not None:
-            out["junction"] = self._junction(F)
-            out["courses"] = self._courses(F)
-        out["settlement_summary"] = self._settlement_summary(plate)
-        return out
-
-    def _courses(self, F) -> list[dict]:
-        """Per course of the wall (one for a uniform wall), heights above its foot: the
-        largest hoop stress N_theta / t (Pa; tension positive: what a tank code checks
-        against its allowable stress) and where, and the largest |M_z| (N m/m) and where."""
-        s = self.scene
-        height = self.cell_midpoints[self.wall_cells, 1] + s.embedment
-        out = []
-        for bottom, top, t in s.wall.course_table:
-            cells = self.wall_cells[(height > bottom) & (height < top)]
-            pts = self.stations(cells)
-            hoop = evaluate_at(F["N_theta"], pts, cells)[:, 0] / t
-            M = evaluate_at(F["M_s"], pts, cells)[:, 0]
-            z = pts[:, 1] + s.embedment
-            i, j = int(np.argmax(hoop)), int(np.argmax(np.abs(M)))
-            out.append({"bottom": bottom, "top": top, "thickness": t,
-                        "max_hoop_stress": float(hoop[i]), "at": float(z[i]),
-                        "max_abs_M_z": float(abs(M[j])), "M_at": float(z[j])})
-        return out
-
-    def _settlement_summary(self, plate) -> dict:
-        """What tank codes ask of the foundation (API 653 Annex B style), from the plate
-        profile: the uniform (mean) settlement, the centre-to-edge dish, and the settlement
-        of the shell's edge. An axisymmetric model has no planar tilt or out-of-plane
-        settlement around the shell: those need a 3D model or measured data."""
-        r = np.asarray(plate["r"])
-        w = np.asarray(plate["w"])
-        s = self.scene
-        at = s.wall.radius if s.wall is not None else s.plate.radius
-        w_shell = float(np.interp(at, r, w))
-        return {"uniform_settlement": self._w_mean, "shell_settlement": w_shell,
-                "dish": float(w[0] - w_shell), "dish_over_radius": float((w[0] - w_shell) / at),
-                "planar_tilt": None,
-                "note": "axisymmetric: no planar tilt or differential settlement around the "
-                        "shell"}
-
-    def _status_at(self, F, pts, cells) -> list[str]:
-        """The interface state of the element at each station (vertices: the element on the
-        axis side)."""
-        codes = evaluate_at(F["status"], pts, cells)[:, 0]
-        return [interface.STATUS_NAMES.get(int(round(c)), "none") for c in codes]
-
-    def _junction(self, F) -> dict:
-        """Moments at the wall-plate joint, N m/m. The mesh vertex is the joint's outer
-        corner (where the faces meet); about it the membrane forces of the mid-surfaces, half
-        a thickness away, add to the moments, and the members balance:
-        sum over plate sides of +-(M_r - N_r t_p / 2) = M_z - N_z t_t / 2."""
-        s = self.scene
-        corner = np.array([[s.wall.radius, -s.embedment]])
-        mids = self.cell_midpoints[self.plate_cells, 0]
-        inner = self.plate_cells[mids < s.wall.radius]
-        outer = self.plate_cells[mids > s.wall.radius]
-        # the plate's thickness on each side of the wall (an annular ring's, if it has one)
-        e_in, e_out = 0.5 * s.plate.thickness_at(s.wall.radius * np.array([1 - 1e-9,
-                                                                           1 + 1e-9]))
-        e_w = 0.5 * s.wall.thickness
-
-        def about_corner(cells, e):
-            if self.mesh.comm.allreduce(len(cells)) == 0:
-                return 0.0, 0.0
-            M = evaluate_at(F["M_s"], corner, cells)[0, 0]
-            return M, M - evaluate_at(F["N_s"], corner, cells)[0, 0] * e
-
-        M_in, Mc_in = about_corner(inner, e_in)
-        M_out, Mc_out = about_corner(outer, e_out)
-        M_w, Mc_w = about_corner(self.wall_cells, e_w)
-        # the surface bending stresses 6 M / t^2 at the joint (Pa; what a steel tank's
-        # corner is checked for), in the wall's bottom course and the plate inside it
-        return {"M_plate": M_in, "M_plate_outside": M_out, "M_wall": M_w,
-                "M_plate_about_corner": Mc_in - Mc_out, "M_wall_about_corner": Mc_w,
-                "wall_bending_stress": 6.0 * abs(M_w) / (2 * e_w) ** 2,
-                "plate_bending_stress": 6.0 * abs(M_in) / (2 * e_in) ** 2}

@@ -14,7 +14,9 @@ from ..fem.evaluate import evaluate_at, nodal_values_on_facets
 from ..fem.solvers import reaction_force
 from ..laws.rigidity import nondimensional
 from ..mesh import Domain
+from ..model.tank import TankModel
 from ..scene.scene import Scene
+from .structure import structure_results
 
 CONVENTIONS = {
     "units": "SI: m, Pa, N, N m/m",
@@ -125,8 +127,8 @@ def results_of(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
         "conventions": CONVENTIONS,
         "scene": scene.to_dict(),
     }
-    extra = model.structure_results()
-    if extra is not None:
+    if isinstance(model, TankModel):
+        extra = structure_results(model)
         out["profiles"].update(extra.pop("profiles"))
         out["equilibrium"].update(extra.pop("equilibrium"))
         out.update(extra)

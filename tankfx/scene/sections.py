@@ -11,6 +11,8 @@ from typing import Any
 
 import numpy as np
 
+from .keys import NON_NEGATIVE, POSITIVE, Key, Limit, key
+
 #: Default domain size, in multiples of the foundation radius. The truncation error of the
 #: centre settlement falls like 1/R (measured, homogeneous half-space with a fixed far
 #: boundary: -0.74 % at 100 a, -0.074 % at 1000 a, -0.0074 % at 10000 a; README "Truncation
@@ -38,11 +40,37 @@ FLEXIBLE_DEGREE = 3
 FLEXIBLE_COARSENING = 2.0
 
 
+#: gamma_w, N/m^3
+WATER_UNIT_WEIGHT = 9810.0
+#: p_a, Pa: the reference pressure of Duncan & Chang's modulus
+ATMOSPHERIC_PRESSURE = 101325.0
+
+
+#: A nonlinear soil's Eq. 18 tolerance (the paper's) and its secant iterations at most, by
+#: model (Duncan & Chang's failed zones settle slowly: 10-64 iterations measured)
+DEFAULT_TOLERANCE = 0.05
+MAX_ITERATIONS = {"hyperbolic": 40, "duncan_chang": 80}
+
+
 #: Above this soil Poisson's ratio the soil is solved in the mixed displacement-pressure
 #: (Taylor-Hood) form, chosen automatically: the displacement form's stresses lock (measured
 #: on the flexible load: sigma_zz on the axis off by 0.5 % of p at 0.45, 2.6 % at 0.49,
 #: 17.6 % at 0.499), and it cannot take 0.5 at all.
 MIXED_FROM_NU = 0.45
+
+
+#: The limits of the Poisson's ratios: a soil's may be 0.5 (incompressible: the mixed form),
+#: a shell's not (thin-shell theory), a ringwall's and its fill's are solved in the
+#: displacement form
+SOIL_POISSON = Limit(-1.0, 0.5)
+SOIL_POISSON_WHY = "Poisson's ratio; 0.5: incompressible, e.g. undrained clay"
+SHELL_POISSON = Limit(-1.0, 0.5, high_open=True)
+SHELL_POISSON_WHY = "Poisson's ratio of a plate or wall: thin-shell theory; use e.g. 0.3"
+RING_POISSON = Limit(-1.0, MIXED_FROM_NU)
+#: an angle in degrees, [0, 90)
+ANGLE = Limit(0.0, 90.0, low_open=False, high_open=True)
+EXPONENT_WHY = "0: a modulus independent of confinement; 1: proportional to it"
+RF_WHY = "R_f, typically 0.7-0.9"
 
 
 class SceneError(ValueError):
@@ -59,22 +87,38 @@ class Layer:
     """A stratum of the ground from ``depth`` down to the next layer's top (or to the rigid
     base): E(h) = E (1 + E_gradient (h - depth)) within it."""
 
-    depth: float             #: m below the ground surface, where this layer's top lies
-    E: float                 #: Young's modulus at its top, Pa (1/a if hyperbolic)
-    nu: float
-    E_gradient: float = 0.0  #: 1/m, from its top down
-    hyperbolic_a: float | None = None
-    hyperbolic_b: float | None = None
+    depth: float = key(unit="m", required=True, limit=POSITIVE,
+                       meaning="depth of the layer's top below the ground surface")
+    E: float = key(unit="Pa", limit=POSITIVE, default_doc="required (linear soil)",
+                   meaning="Young's modulus at the layer's top (1/a if hyperbolic)")
+    nu: float = key(unit="-", required=True, limit=SOIL_POISSON, why=SOIL_POISSON_WHY,
+                    meaning="Poisson's ratio")
+    E_gradient: float = key(0.0, unit="1/m", limit=NON_NEGATIVE,
+                            meaning="growth of E with depth below the layer's top")
+    hyperbolic_a: float | None = key(None, unit="1/Pa", limit=POSITIVE,
+                                     meaning="Kondner's a: 1/a is the initial tangent modulus")
+    hyperbolic_b: float | None = key(None, unit="1/Pa", limit=POSITIVE,
+                                     meaning="Kondner's b: 1/b is the ultimate deviator stress")
     # Duncan & Chang's constants of the layer (model = "duncan_chang"; p_a is the soil's)
-    modulus_number: float | None = None
-    modulus_exponent: float | None = None
-    failure_ratio: float | None = None
-    cohesion: float | None = None
-    friction_angle: float | None = None
-    unit_weight: float | None = None
-    K0: float | None = None
-    #: m/s, Darcy's k of the layer in a consolidation (None: [consolidation]'s)
-    permeability: float | None = None
+    modulus_number: float | None = key(None, unit="-", limit=POSITIVE,
+                                       meaning="Duncan & Chang's K: E_i = K p_a "
+                                               "(sigma_3 / p_a)^n")
+    modulus_exponent: float | None = key(None, unit="-", limit=Limit(0.0, 1.0, False),
+                                         why=EXPONENT_WHY, meaning="Duncan & Chang's n")
+    failure_ratio: float | None = key(None, unit="-", limit=Limit(0.0, 1.0), why=RF_WHY,
+                                      default_doc="0.9", meaning="R_f = (sigma_1 - sigma_3)_f / "
+                                                             "ultimate deviator")
+    cohesion: float | None = key(None, unit="Pa", limit=NON_NEGATIVE, default_doc="0",
+                                 meaning="Mohr-Coulomb cohesion c")
+    friction_angle: float | None = key(None, unit="deg", limit=ANGLE, why="degrees",
+                                       default_doc="0", meaning="Mohr-Coulomb friction angle phi")
+    unit_weight: float | None = key(None, unit="N/m^3", limit=POSITIVE,
+                                    meaning="unit weight gamma (the geostatic stress)")
+    K0: float | None = key(None, unit="-", limit=POSITIVE, default_doc="1 - sin(phi)",
+                           meaning="horizontal / vertical geostatic stress")
+    permeability: float | None = key(None, unit="m/s", limit=POSITIVE,
+                                     default_doc="[consolidation] permeability",
+                                     meaning="Darcy's k of the layer in a consolidation")
 
 
 #: The [soil] (or layer) keys that set its E (1/a, K p_a): a change of one of them drops
@@ -89,29 +133,60 @@ STRATUM_DUNCAN_CHANG = ("modulus_number", "modulus_exponent", "failure_ratio", "
 
 @dataclass(frozen=True)
 class Soil:
-    E: float                 #: Young's modulus at the ground surface, Pa (1/a if hyperbolic)
-    nu: float                #: Poisson's ratio
-    E_gradient: float = 0.0  #: lambda, 1/m: E(h) = E (1 + lambda h), h = depth below surface
-    model: str = "linear"    #: "linear" or "hyperbolic" (Kondner)
-    hyperbolic_a: float | None = None  #: 1/a = initial tangent modulus (hyperbolic model)
-    hyperbolic_b: float | None = None  #: 1/b = ultimate deviator stress (hyperbolic model)
-    tolerance: float | None = None     #: Eq. 18's relative deviator misfit (hyperbolic)
-    max_iterations: int | None = None  #: Picard iterations at most (hyperbolic)
+    E: float = key(unit="Pa", limit=POSITIVE, default_doc="required (linear soil)",
+                   meaning="Young's modulus at the ground surface (1/a if hyperbolic, K p_a "
+                           "for Duncan & Chang's)")
+    nu: float = key(unit="-", required=True, limit=SOIL_POISSON, why=SOIL_POISSON_WHY,
+                    meaning="Poisson's ratio (above 0.45: the mixed u-p form)")
+    E_gradient: float = key(0.0, unit="1/m", limit=NON_NEGATIVE,
+                            meaning="lambda: E(h) = E (1 + lambda h), h the depth")
+    model: str = key("linear", choices=("linear", "hyperbolic", "duncan_chang"),
+                     meaning="the soil's law: linear elastic, Kondner's hyperbola (Eqs. "
+                             "17-20) or Duncan & Chang's")
+    hyperbolic_a: float | None = key(None, unit="1/Pa", limit=POSITIVE,
+                                     meaning="Kondner's a: 1/a is the initial tangent modulus")
+    hyperbolic_b: float | None = key(None, unit="1/Pa", limit=POSITIVE,
+                                     meaning="Kondner's b: 1/b is the ultimate deviator stress")
+    tolerance: float | None = key(None, unit="-", limit=Limit(0.0, 1.0, high_open=True),
+                                  why="the relative deviator misfit of Eq. 18; the paper's "
+                                      "0.05 is the default",
+                                  default_doc=f"{DEFAULT_TOLERANCE:g} (nonlinear soil)",
+                                  meaning="Eq. 18's relative deviator misfit")
+    max_iterations: int | None = key(None, unit="-", limit=Limit(1, low_open=False),
+                                     default_doc=", ".join(f"{n} ({m})" for m, n in
+                                                           MAX_ITERATIONS.items()),
+                                     meaning="secant (Picard) iterations at most")
     # Duncan & Chang's soil (model = "duncan_chang"): Kondner's law with the initial modulus
     # K p_a (sigma_3 / p_a)^n and the ultimate deviator (Mohr-Coulomb strength) / R_f of
     # each cell's confining stress: geostatic (unit weight, K0) plus the tank's
-    modulus_number: float | None = None      #: K
-    modulus_exponent: float | None = None    #: n
-    failure_ratio: float | None = None       #: R_f = (sigma_1 - sigma_3)_f / ultimate
-    cohesion: float | None = None            #: c, Pa
-    friction_angle: float | None = None      #: phi, degrees
-    unit_weight: float | None = None         #: gamma, N/m^3 (geostatic stress)
-    K0: float | None = None                  #: horizontal / vertical geostatic stress
-    atmospheric_pressure: float | None = None  #: p_a, Pa
-    #: depth of the water table, m (None: below everything): the confinement is effective,
-    #: the geostatic stress less the hydrostatic pore pressure below it
-    water_table: float | None = None
-    water_unit_weight: float | None = None   #: gamma_w, N/m^3
+    modulus_number: float | None = key(None, unit="-", limit=POSITIVE,
+                                       meaning="Duncan & Chang's K: E_i = K p_a "
+                                               "(sigma_3 / p_a)^n")
+    modulus_exponent: float | None = key(None, unit="-", limit=Limit(0.0, 1.0, False),
+                                         why=EXPONENT_WHY, meaning="Duncan & Chang's n")
+    failure_ratio: float | None = key(None, unit="-", limit=Limit(0.0, 1.0), why=RF_WHY,
+                                      default_doc="0.9", meaning="R_f = (sigma_1 - sigma_3)_f / "
+                                                             "ultimate deviator")
+    cohesion: float | None = key(None, unit="Pa", limit=NON_NEGATIVE, default_doc="0",
+                                 meaning="Mohr-Coulomb cohesion c")
+    friction_angle: float | None = key(None, unit="deg", limit=ANGLE, why="degrees",
+                                       default_doc="0", meaning="Mohr-Coulomb friction angle phi")
+    unit_weight: float | None = key(None, unit="N/m^3", limit=POSITIVE,
+                                    meaning="unit weight gamma (the geostatic stress)")
+    K0: float | None = key(None, unit="-", limit=POSITIVE, default_doc="1 - sin(phi)",
+                           meaning="horizontal / vertical geostatic stress")
+    atmospheric_pressure: float | None = key(None, unit="Pa", limit=POSITIVE,
+                                             default_doc=f"{ATMOSPHERIC_PRESSURE:g}",
+                                             meaning="p_a of Duncan & Chang's modulus")
+    #: the confinement is effective below it: the geostatic stress less the hydrostatic
+    #: pore pressure
+    water_table: float | None = key(None, unit="m", limit=NON_NEGATIVE,
+                                    default_doc="below everything",
+                                    meaning="depth of the water table (Duncan & Chang's)")
+    water_unit_weight: float | None = key(None, unit="N/m^3", limit=POSITIVE,
+                                          default_doc=f"{WATER_UNIT_WEIGHT:g} (with a "
+                                                      f"water_table)",
+                                          meaning="gamma_w")
     #: the strata below the surface soil (which the keys above describe, from the surface
     #: down to the first layer's top), top down
     layers: tuple[Layer, ...] = ()
@@ -120,7 +195,10 @@ class Soil:
     #: modulus (Duncan & Chang's: at its current confinement, K_ur = this x K) and keeps its
     #: permanent strain; None: the paper's nonlinear elastic secant law, which unloads
     #: along its loading curve
-    unloading_modulus_ratio: float | None = None
+    unloading_modulus_ratio: float | None = key(
+        None, unit="-", limit=Limit(1.0, low_open=False), custom=True,
+        default_doc="none: unloads along the loading curve",
+        meaning="E_ur / E_i of a nonlinear soil along a load path (1-3 usual)")
 
     @property
     def strata(self) -> tuple[Layer, ...]:
@@ -173,17 +251,23 @@ class Soil:
 
 @dataclass(frozen=True)
 class Plate:
-    radius: float            #: a_p, m
-    thickness: float         #: t_p, m (given, or derived from Kp by Eq. 21): the floor's
-    E: float                 #: Pa
-    nu: float
-    embedment: float = 0.0   #: depth of the underside below the ground surface, m
-    unit_weight: float = 0.0  #: N/m^3, used only when load.self_weight is true
+    radius: float = key(unit="m", required=True, limit=POSITIVE, meaning="a_p")
+    thickness: float = key(unit="m", limit=POSITIVE, default_doc="from Kp (Eq. 21)",
+                           meaning="t_p, the floor's (give it or Kp)")
+    E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="Young's modulus")
+    nu: float = key(unit="-", required=True, limit=SHELL_POISSON, why=SHELL_POISSON_WHY,
+                    meaning="Poisson's ratio")
+    embedment: float = key(0.0, unit="m", limit=NON_NEGATIVE,
+                           meaning="depth of the underside below the ground surface")
+    unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
+                             meaning="its weight, used when load.self_weight is true")
     #: a ring of another thickness along the edge, under the wall (an API 650 tank's
-    #: annular bottom plate, or a thickened edge): its width inward from the edge, m (0:
-    #: none), and its thickness, m. The underside stays flat; Kp is the floor's.
-    annular_width: float = 0.0
-    annular_thickness: float | None = None
+    #: annular bottom plate, or a thickened edge). The underside stays flat; Kp is the
+    #: floor's.
+    annular_width: float = key(0.0, unit="m", limit=POSITIVE, default_doc="0: none",
+                               meaning="width of an annular ring, inward from the edge")
+    annular_thickness: float | None = key(None, unit="m", limit=POSITIVE,
+                                          meaning="the annular ring's thickness")
 
     @property
     def ring_inner_radius(self) -> float:
@@ -207,15 +291,22 @@ class Plate:
 
 @dataclass(frozen=True)
 class Wall:
-    radius: float            #: a_t, m (<= plate radius)
-    thickness: float         #: t_t, m (given, or derived from Kt by Eq. 22): the bottom course's
-    height: float            #: H, m, measured from the plate
-    E: float
-    nu: float
-    unit_weight: float = 0.0
+    radius: float = key(unit="m", required=True, limit=POSITIVE,
+                        meaning="a_t (at most the plate's radius)")
+    thickness: float = key(unit="m", limit=POSITIVE, default_doc="from Kt (Eq. 22) or courses",
+                           meaning="t_t, the bottom course's (give it, Kt or courses)")
+    height: float = key(unit="m", limit=POSITIVE, default_doc="the courses' sum",
+                        meaning="H, from the plate up")
+    E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="Young's modulus")
+    nu: float = key(unit="-", required=True, limit=SHELL_POISSON, why=SHELL_POISSON_WHY,
+                    meaning="Poisson's ratio")
+    unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
+                             meaning="its weight, used when load.self_weight is true")
     #: the courses of a wall whose thickness steps, (height, thickness) in m from the bottom
     #: up, their outer faces flush (empty: one course of ``thickness``, the paper's wall)
-    courses: tuple[tuple[float, float], ...] = ()
+    courses: tuple[tuple[float, float], ...] = key(
+        (), unit="m", kind=list, custom=True,
+        meaning="[{height = ..., thickness = ...}, ...] from the bottom course up")
 
     @property
     def course_table(self) -> list[tuple[float, float, float]]:
@@ -249,18 +340,25 @@ class Ringwall:
     soil (or a compacted fill of its own, ``fill_E``) inside it, through the same
     interface."""
 
-    inner_radius: float
-    outer_radius: float
-    depth: float
-    E: float                 #: Pa
-    nu: float = 0.2
-    #: N/m^3, used only when load.self_weight is true: its weight in excess of the soil it
-    #: replaces (the soil's own weight is the ground's initial state, not a load here)
-    unit_weight: float = 0.0
-    #: Pa and -: a compacted fill inside the ring, from the plate's underside to the ring's
-    #: depth (linear elastic; None: the soil itself)
-    fill_E: float | None = None
-    fill_nu: float = 0.3
+    inner_radius: float = key(unit="m", required=True, limit=NON_NEGATIVE,
+                              meaning="the ring's inner radius")
+    outer_radius: float = key(unit="m", required=True, limit=POSITIVE,
+                              meaning="the ring's outer radius")
+    depth: float = key(unit="m", required=True, limit=POSITIVE,
+                       meaning="its depth below the plate's underside")
+    E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="Young's modulus")
+    nu: float = key(0.2, unit="-", limit=RING_POISSON, why="concrete's is about 0.2",
+                    meaning="Poisson's ratio")
+    #: its weight in excess of the soil it replaces (the soil's own weight is the ground's
+    #: initial state, not a load here)
+    unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
+                             meaning="net unit weight, used when load.self_weight is true")
+    #: a compacted fill inside the ring, from the plate's underside to the ring's depth
+    #: (linear elastic)
+    fill_E: float | None = key(None, unit="Pa", limit=POSITIVE, default_doc="none: the soil",
+                               meaning="Young's modulus of a fill inside the ring")
+    fill_nu: float = key(0.3, unit="-", limit=RING_POISSON, why="e.g. 0.3",
+                         meaning="the fill's Poisson's ratio")
 
     @property
     def volume(self) -> float:
@@ -289,42 +387,73 @@ class Ringwall:
 
 @dataclass(frozen=True)
 class Interface:
-    condition: str = "bonded"   #: "bonded" | "smooth" | "mohr_coulomb"
-    cohesion: float = 0.0       #: Pa
-    tan_phi: float | None = None
-    normal_stiffness: float | None = None  #: Pa/m
-    shear_stiffness: float | None = None   #: Pa/m
+    condition: str = key("bonded", choices=("bonded", "smooth", "mohr_coulomb"),
+                         meaning="the contact: bonded, smooth (no shear) or Mohr-Coulomb "
+                                 "(stick, slip, separation; Eqs. 6-16)")
+    cohesion: float = key(0.0, unit="Pa", limit=NON_NEGATIVE,
+                          meaning="c of the Mohr-Coulomb strength (Eq. 13)")
+    tan_phi: float | None = key(None, unit="-", limit=NON_NEGATIVE,
+                                meaning="tan phi of the Mohr-Coulomb strength (or give "
+                                        "friction_angle)")
+    normal_stiffness: float | None = key(None, unit="Pa/m", limit=POSITIVE,
+                                         default_doc="1e3 E / h",
+                                         meaning="the penalty k_n")
+    shear_stiffness: float | None = key(None, unit="Pa/m", limit=POSITIVE,
+                                        default_doc="normal_stiffness", meaning="the penalty k_s")
     #: what a cycling Mohr-Coulomb active set gets: "hold" its alternating elements in the
     #: weaker state and go on (reported), or "stop" with the history
-    on_cycle: str = "hold"
+    on_cycle: str = key("hold", choices=("hold", "stop"),
+                        meaning="a cycling active set: hold the alternating elements in the "
+                                "weaker state, or stop")
     #: where a Mohr-Coulomb state lives: "element" (the paper's Eqs. 11-12: one state per
     #: interface element, from its average jump) or "node" (one per node of the soil's trace,
     #: at the Gauss-Lobatto points of each facet, which then integrate the interface)
-    states: str = "element"
+    states: str = key("element", choices=("element", "node"),
+                      meaning="one Mohr-Coulomb state per element (the paper's) or per node")
+
+
+#: The keys a scene file may give instead of a field: Eq. 21's Kp for the plate's thickness,
+#: Eq. 22's Kt for the wall's, a friction angle for tan phi
+ALTERNATIVE_KEYS: dict[str, dict[str, Key]] = {
+    "plate": {"Kp": Key(unit="-", limit=POSITIVE, default_doc="-",
+                        meaning="Eq. 21's relative rigidity, instead of thickness")},
+    "wall": {"Kt": Key(unit="-", limit=POSITIVE, default_doc="-",
+                       meaning="Eq. 22's relative rigidity, instead of thickness")},
+    "interface": {"friction_angle": Key(unit="deg", limit=ANGLE, why="degrees", default_doc="-",
+                                        meaning="phi, instead of tan_phi")},
+}
 
 
 @dataclass(frozen=True)
 class Load:
-    pressure: float = 0.0            #: uniform pressure, Pa, positive downward
-    load_radius: float | None = None  #: m; the plate radius when there is a plate
-    liquid_unit_weight: float = 0.0  #: N/m^3
-    liquid_height: float = 0.0       #: m
-    self_weight: bool = False
+    pressure: float = key(0.0, unit="Pa", meaning="uniform pressure on the plate (or the "
+                                                  "loaded circle), downward positive")
+    load_radius: float | None = key(None, unit="m", limit=POSITIVE,
+                                    default_doc="the plate's radius",
+                                    meaning="radius of a flexible load (no plate)")
+    liquid_unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
+                                    meaning="the liquid's unit weight (9810 for water)")
+    liquid_height: float = key(0.0, unit="m", limit=NON_NEGATIVE,
+                               meaning="the liquid's height above the plate")
+    self_weight: bool = key(False, meaning="the structure's (and a ringwall's) own weight")
     #: N: the roof's weight and what it carries (snow, equipment), borne by the wall's top
     #: edge (a ring load of roof_weight / (2 pi a_t) N/m)
-    roof_weight: float = 0.0
+    roof_weight: float = key(0.0, unit="N", limit=NON_NEGATIVE,
+                             meaning="the roof's weight, on the wall's top edge")
     #: Pa: a gas (vapour) pressure in the closed tank, above the liquid: on the floor (down),
     #: the wall (outward) and the roof, which carries it to the wall's top (up); no net
     #: vertical load on the foundation. Negative: a vacuum
-    gas_pressure: float = 0.0
+    gas_pressure: float = key(0.0, unit="Pa",
+                              meaning="gas pressure in the closed tank (negative: a vacuum)")
     #: N m: an overturning moment (wind, earthquake) about the plate's underside at the
     #: axis, pressing the side theta = 0 down; with a wall it reaches the foundation through
     #: the wall's foot (API 650 Annex E's ringwall moment). Solved as the first Fourier
-    #: harmonic about the axisymmetric state (tankfx.rocking)
-    overturning_moment: float = 0.0
+    #: harmonic about the axisymmetric state (tankfx.model.overturning)
+    overturning_moment: float = key(0.0, unit="N m",
+                                    meaning="overturning moment about the plate's underside")
     #: N: the horizontal force that comes with it (towards theta = 0), carried by the wall
     #: (or the plate) to the interface
-    base_shear: float = 0.0
+    base_shear: float = key(0.0, unit="N", meaning="the horizontal force with it")
 
     @property
     def overturning(self) -> bool:
@@ -334,40 +463,59 @@ class Load:
 
 @dataclass(frozen=True)
 class Consolidation:
-    """Biot's consolidation of a saturated soil (tankfx.consolidation): the load is applied
+    """Biot's consolidation of a saturated soil (tankfx.laws.biot): the load is applied
     at t = 0, when the soil answers undrained, and held while the excess pore pressure
     drains; the soil's E and nu are then its drained (effective) constants."""
 
-    permeability: float                 #: m/s, Darcy's coefficient k (isotropic)
-    times: tuple[float, ...]            #: s, the times at which results are reported
-    water_unit_weight: float = 9810.0   #: N/m^3
-    #: the drained boundaries: "top" (the ground surface; a flexible load's loaded area
-    #: too) or "top_and_bottom" (also the domain's base: a clay on sand); the foundation,
-    #: the pit's sides and the far side are impervious
-    drainage: str = "top"
-    #: time steps per decade of time (BDF2; 10 keep Terzaghi's settlement within 0.6 %)
-    steps_per_decade: int = 10
+    permeability: float = key(unit="m/s", required=True, limit=POSITIVE,
+                              meaning="Darcy's coefficient k (isotropic)")
+    times: tuple[float, ...] = key(unit="s", required=True, kind=list, custom=True,
+                                   meaning="the times at which results are reported")
+    water_unit_weight: float = key(WATER_UNIT_WEIGHT, unit="N/m^3", limit=POSITIVE,
+                                   meaning="gamma_w")
+    #: the foundation, the pit's sides and the far side are impervious
+    drainage: str = key("top", choices=("top", "top_and_bottom"),
+                        meaning="the drained boundaries: the ground surface, or the "
+                                "domain's base too (a clay on sand)")
+    steps_per_decade: int = key(10, unit="-", limit=Limit(2, low_open=False),
+                                why="10 keep Terzaghi's settlement within 0.6 %; 20 within "
+                                    "0.2 %", meaning="BDF2 time steps per decade of time")
 
 
 @dataclass(frozen=True)
 class DomainSize:
-    radius: float   #: m, outer radius of the soil domain
-    depth: float    #: m, depth of the rigid base
+    radius: float = key(unit="m", limit=POSITIVE, default_doc="10000 a",
+                        meaning="outer radius of the soil domain")
+    depth: float = key(unit="m", limit=POSITIVE, default_doc="10000 a",
+                       meaning="depth of the rigid base below the ground surface")
 
 
 @dataclass(frozen=True)
 class MeshOptions:
-    degree: int = 2            #: Lagrange degree of the soil displacement
-    edge_size: float = 0.0     #: element size at the foundation edge, m (resolved default)
-    growth: float = 0.2        #: rate at which the element size grows with distance
-    near_size: float = 0.0     #: element size cap within 6 radii of the centre, m (resolved)
+    degree: int = key(2, unit="-", choices=(1, 2, 3), custom=True,
+                      default_doc="2 (3 for a flexible load)",
+                      meaning="Lagrange degree of the soil displacement")
+    edge_size: float = key(0.0, unit="m", limit=POSITIVE,
+                           default_doc="0.002 a (0.004 a for a flexible load)",
+                           meaning="element size at the foundation's edge")
+    growth: float = key(0.2, unit="-", limit=Limit(0.0, 1.0),
+                        why="element size grows by this fraction of the distance from the "
+                            "foundation edge",
+                        meaning="rate at which the element size grows with distance")
+    near_size: float = key(0.0, unit="m", limit=POSITIVE,
+                           default_doc="0.1 a (0.2 a for a flexible load)",
+                           meaning="element size cap within 6 radii of the centre")
 
 
 @dataclass(frozen=True)
 class SolverOptions:
-    method: str = "direct"      #: "direct" (MUMPS) or "iterative" (Krylov + GAMG)
-    rtol: float = 1e-10         #: relative residual of the iterative solve
-    max_iterations: int = 1000  #: Krylov iterations allowed per solve
+    method: str = key("direct", choices=("direct", "iterative"), custom=True,
+                      meaning="MUMPS, or Krylov with algebraic multigrid (GAMG)")
+    rtol: float = key(1e-10, unit="-", limit=Limit(0.0, 1e-4),
+                      why="the results are checked to 1e-6 of the load",
+                      meaning="relative residual of the iterative solve")
+    max_iterations: int = key(1000, unit="-", limit=Limit(1, low_open=False),
+                              meaning="Krylov iterations allowed per solve")
 
 
 def vertical_load(load: Load, plate: Plate | None, wall: Wall | None,
@@ -418,9 +566,5 @@ def plain(part) -> dict[str, Any]:
             if getattr(part, f.name) is not None}
 
 
-#: gamma_w, N/m^3
-WATER_UNIT_WEIGHT = 9810.0
 
 
-#: p_a, Pa: the reference pressure of Duncan & Chang's modulus
-ATMOSPHERIC_PRESSURE = 101325.0

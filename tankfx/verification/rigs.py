@@ -67,7 +67,8 @@ class StandaloneShell:
 
 class StandaloneHarmonicShell:
     """A plate or wall on its own under a first-harmonic load, on rigid supports (for
-    verification, like :class:`tankfx.structure.StandaloneShell`). ``supports`` maps a vertex
+    verification, like :class:`tankfx.verification.rigs.StandaloneShell`). ``supports`` maps a
+    vertex
     predicate to constrained components among "D", "Z", "S", "beta" (a clamped edge: all
     four; the axis of a plate: "Z" and "S"). ``load(u, V, x)`` is the work density of the
     applied load amplitudes on the test displacement (u = (A, Z), V) per unit area, and
@@ -182,7 +183,7 @@ class Oedometer(Sample):
     the axisymmetric forms above): ``height``, laterally confined (u_r = 0 on both sides),
     fixed and impervious at the base, drained at the loaded top (and at the base too with
     ``drained_base``). For verification against
-    :func:`tankfx.reference.terzaghi_settlement`, and for calibrating c_v."""
+    :func:`tankfx.verification.reference.terzaghi_settlement`, and for calibrating c_v."""
 
     def __init__(self, height, E, nu, permeability, q, water_unit_weight=9810.0,
                  cells: int = 40, degree: int = 2, drained_base: bool = False,
@@ -214,7 +215,7 @@ class Oedometer(Sample):
 class MandelCylinder(Sample):
     """A saturated cylinder of ``radius`` (and as high) between rigid, smooth, impervious
     plates that shorten it by ``strain`` at t = 0 and hold it, drained and free on its side
-    (:func:`tankfx.reference.mandel_cylinder`): a check of the consolidation's coupling
+    (:func:`tankfx.verification.reference.mandel_cylinder`): a check of the consolidation's coupling
     in the hoop direction and through a drained side, where its excess pore pressure at the
     centre first rises above its start (Mandel and Cryer's effect)."""
 
