@@ -285,43 +285,27 @@ class InterfaceIteration:
         return tuple(out)
 
     def run(self, solver, log) -> dict:
+        """Solve, re-decide the states, until none changes and the out-of-balance force is
+        negligible (see the class); returns the record, or raises SolveError with the
+        history."""
         m = self.interface
-        ifc = m.settings
         comm = m.mesh.comm
-        seen = {self._state_key(): 0}
-        states = {0: m.status.copy()}
-        frozen = np.zeros(len(m.status), dtype=bool)
-        forced = m.status.copy()
-        freezes = 0
+        self._seen = {self._state_key(): 0}
+        self._states = {0: m.status.copy()}
+        self._frozen = np.zeros(len(m.status), dtype=bool)
+        self._forced = m.status.copy()
+        self._freezes = 0
         previous = None
         log.info("Mohr-Coulomb interface: c = %g Pa, tan phi = %g; iterating on the element "
-                 "states", ifc.cohesion, self.tan_phi)
+                 "states", m.settings.cohesion, self.tan_phi)
         log.info("  it  changed   stick    slip  separ.  frozen  traction change  "
                  "out-of-balance   time s")
         for it in range(1, self.max_iterations + 1):
             t0 = time.perf_counter()
             solver.solve()
             jn, jt = self.element_jumps()
-            # tractions of the state just solved (what the structure actually felt)
-            sigma, tau = self._applied_tractions(jn, jt)
-            traction = np.concatenate([sigma[self.owned], tau[self.owned]])
-            norm = np.sqrt(comm.allreduce(float(traction @ traction)))
-            # (none after the first solve: JSON has no infinity)
-            change = None if previous is None else np.sqrt(comm.allreduce(
-                float((traction - previous) @ (traction - previous)))) / max(norm, 1e-300)
-            previous = traction
-            status, sign = self._decide(jn, jt)
-            status = np.where(frozen, forced, status)
-            if m.node_states:
-                # Nodes chatter a few at a time, in ever new combinations, so that the
-                # whole active set seldom repeats (the cycle test below): a node that has
-                # changed state MAX_FLIPS times is held in the weaker of its last two
-                # states, as single_pass holds them (demo tank, tan phi = 10: 10 nodes at
-                # the wall's foot held, 13 solves; without this no convergence in 200)
-                hold, weaker = self._flip_holds(status, frozen)
-                forced = np.where(hold, weaker, forced)
-                frozen |= hold
-                status = np.where(frozen, forced, status)
+            previous, change = self._traction_change(jn, jt, previous)
+            status, sign = self._redecide(jn, jt)
             reversed_ = self._track_reversals(status, sign)
             moved_ = (status != m.status)[self.owned]
             moved = comm.allreduce(int(np.sum(moved_)))
@@ -333,33 +317,13 @@ class InterfaceIteration:
             excess = self.model.out_of_balance()
             if secant is not None:  # the next solve takes the secant stiffnesses extrapolated
                 m.k_s.x.array[:] = np.where(secant[0], secant[1], m.k_s.x.array)
-            counts = [comm.allreduce(int(np.sum(status[self.owned] == k)))
-                      for k in (law.STICK, law.SLIP, law.SEPARATED)]
-            n_frozen = comm.allreduce(int(np.sum(frozen[self.owned])))
-            row = {"iteration": it, "changed": changed, "stick": counts[0], "slip": counts[1],
-                   "separated": counts[2], "frozen": n_frozen, "traction_change": change,
-                   "out_of_balance": excess, "time_s": time.perf_counter() - t0}
-            self.history.append(row)
-            log.info("  %2d %8d %7d %7d %7d %7d %16s %14.3e %8.2f", it, changed, *counts,
-                     n_frozen, "-" if change is None else f"{change:.3e}", excess,
-                     row["time_s"])
+            counts, n_frozen = self._record(it, status, changed, change, excess, t0, log)
             if changed == 0 and excess <= self.MAX_OUT_OF_BALANCE:
-                self._check_holds(frozen & (status == law.SEPARATED), jn)
-                what = m.carrier_name
-                note = (f"no {what} changed state; out-of-balance force {excess:.1e} of the "
-                        f"load")
-                if n_frozen:
-                    note += (f"; {n_frozen} {what}(s) at the edge of a contact or slip zone "
-                             f"alternated between states and were held in the weaker one")
-                if change is not None:
-                    note += f"; traction change {change:.1e}"
-                return {"converged": True, "iterations": it, "history": self.history,
-                        "frozen_elements": n_frozen, "criterion": note,
-                        "reversed_slips": self.reversed_slips()}
+                return self._converged(it, status, jn, n_frozen, excess, change)
             if counts[0] + counts[1] == 0:
                 raise SolveError("the interface separated everywhere: nothing holds the "
                                  "foundation (is the net load upward?)", self.history)
-            states[it] = m.status.copy()
+            self._states[it] = m.status.copy()
             if (changed == 0 and secant is not None) or (changed and not moved) \
                     or (changed == 0 and it == 1 and self.carried_secant):
                 # a change of law, not of state: the secant slips converge by the
@@ -367,7 +331,7 @@ class InterfaceIteration:
                 # take the secant law; carried secant slips became plain ones (stopping
                 # here, as at a lost accuracy, stopped a stage holding the same load). A
                 # state that recurs after them is not a cycle
-                seen = {self._state_key(): it}
+                self._seen = {self._state_key(): it}
                 continue
             if changed == 0:
                 raise SolveError(
@@ -375,41 +339,105 @@ class InterfaceIteration:
                     f"but an out-of-balance force of {excess:.1e} of the load (above "
                     f"{self.MAX_OUT_OF_BALANCE:g}): the linear solve lost accuracy",
                     self.history)
-            key = self._state_key()
-            if key in seen:
-                # A cycle: the elements whose state differs along it sit at the edge of a
-                # zone that falls inside one element, where no element state is consistent.
-                # Hold them in the weaker state (separated, else slip) and go on; a second
-                # and third cycle get the same; more is a failure.
-                cycle = [states[k] for k in range(seen[key], it + 1)]
-                differ = np.any([st_ != cycle[0] for st_ in cycle], axis=0)
-                weaker = np.where(np.any([st_ == law.SEPARATED for st_ in cycle], axis=0),
-                                  law.SEPARATED, law.SLIP)
-                n_new = comm.allreduce(int(np.sum(differ[self.owned] & ~frozen[self.owned])))
-                what = m.carrier_name
-                if ifc.on_cycle == "stop":
-                    raise SolveError(
-                        f"the interface's active set cycles: the {what} states of iteration "
-                        f"{it} repeat those of iteration {seen[key]} ({n_new} {what}(s) "
-                        f"alternate, at the edge of a contact or slip zone); "
-                        f"interface.on_cycle = \"hold\" holds them in the weaker state and "
-                        f"goes on, or refine the mesh there", self.history)
-                freezes += 1
-                log.info("  the %s states cycle (iteration %d repeats %d): holding %d "
-                         "alternating %s(s) in the weaker state", what, it, seen[key], n_new,
-                         what)
-                if freezes > 3 or n_new == 0:
-                    raise SolveError(
-                        f"the interface's active set cycles: the states of iteration {it} "
-                        f"repeat those of iteration {seen[key]} and holding the alternating "
-                        f"{what}s did not stop it (try a finer mesh at the contact zone's "
-                        f"edge)", self.history)
-                forced = np.where(differ & ~frozen, weaker, forced)
-                frozen |= differ
-                seen = {}
-            seen[key] = it
+            self._hold_a_cycle(it, log)
         raise SolveError(f"the interface iteration did not converge in {self.max_iterations} "
                          f"solves", self.history)
+
+    def _traction_change(self, jn, jt, previous) -> tuple:
+        """The tractions of the state just solved (what the structure actually felt) and
+        their relative change from the last solve's (None after the first: JSON has no
+        infinity)."""
+        comm = self.interface.mesh.comm
+        sigma, tau = self._applied_tractions(jn, jt)
+        traction = np.concatenate([sigma[self.owned], tau[self.owned]])
+        norm = np.sqrt(comm.allreduce(float(traction @ traction)))
+        change = None if previous is None else np.sqrt(comm.allreduce(
+            float((traction - previous) @ (traction - previous)))) / max(norm, 1e-300)
+        return traction, change
+
+    def _redecide(self, jn, jt) -> tuple:
+        """The states the jumps ask for, the held carriers kept in theirs."""
+        status, sign = self._decide(jn, jt)
+        status = np.where(self._frozen, self._forced, status)
+        if self.interface.node_states:
+            # Nodes chatter a few at a time, in ever new combinations, so that the whole
+            # active set seldom repeats (the cycle test): a node that has changed state
+            # MAX_FLIPS times is held in the weaker of its last two states, as single_pass
+            # holds them (demo tank, tan phi = 10: 10 nodes at the wall's foot held, 13
+            # solves; without this no convergence in 200)
+            hold, weaker = self._flip_holds(status, self._frozen)
+            self._forced = np.where(hold, weaker, self._forced)
+            self._frozen |= hold
+            status = np.where(self._frozen, self._forced, status)
+        return status, sign
+
+    def _record(self, it, status, changed, change, excess, t0, log) -> tuple:
+        """The iteration's row of the history (and its log line); returns the counts of
+        stick, slip and separated carriers and of the held ones."""
+        comm = self.interface.mesh.comm
+        counts = [comm.allreduce(int(np.sum(status[self.owned] == k)))
+                  for k in (law.STICK, law.SLIP, law.SEPARATED)]
+        n_frozen = comm.allreduce(int(np.sum(self._frozen[self.owned])))
+        row = {"iteration": it, "changed": changed, "stick": counts[0], "slip": counts[1],
+               "separated": counts[2], "frozen": n_frozen, "traction_change": change,
+               "out_of_balance": excess, "time_s": time.perf_counter() - t0}
+        self.history.append(row)
+        log.info("  %2d %8d %7d %7d %7d %7d %16s %14.3e %8.2f", it, changed, *counts,
+                 n_frozen, "-" if change is None else f"{change:.3e}", excess,
+                 row["time_s"])
+        return counts, n_frozen
+
+    def _converged(self, it, status, jn, n_frozen, excess, change) -> dict:
+        """The record of a converged state (its held separated carriers checked)."""
+        self._check_holds(self._frozen & (status == law.SEPARATED), jn)
+        what = self.interface.carrier_name
+        note = f"no {what} changed state; out-of-balance force {excess:.1e} of the load"
+        if n_frozen:
+            note += (f"; {n_frozen} {what}(s) at the edge of a contact or slip zone "
+                     f"alternated between states and were held in the weaker one")
+        if change is not None:
+            note += f"; traction change {change:.1e}"
+        return {"converged": True, "iterations": it, "history": self.history,
+                "frozen_elements": n_frozen, "criterion": note,
+                "reversed_slips": self.reversed_slips()}
+
+    def _hold_a_cycle(self, it: int, log) -> None:
+        """Where the states of this iteration repeat earlier ones (a cycle), the carriers
+        whose state differs along it sit at the edge of a zone that falls inside one
+        element, where no element state is consistent: hold them in the weaker state
+        (separated, else slip) and go on; a second and third cycle get the same; more is a
+        failure (as is any cycle with on_cycle = "stop")."""
+        m, comm = self.interface, self.interface.mesh.comm
+        key = self._state_key()
+        seen = self._seen
+        if key in seen:
+            cycle = [self._states[k] for k in range(seen[key], it + 1)]
+            differ = np.any([st_ != cycle[0] for st_ in cycle], axis=0)
+            weaker = np.where(np.any([st_ == law.SEPARATED for st_ in cycle], axis=0),
+                              law.SEPARATED, law.SLIP)
+            n_new = comm.allreduce(int(np.sum(differ[self.owned] & ~self._frozen[self.owned])))
+            what = m.carrier_name
+            if m.settings.on_cycle == "stop":
+                raise SolveError(
+                    f"the interface's active set cycles: the {what} states of iteration "
+                    f"{it} repeat those of iteration {seen[key]} ({n_new} {what}(s) "
+                    f"alternate, at the edge of a contact or slip zone); "
+                    f"interface.on_cycle = \"hold\" holds them in the weaker state and "
+                    f"goes on, or refine the mesh there", self.history)
+            self._freezes += 1
+            log.info("  the %s states cycle (iteration %d repeats %d): holding %d "
+                     "alternating %s(s) in the weaker state", what, it, seen[key], n_new,
+                     what)
+            if self._freezes > 3 or n_new == 0:
+                raise SolveError(
+                    f"the interface's active set cycles: the states of iteration {it} "
+                    f"repeat those of iteration {seen[key]} and holding the alternating "
+                    f"{what}s did not stop it (try a finer mesh at the contact zone's "
+                    f"edge)", self.history)
+            self._forced = np.where(differ & ~self._frozen, weaker, self._forced)
+            self._frozen |= differ
+            self._seen = {}
+        self._seen[key] = it
 
 
 #: solves of the Mohr-Coulomb iteration from a previous solution's states before it starts

@@ -108,7 +108,12 @@ class HyperbolicIteration:
         self._x_hist, self._f_hist, self._g_hist = [], [], []
 
     def run(self, inner_solve, log) -> dict:
-
+        """Iterate: ``inner_solve()`` solves the model with the current moduli (and returns
+        how many interface elements changed state), then every soil cell takes the secant
+        modulus of its strains (Eqs. 17-19, or Duncan & Chang's; a remembering soil's
+        unloading line), until no cell's misfit exceeds the tolerance (Eq. 20), the
+        displacement update is small and the interface has settled. Returns the record of
+        the iteration; raises SoilFailure (or SolveError) with the history otherwise."""
         m, s = self.model, self.model.scene.soil
         comm = m.domain.mesh.comm
         tol, max_it = s.tolerance, s.max_iterations
@@ -119,15 +124,7 @@ class HyperbolicIteration:
         centre = np.array([[0.0, -m.scene.embedment]])
         w0_hist = []
         own = np.flatnonzero(self.is_soil[: self.n_owned])
-        if self.duncan_chang:
-            log.info("Duncan-Chang soil: K = %.4g, n = %.3g, R_f = %.3g, c = %.4g Pa, phi = "
-                     "%.3g deg, gamma = %.4g N/m^3, K0 = %.3g; tolerance %.3g (Eq. 18)",
-                     s.modulus_number, s.modulus_exponent, s.failure_ratio, s.cohesion,
-                     s.friction_angle, s.unit_weight, s.K0, tol)
-        else:
-            log.info("hyperbolic soil: 1/a = %.4g Pa, 1/b = %.4g Pa, tolerance %.3g (Eq. 18)",
-                     1.0 / s.hyperbolic_a, 1.0 / s.hyperbolic_b, tol)
-        log.info("  it  changing  max misfit  at ultimate  du/u        time s")
+        self._log_start(s, tol, log)
         # (Kondner's eps_p reads the intact Poisson's ratio: a failed Duncan-Chang cell's
         # is not its law's)
         nu_law = self.nu_intact if self.duncan_chang else self.nu
@@ -136,44 +133,11 @@ class HyperbolicIteration:
             unsettled = inner_solve()     # interface elements that changed state (single loop)
             eps_min, eps_max = self.cell_principal_strains()
             E = self.modulus.x.array[self.dof_E]
-            if self.duncan_chang:
-                # Duncan & Chang: a, b and failure follow each cell's confinement; the
-                # misfit is the modulus's distance from the consistent secant modulus
-                self.stress.interpolate(self.stress_expr)
-                # (cells outside the soil, e.g. the pit's void, given G = 1 to keep quiet)
-                law = duncan_chang_secant(
-                    s, self.strata, self.geostatic, self.stress.x.array.reshape(-1, 4)[self.dof_T],
-                    np.where(self.is_soil, E / (2.0 * (1.0 + self.nu)), 1.0), eps_min, eps_max)
-                self.a, self.b, E_new = law["a"], law["b"], law["E"]
-                self.E_initial = 1.0 / self.a
-                misfit = np.abs(E - E_new) / E
-                ultimate = law["failed"]
-            else:
-                _, _, misfit, E_new, ultimate = secant_update(E, self.nu, eps_min, eps_max,
-                                                              self.a, self.b)
+            law, E_new, misfit, ultimate = self._secant_moduli(s, E, eps_min, eps_max)
             switched = unloading = None
             if self.memory is not None:
-                # cells below their most loaded state follow their unloading line: E_ur
-                was = self.memory.unloading_mask
-                unloading = self.is_soil & unloading_cells(
-                    major_strain(eps_min, eps_max, nu_law), self.memory.peak_strain, was, tol)
-                # (none on a line or going there, as while a path first loads: no E_ur to
-                # find, which for Duncan & Chang's soil is a bisection over the cells)
-                E_ur = self._unloading_modulus(E) if (unloading | was).any() else E
-                # a cell leaves its line only once its modulus there has settled: passing
-                # its largest strain under a modulus that is still moving (Duncan & Chang's
-                # E_ur follows the confinement, which lags at a stage's start) is no
-                # reloading past it
-                unloading |= was & self.is_soil & (np.abs(E - E_ur) > tol * E)
-                # a cell at the kink of its law (its strain at its largest, neither loading
-                # nor unloading) can flip between the soft curve and the stiff line at every
-                # iteration: after MAX_SWITCHES it is held on the curve (the paper's law)
-                self._switches += unloading != was
-                unloading &= self._switches < MAX_SWITCHES
-                switched = unloading != was
-                E_new = np.where(unloading, E_ur, E_new)
-                misfit = np.abs(E - E_new) / E
-                ultimate = ultimate & ~unloading
+                E_new, misfit, ultimate, unloading, switched = self._unloading(
+                    E, E_new, ultimate, eps_min, eps_max, nu_law, tol)
             changing = (misfit > tol) & self.is_soil
             if switched is not None:
                 changing |= switched
@@ -195,61 +159,133 @@ class HyperbolicIteration:
             log.info("  %2d %9d %11.3e %12d  %10.3e %8.2f", it, n_changing, worst, n_ult,
                      du_rel, row["time_s"])
             if n_changing == 0 and du_rel <= du_tol and not unsettled:
-                # the converged Kondner constants of each cell, for the stress level
-                self.model.soil.kondner = (self.a, self.b, self.nu_intact if
-                                           self.duncan_chang else self.nu)
-                extra = {}
-                if self.memory is not None:
-                    # the cells on the loading curve past their largest strain are at
-                    # their most loaded state so far (a held cell below it keeps its own)
-                    eps_p = major_strain(eps_min, eps_max, nu_law)
-                    self.memory.commit(u, eps_p, E, self.nu, self.is_soil & ~unloading &
-                                       (eps_p >= self.memory.peak_strain),
-                                       self.stress.x.array.reshape(-1, 4)[self.dof_T]
-                                       if self.duncan_chang else None)
-                    held = self.is_soil & (self._switches >= MAX_SWITCHES)
-                    extra = {"unloading_cells": row["unloading"],
-                             "held_on_loading_curve": comm.allreduce(int(held[own].sum())),
-                             "unloading_modulus_ratio": self.memory.ratio}
-                return {"converged": True, "iterations": it, "history": self.history,
-                        **extra,
-                        "criterion": f"no cell's deviator misfit exceeds {tol:g} (Eq. 20; "
-                                     f"largest {worst:.2e}) and the displacement update is "
-                                     f"{du_rel:.1e} <= {du_tol:g}",
-                        "cells_at_ultimate": n_ult,
-                        "error_estimate": _error_estimate(w0_hist)}
-            # every soil cell takes its secant modulus (the paper updates only the cells
-            # outside the tolerance; that freezes a misfit of up to the tolerance, worth
-            # 2.5 % of w0 at the paper's 0.05 in the flexible-load test)
-            floor = MODULUS_FLOOR * self.E_initial
-            if switched is not None and comm.allreduce(int(switched[own].sum())):
-                # the map itself changed: its history no longer fits it
-                del self._x_hist[:], self._f_hist[:], self._g_hist[:]
-            if self.duncan_chang:
-                # accelerated on ln G with each failed cell's bulk modulus held, so that a
-                # failed cell's (E, nu) stay a pair of the law
-                G = E / (2.0 * (1.0 + self.nu))
-                G_new = np.maximum(law["G"], floor / 3.0)
-                if self.anderson_depth:
-                    G_new = self._anderson(G, G_new, floor / 3.0, own,
-                                           ceiling=self.E_initial / 2.0)
-                new, nu_new = _moduli(G_new, law["K"], self.nu_intact)
-                if unloading is not None:
-                    # on its unloading line a cell is intact, of modulus E_ur
-                    new = np.where(unloading, E_new, new)
-                    nu_new = np.where(unloading, self.nu_intact, nu_new)
-                    self.memory.set_unloading(unloading)
-                self.nu = np.where(self.is_soil, nu_new, self.nu_intact)
-                self.nu_field.x.array[self.dof_nu] = self.nu
-            else:
-                new = np.maximum(E_new, floor)
-                if self.anderson_depth:
-                    new = self._anderson(E, new, floor, own, ceiling=self.E_initial)
-                if unloading is not None:
-                    # (E_ur lies above the loading curve's ceiling, 1/a)
-                    new = np.where(unloading, E_new, new)
-                    self.memory.set_unloading(unloading)
-            self.modulus.x.array[self.dof_E] = np.where(self.is_soil, new, E)
+                return self._converged(it, row, tol, worst, du_rel, du_tol, n_ult, w0_hist,
+                                       E, eps_min, eps_max, nu_law, unloading, own)
+            self._update(E, E_new, law, unloading, switched, own)
+        self._fail(s, n_ult, ultimate, max_it, worst, du_rel, tol)
+
+    def _log_start(self, s, tol: float, log) -> None:
+        if self.duncan_chang:
+            log.info("Duncan-Chang soil: K = %.4g, n = %.3g, R_f = %.3g, c = %.4g Pa, phi = "
+                     "%.3g deg, gamma = %.4g N/m^3, K0 = %.3g; tolerance %.3g (Eq. 18)",
+                     s.modulus_number, s.modulus_exponent, s.failure_ratio, s.cohesion,
+                     s.friction_angle, s.unit_weight, s.K0, tol)
+        else:
+            log.info("hyperbolic soil: 1/a = %.4g Pa, 1/b = %.4g Pa, tolerance %.3g (Eq. 18)",
+                     1.0 / s.hyperbolic_a, 1.0 / s.hyperbolic_b, tol)
+        log.info("  it  changing  max misfit  at ultimate  du/u        time s")
+
+    def _secant_moduli(self, s, E, eps_min, eps_max) -> tuple:
+        """Each cell's secant modulus of its law at the current strains (Eq. 19, or Duncan &
+        Chang's at the current confinement), its misfit (Eq. 18) and whether it is at the
+        ultimate deviator. Returns (Duncan & Chang's law record or None, E_new, misfit,
+        ultimate)."""
+        if not self.duncan_chang:
+            _, _, misfit, E_new, ultimate = secant_update(E, self.nu, eps_min, eps_max,
+                                                          self.a, self.b)
+            return None, E_new, misfit, ultimate
+        # Duncan & Chang: a, b and failure follow each cell's confinement; the misfit is the
+        # modulus's distance from the consistent secant modulus
+        self.stress.interpolate(self.stress_expr)
+        # (cells outside the soil, e.g. the pit's void, given G = 1 to keep quiet)
+        law = duncan_chang_secant(
+            s, self.strata, self.geostatic, self.stress.x.array.reshape(-1, 4)[self.dof_T],
+            np.where(self.is_soil, E / (2.0 * (1.0 + self.nu)), 1.0), eps_min, eps_max)
+        self.a, self.b, E_new = law["a"], law["b"], law["E"]
+        self.E_initial = 1.0 / self.a
+        misfit = np.abs(E - E_new) / E
+        return law, E_new, misfit, law["failed"]
+
+    def _unloading(self, E, E_new, ultimate, eps_min, eps_max, nu_law, tol) -> tuple:
+        """A remembering soil: the cells below their most loaded state follow their
+        unloading line (E_ur). Returns (E_new, misfit, ultimate, unloading, switched)."""
+        # cells below their most loaded state follow their unloading line: E_ur
+        was = self.memory.unloading_mask
+        unloading = self.is_soil & unloading_cells(
+            major_strain(eps_min, eps_max, nu_law), self.memory.peak_strain, was, tol)
+        # (none on a line or going there, as while a path first loads: no E_ur to find,
+        # which for Duncan & Chang's soil is a bisection over the cells)
+        E_ur = self._unloading_modulus(E) if (unloading | was).any() else E
+        # a cell leaves its line only once its modulus there has settled: passing its
+        # largest strain under a modulus that is still moving (Duncan & Chang's E_ur
+        # follows the confinement, which lags at a stage's start) is no reloading past it
+        unloading |= was & self.is_soil & (np.abs(E - E_ur) > tol * E)
+        # a cell at the kink of its law (its strain at its largest, neither loading nor
+        # unloading) can flip between the soft curve and the stiff line at every
+        # iteration: after MAX_SWITCHES it is held on the curve (the paper's law)
+        self._switches += unloading != was
+        unloading &= self._switches < MAX_SWITCHES
+        switched = unloading != was
+        E_new = np.where(unloading, E_ur, E_new)
+        misfit = np.abs(E - E_new) / E
+        return E_new, misfit, ultimate & ~unloading, unloading, switched
+
+    def _converged(self, it, row, tol, worst, du_rel, du_tol, n_ult, w0_hist, E, eps_min,
+                   eps_max, nu_law, unloading, own) -> dict:
+        """The record of a converged iteration; the soil block keeps the converged Kondner
+        constants (for the stress level) and a remembering soil its new peaks."""
+        comm = self.model.domain.mesh.comm
+        # the converged Kondner constants of each cell, for the stress level
+        self.model.soil.kondner = (self.a, self.b, self.nu_intact if
+                                   self.duncan_chang else self.nu)
+        extra = {}
+        if self.memory is not None:
+            # the cells on the loading curve past their largest strain are at their most
+            # loaded state so far (a held cell below it keeps its own)
+            eps_p = major_strain(eps_min, eps_max, nu_law)
+            self.memory.commit(self.model.soil.u, eps_p, E, self.nu, self.is_soil & ~unloading &
+                               (eps_p >= self.memory.peak_strain),
+                               self.stress.x.array.reshape(-1, 4)[self.dof_T]
+                               if self.duncan_chang else None)
+            held = self.is_soil & (self._switches >= MAX_SWITCHES)
+            extra = {"unloading_cells": row["unloading"],
+                     "held_on_loading_curve": comm.allreduce(int(held[own].sum())),
+                     "unloading_modulus_ratio": self.memory.ratio}
+        return {"converged": True, "iterations": it, "history": self.history,
+                **extra,
+                "criterion": f"no cell's deviator misfit exceeds {tol:g} (Eq. 20; "
+                             f"largest {worst:.2e}) and the displacement update is "
+                             f"{du_rel:.1e} <= {du_tol:g}",
+                "cells_at_ultimate": n_ult,
+                "error_estimate": _error_estimate(w0_hist)}
+
+    def _update(self, E, E_new, law, unloading, switched, own) -> None:
+        """Every soil cell takes its secant modulus (the paper updates only the cells
+        outside the tolerance; that freezes a misfit of up to the tolerance, worth 2.5 % of
+        w0 at the paper's 0.05 in the flexible-load test), floored, Anderson-accelerated."""
+        comm = self.model.domain.mesh.comm
+        floor = MODULUS_FLOOR * self.E_initial
+        if switched is not None and comm.allreduce(int(switched[own].sum())):
+            # the map itself changed: its history no longer fits it
+            del self._x_hist[:], self._f_hist[:], self._g_hist[:]
+        if self.duncan_chang:
+            # accelerated on ln G with each failed cell's bulk modulus held, so that a
+            # failed cell's (E, nu) stay a pair of the law
+            G = E / (2.0 * (1.0 + self.nu))
+            G_new = np.maximum(law["G"], floor / 3.0)
+            if self.anderson_depth:
+                G_new = self._anderson(G, G_new, floor / 3.0, own,
+                                       ceiling=self.E_initial / 2.0)
+            new, nu_new = _moduli(G_new, law["K"], self.nu_intact)
+            if unloading is not None:
+                # on its unloading line a cell is intact, of modulus E_ur
+                new = np.where(unloading, E_new, new)
+                nu_new = np.where(unloading, self.nu_intact, nu_new)
+                self.memory.set_unloading(unloading)
+            self.nu = np.where(self.is_soil, nu_new, self.nu_intact)
+            self.nu_field.x.array[self.dof_nu] = self.nu
+        else:
+            new = np.maximum(E_new, floor)
+            if self.anderson_depth:
+                new = self._anderson(E, new, floor, own, ceiling=self.E_initial)
+            if unloading is not None:
+                # (E_ur lies above the loading curve's ceiling, 1/a)
+                new = np.where(unloading, E_new, new)
+                self.memory.set_unloading(unloading)
+        self.modulus.x.array[self.dof_E] = np.where(self.is_soil, new, E)
+
+    def _fail(self, s, n_ult, ultimate, max_it, worst, du_rel, tol) -> None:
+        """No converged state in max_iterations: what failed, in physical terms."""
         if n_ult > 0 and self.duncan_chang:
             raise SoilFailure(
                 f"no converged state with {n_ult} failed elements (Mohr-Coulomb) "

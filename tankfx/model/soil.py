@@ -13,16 +13,15 @@ import numpy as np
 import ufl
 from dolfinx import fem
 from dolfinx import mesh as dmesh
-from mpi4py import MPI
 
 from ..fem.blocks import cell_field, empty_form
 from ..fem.solvers import mass_solve
-from ..laws import biot as cf
 from ..laws import elasticity as soil_forms
-from ..laws.duncan_chang import initial_modulus
-from ..mesh import CELL_TAGS, FACET_TAGS, Domain
+from ..mesh import CELL_TAGS, Domain
 from ..scene.scene import Scene
+from .materials import soil_materials
 from .memory import UnloadingMemory
+from .pore_pressure import PorePressure
 
 #: Cell tags of the strata of layered ground (stratum i: STRATUM_TAG + i), clear of the
 #: domain's own cell tags
@@ -51,72 +50,21 @@ class SoilBlock:
         self.V = fem.functionspace(msh, ("Lagrange", scene.mesh.degree, (2,)))
         self.u = fem.Function(self.V, name="u")
         self.r = soil_forms.radius(msh)
-        h = soil_forms.depth(msh)
         strata = s.strata
         #: the strata solved in the mixed form (nu > MIXED_FROM_NU), each with a pressure
         #: of its own: p = -lambda tr(eps) jumps where lambda does, at a layer's top, which
         #: one pressure continuous over the layers cannot follow (measured: w0 1.6-1.8 %
         #: off on three layers, against 3e-5 without a mixed layer)
         # (and Duncan & Chang's soil throughout: Soil.mixed_strata)
-        dc = s.model == "duncan_chang"
         self.mixed_strata = s.mixed_strata
         self.mixed = bool(self.mixed_strata)
-        self.stratum = np.zeros(0, dtype=np.int32)     # per local cell (layered ground)
-        #: per local cell, its stratum's constants (Soil.at_depth; layered ground and
-        #: Duncan & Chang's soil, else None)
-        self.cell_strata = None
-        #: which local cells are a ringwall's, and its fill's (none without); the secant
-        #: iteration leaves both (``linear_cells``) at their own modulus
-        ring = scene.ringwall
-        self.ringwall_cells = np.zeros(len(domain.cell_midpoints), dtype=bool)
-        self.fill_cells = self.ringwall_cells.copy()
-        #: a ringwall's cells (and its fill's) are materials of their own: the last
-        #: "strata" (linear, in the displacement form), after the ground's
-        self.n_materials = len(strata) + (ring is not None) + \
-            (ring is not None and ring.fill_E is not None)
-        if s.layers or dc or ring is not None:
-            # per cell, its stratum's values (the layers' tops are lines of the mesh, so
-            # no cell straddles two): E = E_top (1 + lambda (h - top)) within each; and a
-            # Poisson's ratio per cell, which a failed Duncan-Chang cell changes
-            depth = -domain.cell_midpoints[:, 1]
-            self.stratum = s.stratum_of(depth).astype(np.int32)
-            values = self.cell_strata = s.at_depth(depth)
-            if ring is not None:
-                self.ringwall_cells = ring.holds(*domain.cell_midpoints.T, scene.embedment)
-                self.fill_cells = ring.fill_holds(*domain.cell_midpoints.T, scene.embedment)
-                for k, (cells, E, nu) in enumerate(((self.ringwall_cells, ring.E, ring.nu),
-                                                    (self.fill_cells, ring.fill_E,
-                                                     ring.fill_nu))):
-                    self.stratum[cells] = len(strata) + k
-                    for key, value in (("E_top", E), ("E_gradient", 0.0), ("top", 0.0),
-                                       ("nu", nu)):
-                        values[key][cells] = value
-            self.E_s, self.gradient, top, self.nu = (
-                cell_field(msh, values[key], key) for key in ("E_top", "E_gradient", "top",
-                                                               "nu"))
-            h = h - top
-        else:
-            # Constants rather than floats: the compiled forms are then shared by every
-            # scene of the same structure (sweeps, benchmarks) instead of recompiled per
-            # value.
-            self.E_s = fem.Constant(msh, s.E)
-            self.nu = fem.Constant(msh, s.nu)
-            self.gradient = fem.Constant(msh, s.E_gradient)
-        self.E = soil_forms.modulus_with_depth(self.E_s, self.gradient, h)
-        if s.nonlinear:
-            # the secant modulus, one value per cell, starting at the initial tangent modulus
-            # (at the cell's centroid, like the paper's element modulus)
-            if dc:      # at the geostatic confinement (depth: the cells', above)
-
-                initial = initial_modulus(s, depth, values)
-                # a ringwall and its fill are no soil of this law: their own E
-                initial[self.linear_cells] = values["E_top"][self.linear_cells]
-                modulus = cell_field(msh, initial, "secant_modulus")
-            else:
-                Q0 = fem.functionspace(msh, ("DG", 0))
-                modulus = fem.Function(Q0, name="secant_modulus")
-                modulus.interpolate(fem.Expression(self.E, Q0.element.interpolation_points))
-            self.E = modulus
+        #: the materials cell by cell (strata, a ringwall and its fill) and the modulus
+        #: fields: E is a nonlinear soil's DG0 secant modulus (tankfx.model.materials)
+        self.materials = mat = soil_materials(scene, domain)
+        self.stratum, self.cell_strata = mat.stratum, mat.cell_strata
+        self.ringwall_cells, self.fill_cells = mat.ringwall_cells, mat.fill_cells
+        self.n_materials = mat.n_materials
+        self.E_s, self.gradient, self.nu, self.E = mat.E_s, mat.gradient, mat.nu, mat.E
         self.trial, self.test = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
         self._cell_measures(self.n_materials)
         self.unknowns = [self.u]
@@ -167,82 +115,20 @@ class SoilBlock:
         self.supported_facets = domain.facets("far_side", "bottom")
 
     def _pore_pressure(self, msh) -> None:
-        """Biot's blocks (tankfx.laws.biot) for the excess pore pressure, one degree
-        below the displacement, with the drained boundaries by Nitsche's method; the time
-        step enters through ``conductance`` (dt k / gamma_w) and ``step_weights``, the
-        earlier states through ``u_n``, ``u_nn``."""
-
-        scene = self.scene
-        c, deg = scene.consolidation, scene.mesh.degree
-        Q = fem.functionspace(msh, ("Lagrange", deg - 1))
-        p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
-        #: dt_eff / gamma_w (s m^3/N), times each stratum's permeability in the forms
-        self.conductance = fem.Constant(msh, 0.0)
-        strata = scene.soil.strata
-        k, _ = cf.stratum_coefficients(scene)
-        # a ringwall (and its fill) has no pore pressure: k 0 there (its own materials
-        # follow the ground's strata)
-        k += [0.0] * (self.n_materials - len(strata))
-        #: Darcy's k (m/s): one value, or per cell by stratum (layers, a ringwall)
-        self.permeability = fem.Constant(msh, k[0]) if self.n_materials == 1 else \
-            cell_field(msh, np.array(k)[self.stratum], "permeability")
-        self.step_weights = w = cf.StepWeights(msh)
-        self.u_n, self.u_nn = (fem.Function(self.V, name=n) for n in ("u_n", "u_nn"))
-        flow = self.conductance * self.permeability
+        """Biot's blocks for the excess pore pressure (:class:`PorePressure`): the block's
+        displacement form and its one pressure, continuous over the strata (its flux too,
+        naturally); none in a ringwall (no flow across its faces) and none in its fill
+        (drained: the ground drains into it). A time step changes ``conductance``,
+        ``step_weights`` and the earlier states ``u_n``, ``u_nn``."""
         #: the ground's strata: where the pore water is (not a ringwall's concrete, nor
         #: its fill, which drains)
-        self.ground = tuple(range(len(strata)))
-        dx_ground = self.dx_strata(self.ground)
-        _, a_up, a_pu, a_pp = cf.biot_forms(self.trial, p, self.test, q, self.E, self.nu,
-                                            flow, self.r, dx_ground)
-        a_uu = soil_forms.stiffness_form(self.trial, self.test, self.E, self.nu, self.r,
-                                         self.dx)
-        drained = ["surface"] + (["contact"] if scene.plate is None else []) + \
-            (["bottom"] if c.drainage == "top_and_bottom" else [])
-        ds = ufl.Measure("ds", domain=msh, subdomain_data=self.domain.facet_tags)
-        a_pp += cf.drainage_form(p, q, flow, self.r,
-                                 ds(tuple(FACET_TAGS[n] for n in drained)), deg - 1)
-        fill_faces = self._fill_faces(msh)
-        if fill_faces is not None:
-            # a ringwall's fill drains: the ground's faces on it are drained boundaries,
-            # from the ground's side (the fill's own pore pressure is pinned to 0)
-            chi = self.in_ground
-            a_pp += sum(cf.drainage_form(p(side), q(side), flow(side), self.r,
-                                         fill_faces, deg - 1, side=side, weight=chi(side))
-                        for side in ("+", "-"))
-        others = self.dx_outside(self.ground)
-        if others is not None:
-            # (the pressure dofs there are pinned, see pins: a zero term gives their
-            # Dirichlet rows a diagonal)
-            a_pp += fem.Constant(msh, 0.0) * p * q * others
-        self.a = a_uu
-        self.pressures.append((fem.Function(Q, name="pore_pressure"), (a_up, a_pu, a_pp),
-                               cf.previous_volume_load([(w.previous, self.u_n),
-                                                        (w.before, self.u_nn)],
-                                                       q, self.r, dx_ground)))
-        # one pore pressure, continuous over the strata (its flux too, naturally); none
-        # in a ringwall (no flow across its faces) and none in its fill (drained: the
-        # ground drains into it)
+        self.ground = tuple(range(len(self.scene.soil.strata)))
+        pore = PorePressure(self, msh)
+        self.conductance, self.permeability = pore.conductance, pore.permeability
+        self.step_weights, self.u_n, self.u_nn = pore.step_weights, pore.u_n, pore.u_nn
+        self.a = pore.a
+        self.pressures.append(pore.block)
         self.pressure_strata = [self.ground]
-
-    def _fill_faces(self, msh):
-        """The interior-facet measure of the faces between a ringwall's fill and the ground
-        (None without a fill, on every rank alike)."""
-        if not msh.comm.allreduce(bool(self.fill_cells.any()), op=MPI.LOR):
-            return None
-        tdim = msh.topology.dim
-        msh.topology.create_connectivity(tdim - 1, tdim)
-        f2c = msh.topology.connectivity(tdim - 1, tdim)
-        n = msh.topology.index_map(tdim - 1).size_local + \
-            msh.topology.index_map(tdim - 1).num_ghosts
-        ground = np.isin(self.stratum, self.ground)
-        ground[self.domain.cells("void")] = False
-        fill, start = self.fill_cells, f2c.offsets[:n]
-        two = np.flatnonzero(np.diff(f2c.offsets)[:n] == 2)     # interior facets
-        c0, c1 = f2c.array[start[two]], f2c.array[start[two] + 1]
-        faces = two[(fill[c0] & ground[c1]) | (fill[c1] & ground[c0])].astype(np.int32)
-        tags = dmesh.meshtags(msh, tdim - 1, faces, np.ones(len(faces), dtype=np.int32))
-        return ufl.Measure("dS", domain=msh, subdomain_data=tags)(1)
 
     @cached_property
     def in_ground(self) -> fem.Function:
