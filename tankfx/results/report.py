@@ -13,15 +13,29 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
     settlements and their Eq. 23 measures, the moments and the wall's hoop force, what a tank
     code asks of the settlements, the interface's state and the iterations. Only the rows
     the scene has (no moments without a plate, no interface lengths for a bonded one)."""
-    r, nd = results, results["nondim"]
+    return (_settlement_rows(results) + _structure_rows(results)
+            + _consolidation_rows(results) + _overturning_rows(results)
+            + _iteration_rows(results) + _stage_rows(results))
+
+
+def _settlement_rows(r: dict) -> list[tuple[str, str, str]]:
+    """w0, wd and M0 with their Eq. 23 measures."""
+    nd = r["nondim"]
 
     def bar(key, digits):            # Eq. 23 needs p: none under self-weight alone
         return "no p for Eq. 23" if nd[key] is None else f"{key}_bar = {nd[key]:.{digits}f}"
 
-    rows = [("centre settlement w0", f"{1e3 * r['w0']:.2f} mm", bar("w0", 4)),
-            ("differential settlement wd", f"{1e3 * r['wd']:.2f} mm", bar("wd", 4))]
+    rows = []
+    rows += [("centre settlement w0", f"{1e3 * r['w0']:.2f} mm", bar("w0", 4)),
+             ("differential settlement wd", f"{1e3 * r['wd']:.2f} mm", bar("wd", 4))]
     if r.get("M0") is not None:
         rows.append(("centre moment M0", f"{r['M0'] / 1e3:.2f} kN m/m", bar("M0", 5)))
+    return rows
+
+
+def _structure_rows(r: dict) -> list[tuple[str, str, str]]:
+    """The joint's moments, the wall's hoop force and courses, the settlement summary."""
+    rows = []
     if "junction" in r:
         j = r["junction"]
         rows += [("plate moment at the joint", f"{j['M_plate'] / 1e3:.2f} kN m/m",
@@ -43,6 +57,12 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
                  ("settlement at the shell", f"{1e3 * ss['shell_settlement']:.2f} mm", ""),
                  ("centre-to-shell dish", f"{1e3 * ss['dish']:.2f} mm",
                   f"dish / radius = {ss['dish_over_radius']:.2e}")]
+    return rows
+
+
+def _consolidation_rows(r: dict) -> list[tuple[str, str, str]]:
+    """A consolidation: undrained, at each reported time, drained."""
+    rows = []
     c = r.get("consolidation")
     if c:
         rows += [("consolidation: undrained w0 (t = 0)", f"{1e3 * c['undrained']['w0']:.2f} mm",
@@ -56,6 +76,12 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
                  for s in c["at_times"][1:]]
         rows.append(("  drained limit w0 (t -> infinity)", f"{1e3 * c['drained']['w0']:.2f} mm",
                      f"the results above: t = {c['at_times'][-1]['t_days']:.4g} days"))
+    return rows
+
+
+def _overturning_rows(r: dict) -> list[tuple[str, str, str]]:
+    """The overturning's first harmonic: tilt, toe and heel, the wall's foot."""
+    rows = []
     o = r.get("overturning")
     if o:
         # the first harmonic: toe = the side pressed down (theta = 0), heel = the other
@@ -90,6 +116,12 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
         error = max(eq["moment_relative_error"], eq["shear_relative_error"])
         rows.append(("overturning equilibrium error", f"{error:.1e}",
                      "moment and shear resisted by the interface"))
+    return rows
+
+
+def _iteration_rows(r: dict) -> list[tuple[str, str, str]]:
+    """The interface's slipping and separated lengths, the iterations, equilibrium."""
+    rows = []
     ifc = r.get("interface", {})
     if ifc.get("condition") == "mohr_coulomb":
         parts = [p for p in ("plate", "wall") if p in r["profiles"]]
@@ -104,6 +136,12 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
     eq = r["equilibrium"]
     rows.append(("equilibrium error", f"{eq['relative_error']:.1e}",
                  "supports' reaction against the applied load"))
+    return rows
+
+
+def _stage_rows(r: dict) -> list[tuple[str, str, str]]:
+    """The load path's stages (the last being the rows above)."""
+    rows = []
     for st in r.get("stages", []):       # the load path, the last stage being the above
         lengths = st.get("interface", {})
         note = ", ".join(f"{state} {sum(lengths[f'{state}_length'].values()):.2f} m"
