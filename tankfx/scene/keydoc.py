@@ -27,6 +27,23 @@ the range.
 """
 
 
+#: the load path's tables: the [load] keys, and a consolidation's time
+STAGES = """A load path: each `[[stages]]` table is the `[load]` with the keys it gives changed
+(an empty one is `[load]` itself); the stages are analysed in order on one mesh, the
+interface's states carried from each to the next (an element separated at one stage and in
+contact at the next is `rebonded`); total loads, as in the paper (slip is not accumulated; a
+hyperbolic soil with `unloading_modulus_ratio` remembers each cell's most loaded state);
+results are the last stage's, with every stage's numbers under `stages`; a change of `[load]`
+(a sweep's axis) reaches every stage that does not set that key itself.
+
+`time` (s; required with a `[consolidation]`, refused without): the time after the start at
+which the stage's load is reached, linearly from the stage before's (from no load at t = 0 for
+the first: a tank fills; a liquid's unit weight is there from the start, and self-weight, the
+same in every stage, from t = 0); a time equal to the one before: the change at once (an
+undrained step); after the last stage the load is held. A hold is two stages of one load, a
+change at once two stages at one time; a stage may have no load (the tank emptied)."""
+
+
 def _allowed(spec: Key) -> str:
     if spec.choices:
         return ", ".join(f'"{c}"' if isinstance(c, str) else str(c) for c in spec.choices)
@@ -65,10 +82,7 @@ def markdown() -> str:
               "Strata below the surface soil, top down, each a table of these keys (a "
               "nonlinear soil's layers take its model's keys too).", ""]
     lines += _rows(Layer, LAYER_KEYS, {k: t for k, (t, _) in LAYER_SPEC.items()}) + [""]
-    lines += ["## [[stages]]", "",
-              "A load path: each table holds the [load] keys that change from the [load] "
-              "section, and with a [consolidation] its `time` (s) at which that load is "
-              "reached.", ""]
+    lines += ["## [[stages]]", "", STAGES, ""]
     return "\n".join(lines).rstrip() + "\n"
 
 

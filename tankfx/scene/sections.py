@@ -88,37 +88,71 @@ class Layer:
     base): E(h) = E (1 + E_gradient (h - depth)) within it."""
 
     depth: float = key(unit="m", required=True, limit=POSITIVE,
-                       meaning="depth of the layer's top below the ground surface")
+                       meaning="depth of the layer's top below the ground surface (it may lie "
+                               "above, on or below an embedded plate's underside; each deeper than "
+                               "the last, above `domain.depth`); the tops are lines of the mesh")
     E: float = key(unit="Pa", limit=POSITIVE, default_doc="required (linear soil)",
-                   meaning="Young's modulus at the layer's top (1/a if hyperbolic)")
+                   meaning="the layer's modulus at its top, Poisson's ratio (up to 0.5: a layer "
+                           "above 0.45 is solved in the mixed form with a pressure of its own, the "
+                           "others in the displacement form), and its growth within the layer, E (1"
+                           " + E_gradient (h - depth))")
     nu: float = key(unit="-", required=True, limit=SOIL_POISSON, why=SOIL_POISSON_WHY,
-                    meaning="Poisson's ratio")
+                    meaning="the layer's modulus at its top, Poisson's ratio (up to 0.5: a layer "
+                            "above 0.45 is solved in the mixed form with a pressure of its own, the"
+                            " others in the displacement form), and its growth within the layer, E "
+                            "(1 + E_gradient (h - depth))")
     E_gradient: float = key(0.0, unit="1/m", limit=NON_NEGATIVE,
-                            meaning="growth of E with depth below the layer's top")
+                            meaning="the layer's modulus at its top, Poisson's ratio (up to 0.5: a "
+                                    "layer above 0.45 is solved in the mixed form with a pressure "
+                                    "of its own, the others in the displacement form), and its "
+                                    "growth within the layer, E (1 + E_gradient (h - depth))")
     hyperbolic_a: float | None = key(None, unit="1/Pa", limit=POSITIVE,
-                                     meaning="Kondner's a: 1/a is the initial tangent modulus")
+                                     meaning="Kondner's a and b of the layer (then E is 1/a and may"
+                                             " be left out)")
     hyperbolic_b: float | None = key(None, unit="1/Pa", limit=POSITIVE,
-                                     meaning="Kondner's b: 1/b is the ultimate deviator stress")
+                                     meaning="Kondner's a and b of the layer (then E is 1/a and may"
+                                             " be left out)")
     # Duncan & Chang's constants of the layer (model = "duncan_chang"; p_a is the soil's)
     modulus_number: float | None = key(None, unit="-", limit=POSITIVE,
-                                       meaning="Duncan & Chang's K: E_i = K p_a "
-                                               "(sigma_3 / p_a)^n")
+                                       meaning="Duncan & Chang's constants of the layer (E is K "
+                                               "p_a, p_a the soil's); the geostatic stress sums the"
+                                               " weights of the strata above")
     modulus_exponent: float | None = key(None, unit="-", limit=Limit(0.0, 1.0, False),
-                                         why=EXPONENT_WHY, meaning="Duncan & Chang's n")
+                                         why=EXPONENT_WHY, meaning="Duncan & Chang's constants of "
+                                                                   "the layer (E is K p_a, p_a the "
+                                                                   "soil's); the geostatic stress "
+                                                                   "sums the weights of the strata "
+                                                                   "above")
     failure_ratio: float | None = key(None, unit="-", limit=Limit(0.0, 1.0), why=RF_WHY,
-                                      default_doc="0.9", meaning="R_f = (sigma_1 - sigma_3)_f / "
-                                                             "ultimate deviator")
+                                      default_doc="0.9", meaning="Duncan & Chang's constants of the"
+                                                                 " layer (E is K p_a, p_a the "
+                                                                 "soil's); the geostatic stress "
+                                                                 "sums the weights of the strata "
+                                                                 "above")
     cohesion: float | None = key(None, unit="Pa", limit=NON_NEGATIVE, default_doc="0",
-                                 meaning="Mohr-Coulomb cohesion c")
+                                 meaning="Duncan & Chang's constants of the layer (E is K p_a, p_a "
+                                         "the soil's); the geostatic stress sums the weights of the"
+                                         " strata above")
     friction_angle: float | None = key(None, unit="deg", limit=ANGLE, why="degrees",
-                                       default_doc="0", meaning="Mohr-Coulomb friction angle phi")
+                                       default_doc="0", meaning="Duncan & Chang's constants of the "
+                                                                "layer (E is K p_a, p_a the "
+                                                                "soil's); the geostatic stress sums"
+                                                                " the weights of the strata above")
     unit_weight: float | None = key(None, unit="N/m^3", limit=POSITIVE,
-                                    meaning="unit weight gamma (the geostatic stress)")
+                                    meaning="Duncan & Chang's constants of the layer (E is K p_a, "
+                                            "p_a the soil's); the geostatic stress sums the weights"
+                                            " of the strata above")
     K0: float | None = key(None, unit="-", limit=POSITIVE, default_doc="1 - sin(phi)",
-                           meaning="horizontal / vertical geostatic stress")
+                           meaning="Duncan & Chang's constants of the layer (E is K p_a, p_a the "
+                                   "soil's); the geostatic stress sums the weights of the strata "
+                                   "above")
     permeability: float | None = key(None, unit="m/s", limit=POSITIVE,
                                      default_doc="[consolidation] permeability",
-                                     meaning="Darcy's k of the layer in a consolidation")
+                                     meaning="a layer's own Darcy k in a consolidation (e.g. a sand"
+                                             " layer that drains a clay: a large k); the pore "
+                                             "pressure is one field, continuous across the layers' "
+                                             "boundaries, and so is its flux; each layer's drained "
+                                             "nu <= 0.45")
 
 
 #: The [soil] (or layer) keys that set its E (1/a, K p_a): a change of one of them drops
@@ -134,59 +168,107 @@ STRATUM_DUNCAN_CHANG = ("modulus_number", "modulus_exponent", "failure_ratio", "
 @dataclass(frozen=True)
 class Soil:
     E: float = key(unit="Pa", limit=POSITIVE, default_doc="required (linear soil)",
-                   meaning="Young's modulus at the ground surface (1/a if hyperbolic, K p_a "
-                           "for Duncan & Chang's)")
+                   meaning="Young's modulus at the ground surface, E_s; for a hyperbolic soil it is"
+                           " 1/a and may be left out")
     nu: float = key(unit="-", required=True, limit=SOIL_POISSON, why=SOIL_POISSON_WHY,
-                    meaning="Poisson's ratio (above 0.45: the mixed u-p form)")
+                    meaning="Poisson's ratio, -1 < nu <= 0.5; above 0.45 the soil is solved in the "
+                            "mixed displacement-pressure form (chosen automatically), 0.5 is an "
+                            "incompressible (undrained) soil")
     E_gradient: float = key(0.0, unit="1/m", limit=NON_NEGATIVE,
-                            meaning="lambda: E(h) = E (1 + lambda h), h the depth")
+                            meaning="lambda: E(h) = E_s (1 + lambda h), h = depth below the "
+                                    "surface")
     model: str = key("linear", choices=("linear", "hyperbolic", "duncan_chang"),
-                     meaning="the soil's law: linear elastic, Kondner's hyperbola (Eqs. "
-                             "17-20) or Duncan & Chang's")
+                     meaning="\"linear\", \"hyperbolic\" (Kondner, Eqs. 17-20) or \"duncan_chang\" "
+                             "(Kondner's law with the constants of each cell's confinement, below)")
     hyperbolic_a: float | None = key(None, unit="1/Pa", limit=POSITIVE,
-                                     meaning="Kondner's a: 1/a is the initial tangent modulus")
+                                     meaning="1/a = initial tangent modulus at the surface (scaled "
+                                             "by 1 + lambda h with depth), 1/b = ultimate deviator "
+                                             "stress; the paper's a = 0.00021, b = 0.01 read in kPa"
+                                             " are 2.1e-7 and 1e-5 1/Pa")
     hyperbolic_b: float | None = key(None, unit="1/Pa", limit=POSITIVE,
-                                     meaning="Kondner's b: 1/b is the ultimate deviator stress")
+                                     meaning="1/a = initial tangent modulus at the surface (scaled "
+                                             "by 1 + lambda h with depth), 1/b = ultimate deviator "
+                                             "stress; the paper's a = 0.00021, b = 0.01 read in kPa"
+                                             " are 2.1e-7 and 1e-5 1/Pa")
     tolerance: float | None = key(None, unit="-", limit=Limit(0.0, 1.0, high_open=True),
                                   why="the relative deviator misfit of Eq. 18; the paper's "
                                       "0.05 is the default",
                                   default_doc=f"{DEFAULT_TOLERANCE:g} (nonlinear soil)",
-                                  meaning="Eq. 18's relative deviator misfit")
+                                  meaning="Eq. 18's relative deviator misfit, and the Picard "
+                                          "iterations allowed (Duncan & Chang's failed zones settle"
+                                          " slowly: 10-64 measured)")
     max_iterations: int | None = key(None, unit="-", limit=Limit(1, low_open=False),
                                      default_doc=", ".join(f"{n} ({m})" for m, n in
                                                            MAX_ITERATIONS.items()),
-                                     meaning="secant (Picard) iterations at most")
+                                     meaning="Eq. 18's relative deviator misfit, and the Picard "
+                                             "iterations allowed (Duncan & Chang's failed zones "
+                                             "settle slowly: 10-64 measured)")
     # Duncan & Chang's soil (model = "duncan_chang"): Kondner's law with the initial modulus
     # K p_a (sigma_3 / p_a)^n and the ultimate deviator (Mohr-Coulomb strength) / R_f of
     # each cell's confining stress: geostatic (unit weight, K0) plus the tank's
     modulus_number: float | None = key(None, unit="-", limit=POSITIVE,
-                                       meaning="Duncan & Chang's K: E_i = K p_a "
-                                               "(sigma_3 / p_a)^n")
+                                       meaning="Duncan & Chang's K and n: the initial modulus K p_a"
+                                               " (sigma_3 / p_a)^n, sigma_3 each cell's minor "
+                                               "principal compression (geostatic plus the tank's; "
+                                               "at least 0.01 p_a); E is then K p_a (the E_s of "
+                                               "Eqs. 21-23) and may be left out; the soil is solved"
+                                               " in the mixed form (nu > 0; mesh degree 2 or 3; "
+                                               "direct solver)")
     modulus_exponent: float | None = key(None, unit="-", limit=Limit(0.0, 1.0, False),
-                                         why=EXPONENT_WHY, meaning="Duncan & Chang's n")
+                                         why=EXPONENT_WHY, meaning="Duncan & Chang's K and n: the "
+                                                                   "initial modulus K p_a (sigma_3 "
+                                                                   "/ p_a)^n, sigma_3 each cell's "
+                                                                   "minor principal compression "
+                                                                   "(geostatic plus the tank's; at "
+                                                                   "least 0.01 p_a); E is then K "
+                                                                   "p_a (the E_s of Eqs. 21-23) and"
+                                                                   " may be left out; the soil is "
+                                                                   "solved in the mixed form (nu > "
+                                                                   "0; mesh degree 2 or 3; direct "
+                                                                   "solver)")
     failure_ratio: float | None = key(None, unit="-", limit=Limit(0.0, 1.0), why=RF_WHY,
-                                      default_doc="0.9", meaning="R_f = (sigma_1 - sigma_3)_f / "
-                                                             "ultimate deviator")
+                                      default_doc="0.9", meaning="the Mohr-Coulomb strength q_f = "
+                                                                 "(2 c cos phi + 2 sigma_3 sin phi)"
+                                                                 " / (1 - sin phi) and R_f: the "
+                                                                 "ultimate deviator 1/b = q_f / "
+                                                                 "R_f; c or phi must be > 0")
     cohesion: float | None = key(None, unit="Pa", limit=NON_NEGATIVE, default_doc="0",
-                                 meaning="Mohr-Coulomb cohesion c")
+                                 meaning="the Mohr-Coulomb strength q_f = (2 c cos phi + 2 sigma_3 "
+                                         "sin phi) / (1 - sin phi) and R_f: the ultimate deviator "
+                                         "1/b = q_f / R_f; c or phi must be > 0")
     friction_angle: float | None = key(None, unit="deg", limit=ANGLE, why="degrees",
-                                       default_doc="0", meaning="Mohr-Coulomb friction angle phi")
+                                       default_doc="0", meaning="the Mohr-Coulomb strength q_f = (2"
+                                                                " c cos phi + 2 sigma_3 sin phi) / "
+                                                                "(1 - sin phi) and R_f: the "
+                                                                "ultimate deviator 1/b = q_f / R_f;"
+                                                                " c or phi must be > 0")
     unit_weight: float | None = key(None, unit="N/m^3", limit=POSITIVE,
-                                    meaning="unit weight gamma (the geostatic stress)")
+                                    meaning="the geostatic stress gamma h (vertical) and K0 gamma h"
+                                            " (horizontal), and p_a")
     K0: float | None = key(None, unit="-", limit=POSITIVE, default_doc="1 - sin(phi)",
-                           meaning="horizontal / vertical geostatic stress")
+                           meaning="the geostatic stress gamma h (vertical) and K0 gamma h "
+                                   "(horizontal), and p_a")
     atmospheric_pressure: float | None = key(None, unit="Pa", limit=POSITIVE,
                                              default_doc=f"{ATMOSPHERIC_PRESSURE:g}",
-                                             meaning="p_a of Duncan & Chang's modulus")
+                                             meaning="the geostatic stress gamma h (vertical) and "
+                                                     "K0 gamma h (horizontal), and p_a")
     #: the confinement is effective below it: the geostatic stress less the hydrostatic
     #: pore pressure
     water_table: float | None = key(None, unit="m", limit=NON_NEGATIVE,
                                     default_doc="below everything",
-                                    meaning="depth of the water table (Duncan & Chang's)")
+                                    meaning="(\"duncan_chang\") the water table's depth: below it "
+                                            "the confinement is effective, the geostatic stress "
+                                            "less gamma_w (h - water_table) (give the strata there "
+                                            "their saturated unit weights, which must exceed "
+                                            "gamma_w)")
     water_unit_weight: float | None = key(None, unit="N/m^3", limit=POSITIVE,
                                           default_doc=f"{WATER_UNIT_WEIGHT:g} (with a "
                                                       f"water_table)",
-                                          meaning="gamma_w")
+                                          meaning="(\"duncan_chang\") the water table's depth: "
+                                                  "below it the confinement is effective, the "
+                                                  "geostatic stress less gamma_w (h - water_table) "
+                                                  "(give the strata there their saturated unit "
+                                                  "weights, which must exceed gamma_w)")
     #: the strata below the surface soil (which the keys above describe, from the surface
     #: down to the first layer's top), top down
     layers: tuple[Layer, ...] = ()
@@ -198,7 +280,13 @@ class Soil:
     unloading_modulus_ratio: float | None = key(
         None, unit="-", limit=Limit(1.0, low_open=False), custom=True,
         default_doc="none: unloads along the loading curve",
-        meaning="E_ur / E_i of a nonlinear soil along a load path (1-3 usual)")
+        meaning="(\"hyperbolic\" or \"duncan_chang\", along `[[stages]]` of two or more) E_ur / "
+                "E_i: below its most loaded state so far each cell unloads and reloads along a line"
+                " of E_ur = this times its initial modulus (Duncan & Chang's: K_ur = this x K, at "
+                "the cell's current confinement), keeping its permanent strain (K_ur / K: 1.2-3 in "
+                "Duncan & Chang's tables; 1 is Masing's rule); >= 1; every stratum, any nu; a stage"
+                " may then have no load at all (the load taken off entirely; equilibrium errors "
+                "relative to the path's largest load); refused with a `[consolidation]`")
 
     @property
     def strata(self) -> tuple[Layer, ...]:
@@ -253,21 +341,34 @@ class Soil:
 class Plate:
     radius: float = key(unit="m", required=True, limit=POSITIVE, meaning="a_p")
     thickness: float = key(unit="m", limit=POSITIVE, default_doc="from Kp (Eq. 21)",
-                           meaning="t_p, the floor's (give it or Kp)")
-    E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="Young's modulus")
+                           meaning="t_p, or the relative rigidity Kp = (1 - nu_s^2)(E_p / E_s)(t_p "
+                                   "/ a_p)^3 (Eq. 21, E_s and nu_s at the surface)")
+    E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="plate material")
     nu: float = key(unit="-", required=True, limit=SHELL_POISSON, why=SHELL_POISSON_WHY,
-                    meaning="Poisson's ratio")
+                    meaning="plate material")
     embedment: float = key(0.0, unit="m", limit=NON_NEGATIVE,
-                           meaning="depth of the underside below the ground surface")
+                           meaning="depth of the plate's underside below the ground; the soil above"
+                                   " it, inside r <= a_p, is excavated")
     unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
-                             meaning="its weight, used when load.self_weight is true")
+                             meaning="used only with `load.self_weight = true`")
     #: a ring of another thickness along the edge, under the wall (an API 650 tank's
     #: annular bottom plate, or a thickened edge). The underside stays flat; Kp is the
     #: floor's.
     annular_width: float = key(0.0, unit="m", limit=POSITIVE, default_doc="0: none",
-                               meaning="width of an annular ring, inward from the edge")
+                               meaning="a ring of another thickness along the plate's edge, under "
+                                       "the wall (an API 650 tank's annular bottom plate, or a "
+                                       "thickened edge): its width inward from the edge and its "
+                                       "thickness; both or neither; the ring must reach the wall "
+                                       "(it is what the wall stands on); the underside stays flat; "
+                                       "`thickness` (and Kp) are then the floor's")
     annular_thickness: float | None = key(None, unit="m", limit=POSITIVE,
-                                          meaning="the annular ring's thickness")
+                                          meaning="a ring of another thickness along the plate's "
+                                                  "edge, under the wall (an API 650 tank's annular "
+                                                  "bottom plate, or a thickened edge): its width "
+                                                  "inward from the edge and its thickness; both or "
+                                                  "neither; the ring must reach the wall (it is "
+                                                  "what the wall stands on); the underside stays "
+                                                  "flat; `thickness` (and Kp) are then the floor's")
 
     @property
     def ring_inner_radius(self) -> float:
@@ -292,21 +393,29 @@ class Plate:
 @dataclass(frozen=True)
 class Wall:
     radius: float = key(unit="m", required=True, limit=POSITIVE,
-                        meaning="a_t (at most the plate's radius)")
+                        meaning="a_t <= a_p (a wall inside the plate edge makes a T-joint)")
     thickness: float = key(unit="m", limit=POSITIVE, default_doc="from Kt (Eq. 22) or courses",
-                           meaning="t_t, the bottom course's (give it, Kt or courses)")
+                           meaning="t_t, or Kt = (1 - nu_s^2)(E_t / E_s)(t_t / a_t)^3 (Eq. 22), or "
+                                   "a wall whose thickness steps: `courses = [{height = 2.4, "
+                                   "thickness = 0.013}, ...]` from the bottom up (m), their outer "
+                                   "faces flush; `height` may then be left out (it is their sum; "
+                                   "given, it must equal it), and Kt is the bottom course's")
     height: float = key(unit="m", limit=POSITIVE, default_doc="the courses' sum",
-                        meaning="H, from the plate up")
-    E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="Young's modulus")
+                        meaning="H is measured from the plate's underside")
+    E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="H is measured from the "
+                                                                     "plate's underside")
     nu: float = key(unit="-", required=True, limit=SHELL_POISSON, why=SHELL_POISSON_WHY,
-                    meaning="Poisson's ratio")
+                    meaning="H is measured from the plate's underside")
     unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
-                             meaning="its weight, used when load.self_weight is true")
+                             meaning="H is measured from the plate's underside")
     #: the courses of a wall whose thickness steps, (height, thickness) in m from the bottom
     #: up, their outer faces flush (empty: one course of ``thickness``, the paper's wall)
     courses: tuple[tuple[float, float], ...] = key(
         (), unit="m", kind=list, custom=True,
-        meaning="[{height = ..., thickness = ...}, ...] from the bottom course up")
+        meaning="t_t, or Kt = (1 - nu_s^2)(E_t / E_s)(t_t / a_t)^3 (Eq. 22), or a wall whose "
+                "thickness steps: `courses = [{height = 2.4, thickness = 0.013}, ...]` from the "
+                "bottom up (m), their outer faces flush; `height` may then be left out (it is their"
+                " sum; given, it must equal it), and Kt is the bottom course's")
 
     @property
     def course_table(self) -> list[tuple[float, float, float]]:
@@ -341,24 +450,54 @@ class Ringwall:
     interface."""
 
     inner_radius: float = key(unit="m", required=True, limit=NON_NEGATIVE,
-                              meaning="the ring's inner radius")
+                              meaning="a concrete ringwall (ring beam) under the wall: an annulus "
+                                      "of its own material in the ground, from the plate's "
+                                      "underside down `depth`, between the radii (inner < a_t <= "
+                                      "outer: the wall stands on it; outer within half the domain),"
+                                      " bonded to the soil around it; the plate rests on it and on "
+                                      "the soil (or fill) inside through the same interface; on any"
+                                      " soil model (a nonlinear soil's secant iteration leaves its "
+                                      "cells at their own modulus)")
     outer_radius: float = key(unit="m", required=True, limit=POSITIVE,
-                              meaning="the ring's outer radius")
+                              meaning="a concrete ringwall (ring beam) under the wall: an annulus "
+                                      "of its own material in the ground, from the plate's "
+                                      "underside down `depth`, between the radii (inner < a_t <= "
+                                      "outer: the wall stands on it; outer within half the domain),"
+                                      " bonded to the soil around it; the plate rests on it and on "
+                                      "the soil (or fill) inside through the same interface; on any"
+                                      " soil model (a nonlinear soil's secant iteration leaves its "
+                                      "cells at their own modulus)")
     depth: float = key(unit="m", required=True, limit=POSITIVE,
-                       meaning="its depth below the plate's underside")
-    E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="Young's modulus")
+                       meaning="a concrete ringwall (ring beam) under the wall: an annulus of its "
+                               "own material in the ground, from the plate's underside down "
+                               "`depth`, between the radii (inner < a_t <= outer: the wall stands "
+                               "on it; outer within half the domain), bonded to the soil around it;"
+                               " the plate rests on it and on the soil (or fill) inside through the"
+                               " same interface; on any soil model (a nonlinear soil's secant "
+                               "iteration leaves its cells at their own modulus)")
+    E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="its material, linear elastic "
+                                                                     "(nu <= 0.45: the displacement"
+                                                                     " form, also in a mixed soil)")
     nu: float = key(0.2, unit="-", limit=RING_POISSON, why="concrete's is about 0.2",
-                    meaning="Poisson's ratio")
+                    meaning="its material, linear elastic (nu <= 0.45: the displacement form, also "
+                            "in a mixed soil)")
     #: its weight in excess of the soil it replaces (the soil's own weight is the ground's
     #: initial state, not a load here)
     unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
-                             meaning="net unit weight, used when load.self_weight is true")
+                             meaning="with `load.self_weight = true`, its weight in excess of the "
+                                     "soil it replaces (the soil's own weight is the ground's "
+                                     "initial state, not a load): e.g. 24e3 - 18e3 = 6e3; it loads "
+                                     "the ground, not the interface")
     #: a compacted fill inside the ring, from the plate's underside to the ring's depth
     #: (linear elastic)
     fill_E: float | None = key(None, unit="Pa", limit=POSITIVE, default_doc="none: the soil",
-                               meaning="Young's modulus of a fill inside the ring")
+                               meaning="a compacted fill inside the ring, from the plate's "
+                                       "underside to the ring's depth, linear elastic (nu <= 0.45);"
+                                       " needs inner_radius > 0")
     fill_nu: float = key(0.3, unit="-", limit=RING_POISSON, why="e.g. 0.3",
-                         meaning="the fill's Poisson's ratio")
+                         meaning="a compacted fill inside the ring, from the plate's underside to "
+                                 "the ring's depth, linear elastic (nu <= 0.45); needs inner_radius"
+                                 " > 0")
 
     @property
     def volume(self) -> float:
@@ -388,72 +527,113 @@ class Ringwall:
 @dataclass(frozen=True)
 class Interface:
     condition: str = key("bonded", choices=("bonded", "smooth", "mohr_coulomb"),
-                         meaning="the contact: bonded, smooth (no shear) or Mohr-Coulomb "
-                                 "(stick, slip, separation; Eqs. 6-16)")
+                         meaning="\"bonded\" (no slip, takes tension), \"smooth\" (no shear, takes "
+                                 "tension), \"mohr_coulomb\" (Eqs. 6-16)")
     cohesion: float = key(0.0, unit="Pa", limit=NON_NEGATIVE,
-                          meaning="c of the Mohr-Coulomb strength (Eq. 13)")
+                          meaning="c, \"mohr_coulomb\" only")
     tan_phi: float | None = key(None, unit="-", limit=NON_NEGATIVE,
-                                meaning="tan phi of the Mohr-Coulomb strength (or give "
-                                        "friction_angle)")
+                                meaning="the interface friction; the paper's limits are tan_phi = "
+                                        "10 (bonded) and 0.001 (smooth)")
     normal_stiffness: float | None = key(None, unit="Pa/m", limit=POSITIVE,
                                          default_doc="1e3 E / h",
-                                         meaning="the penalty k_n")
+                                         meaning="the penalty stiffnesses (h: the element length)")
     shear_stiffness: float | None = key(None, unit="Pa/m", limit=POSITIVE,
-                                        default_doc="normal_stiffness", meaning="the penalty k_s")
+                                        default_doc="normal_stiffness", meaning="the penalty "
+                                                                                "stiffnesses (h: "
+                                                                                "the element "
+                                                                                "length)")
     #: what a cycling Mohr-Coulomb active set gets: "hold" its alternating elements in the
     #: weaker state and go on (reported), or "stop" with the history
     on_cycle: str = key("hold", choices=("hold", "stop"),
-                        meaning="a cycling active set: hold the alternating elements in the "
-                                "weaker state, or stop")
+                        meaning="a cycling Mohr-Coulomb active set: `\"hold\"` the alternating "
+                                "elements in the weaker state and go on (reported as "
+                                "`frozen_elements`), or `\"stop\"` with the history")
     #: where a Mohr-Coulomb state lives: "element" (the paper's Eqs. 11-12: one state per
     #: interface element, from its average jump) or "node" (one per node of the soil's trace,
     #: at the Gauss-Lobatto points of each facet, which then integrate the interface)
     states: str = key("element", choices=("element", "node"),
-                      meaning="one Mohr-Coulomb state per element (the paper's) or per node")
+                      meaning="where a Mohr-Coulomb state lives: `\"element\"` (the paper's Eqs. "
+                              "11-12: one per interface element, from its average jump) or "
+                              "`\"node\"` (one per node of the soil's trace, at the Gauss-Lobatto "
+                              "points that then integrate the interface; agrees with the element "
+                              "states to 0.3 %, in 1-6 times their solves; a node that changes "
+                              "state 4 times is held in the weaker state: see Limitations)")
 
 
 #: The keys a scene file may give instead of a field: Eq. 21's Kp for the plate's thickness,
 #: Eq. 22's Kt for the wall's, a friction angle for tan phi
 ALTERNATIVE_KEYS: dict[str, dict[str, Key]] = {
     "plate": {"Kp": Key(unit="-", limit=POSITIVE, default_doc="-",
-                        meaning="Eq. 21's relative rigidity, instead of thickness")},
+                        meaning="t_p, or the relative rigidity Kp = (1 - nu_s^2)(E_p / E_s)(t_p / "
+                                "a_p)^3 (Eq. 21, E_s and nu_s at the surface)")},
     "wall": {"Kt": Key(unit="-", limit=POSITIVE, default_doc="-",
-                       meaning="Eq. 22's relative rigidity, instead of thickness")},
+                       meaning="t_t, or Kt = (1 - nu_s^2)(E_t / E_s)(t_t / a_t)^3 (Eq. 22), or a "
+                               "wall whose thickness steps: `courses = [{height = 2.4, thickness = "
+                               "0.013}, ...]` from the bottom up (m), their outer faces flush; "
+                               "`height` may then be left out (it is their sum; given, it must "
+                               "equal it), and Kt is the bottom course's")},
     "interface": {"friction_angle": Key(unit="deg", limit=ANGLE, why="degrees", default_doc="-",
-                                        meaning="phi, instead of tan_phi")},
+                                        meaning="the interface friction; the paper's limits are "
+                                                "tan_phi = 10 (bonded) and 0.001 (smooth)")},
 }
 
 
 @dataclass(frozen=True)
 class Load:
-    pressure: float = key(0.0, unit="Pa", meaning="uniform pressure on the plate (or the "
-                                                  "loaded circle), downward positive")
+    pressure: float = key(0.0, unit="Pa", meaning="uniform downward pressure: on the whole plate, "
+                                                  "or without a plate on r <= `load_radius` (>= 0);"
+                                                  " negative (uplift) only on a bonded or smooth "
+                                                  "plate")
     load_radius: float | None = key(None, unit="m", limit=POSITIVE,
                                     default_doc="the plate's radius",
-                                    meaning="radius of a flexible load (no plate)")
+                                    meaning="radius of the flexible load (with a plate: the plate "
+                                            "radius)")
     liquid_unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
-                                    meaning="the liquid's unit weight (9810 for water)")
+                                    meaning="liquid inside the wall: gamma h on the floor (r < "
+                                            "a_t), gamma (h - z) outward on the wall")
     liquid_height: float = key(0.0, unit="m", limit=NON_NEGATIVE,
-                               meaning="the liquid's height above the plate")
-    self_weight: bool = key(False, meaning="the structure's (and a ringwall's) own weight")
+                               meaning="liquid inside the wall: gamma h on the floor (r < a_t), "
+                                       "gamma (h - z) outward on the wall")
+    self_weight: bool = key(False, meaning="adds the plate's and wall's weight (their `unit_weight`"
+                                           " x thickness, course by course and ring by ring)")
     #: N: the roof's weight and what it carries (snow, equipment), borne by the wall's top
     #: edge (a ring load of roof_weight / (2 pi a_t) N/m)
     roof_weight: float = key(0.0, unit="N", limit=NON_NEGATIVE,
-                             meaning="the roof's weight, on the wall's top edge")
+                             meaning="the roof's weight and what it carries (snow, equipment), "
+                                     "borne by the wall's top edge: a ring load roof_weight / (2 pi"
+                                     " a_t) N/m down (needs a wall)")
     #: Pa: a gas (vapour) pressure in the closed tank, above the liquid: on the floor (down),
     #: the wall (outward) and the roof, which carries it to the wall's top (up); no net
     #: vertical load on the foundation. Negative: a vacuum
     gas_pressure: float = key(0.0, unit="Pa",
-                              meaning="gas pressure in the closed tank (negative: a vacuum)")
+                              meaning="a gas (vapour) pressure in the closed tank above the liquid:"
+                                      " on the floor inside the wall (down), on the whole wall "
+                                      "(outward) and on the roof, which carries p pi a_t^2 to the "
+                                      "wall's top (up): no net vertical load; it adds to Eq. 23's "
+                                      "p; negative for a vacuum (the shell's buckling is not "
+                                      "modelled); needs a wall")
     #: N m: an overturning moment (wind, earthquake) about the plate's underside at the
     #: axis, pressing the side theta = 0 down; with a wall it reaches the foundation through
     #: the wall's foot (API 650 Annex E's ringwall moment). Solved as the first Fourier
     #: harmonic about the axisymmetric state (tankfx.model.overturning)
     overturning_moment: float = key(0.0, unit="N m",
-                                    meaning="overturning moment about the plate's underside")
+                                    meaning="an overturning moment (wind, earthquake: API 650 Annex"
+                                            " E's ringwall moment M_rw) about the plate's underside"
+                                            " at the axis, pressing the side theta = 0 down: with a"
+                                            " wall it reaches the foundation through the wall's "
+                                            "foot (the wall's top edge carries the shear, as a thin"
+                                            " tube's shear flow -V sin theta / (pi a_t), and a "
+                                            "couple, so that its foot carries exactly V and M); "
+                                            "without one, a pressure 4 M r cos theta / (pi a^4) on "
+                                            "the plate. Solved as the first Fourier harmonic about "
+                                            "the stage's converged state and superposed "
+                                            "(`overturning` in the results); needs a plate")
     #: N: the horizontal force that comes with it (towards theta = 0), carried by the wall
     #: (or the plate) to the interface
-    base_shear: float = key(0.0, unit="N", meaning="the horizontal force with it")
+    base_shear: float = key(0.0, unit="N", meaning="the horizontal force that comes with it, "
+                                                   "towards theta = 0 (on the wall's top edge, or "
+                                                   "as a uniform traction on a plate without a "
+                                                   "wall)")
 
     @property
     def overturning(self) -> bool:
@@ -468,54 +648,82 @@ class Consolidation:
     drains; the soil's E and nu are then its drained (effective) constants."""
 
     permeability: float = key(unit="m/s", required=True, limit=POSITIVE,
-                              meaning="Darcy's coefficient k (isotropic)")
+                              meaning="Darcy's k of a saturated soil: with a `[consolidation]` "
+                                      "table the soil consolidates in time (Biot's equations; "
+                                      "`[soil] E`, `nu` are then its drained constants E', nu' <= "
+                                      "0.45); the `[load]` is applied at t = 0 (undrained) and "
+                                      "held")
     times: tuple[float, ...] = key(unit="s", required=True, kind=list, custom=True,
-                                   meaning="the times at which results are reported")
+                                   meaning="the times after loading at which results are reported "
+                                           "(positive, increasing); t = 0 (undrained) and the "
+                                           "drained limit are always reported; the results' top "
+                                           "level is the last time's")
     water_unit_weight: float = key(WATER_UNIT_WEIGHT, unit="N/m^3", limit=POSITIVE,
-                                   meaning="gamma_w")
+                                   meaning="gamma_w; the time steps per decade of time "
+                                           "(variable-step BDF2 from a hundredth of the first time:"
+                                           " 10 keep Terzaghi's settlement within 0.6 % of its "
+                                           "final value, 20 within 0.2 %)")
     #: the foundation, the pit's sides and the far side are impervious
     drainage: str = key("top", choices=("top", "top_and_bottom"),
-                        meaning="the drained boundaries: the ground surface, or the "
-                                "domain's base too (a clay on sand)")
+                        meaning="the drained boundaries: \"top\" (the ground surface around the "
+                                "foundation, and a flexible load's loaded area) or "
+                                "\"top_and_bottom\" (also the rigid base: a clay on sand or "
+                                "gravel); the foundation, the pit's sides, the axis and the far "
+                                "side are impervious")
     steps_per_decade: int = key(10, unit="-", limit=Limit(2, low_open=False),
                                 why="10 keep Terzaghi's settlement within 0.6 %; 20 within "
-                                    "0.2 %", meaning="BDF2 time steps per decade of time")
+                                    "0.2 %", meaning="gamma_w; the time steps per decade of time "
+                                                     "(variable-step BDF2 from a hundredth of the "
+                                                     "first time: 10 keep Terzaghi's settlement "
+                                                     "within 0.6 % of its final value, 20 within "
+                                                     "0.2 %)")
 
 
 @dataclass(frozen=True)
 class DomainSize:
     radius: float = key(unit="m", limit=POSITIVE, default_doc="10000 a",
-                        meaning="outer radius of the soil domain")
+                        meaning="extent of the soil; `depth` is the depth of a rigid (rough) base, "
+                                "anywhere below the foundation (e.g. rock under a thin layer)")
     depth: float = key(unit="m", limit=POSITIVE, default_doc="10000 a",
-                       meaning="depth of the rigid base below the ground surface")
+                       meaning="extent of the soil; `depth` is the depth of a rigid (rough) base, "
+                               "anywhere below the foundation (e.g. rock under a thin layer)")
 
 
 @dataclass(frozen=True)
 class MeshOptions:
     degree: int = key(2, unit="-", choices=(1, 2, 3), custom=True,
                       default_doc="2 (3 for a flexible load)",
-                      meaning="Lagrange degree of the soil displacement")
+                      meaning="Lagrange degree of the soil displacement (1, 2 or 3); the structure "
+                              "is always cubic")
     edge_size: float = key(0.0, unit="m", limit=POSITIVE,
                            default_doc="0.002 a (0.004 a for a flexible load)",
-                           meaning="element size at the foundation's edge")
+                           meaning="element size at the foundation edge (the stress singularity)")
     growth: float = key(0.2, unit="-", limit=Limit(0.0, 1.0),
                         why="element size grows by this fraction of the distance from the "
                             "foundation edge",
-                        meaning="rate at which the element size grows with distance")
+                        meaning="element size grows as edge_size + growth x distance from the edge")
     near_size: float = key(0.0, unit="m", limit=POSITIVE,
                            default_doc="0.1 a (0.2 a for a flexible load)",
-                           meaning="element size cap within 6 radii of the centre")
+                           meaning="element size cap within 6 a of the centre, where soil stresses "
+                                   "are reported")
 
 
 @dataclass(frozen=True)
 class SolverOptions:
     method: str = key("direct", choices=("direct", "iterative"), custom=True,
-                      meaning="MUMPS, or Krylov with algebraic multigrid (GAMG)")
+                      meaning="\"direct\": MUMPS (LDL^T, or LU with a Mohr-Coulomb interface); "
+                              "\"iterative\": CG + GAMG for the soil alone, GMRES with the "
+                              "structure condensed and GAMG on the soil's Schur complement with a "
+                              "structure (faster than MUMPS beyond about a million dofs, leaner "
+                              "from 150k); not with nu_s > 0.45 (see \"Iterative solver\")")
     rtol: float = key(1e-10, unit="-", limit=Limit(0.0, 1e-4),
                       why="the results are checked to 1e-6 of the load",
-                      meaning="relative residual of the iterative solve")
+                      meaning="the iterative solve's relative residual and iteration bound (a solve"
+                              " that does not reach it is an error, with its residual)")
     max_iterations: int = key(1000, unit="-", limit=Limit(1, low_open=False),
-                              meaning="Krylov iterations allowed per solve")
+                              meaning="the iterative solve's relative residual and iteration bound "
+                                      "(a solve that does not reach it is an error, with its "
+                                      "residual)")
 
 
 def vertical_load(load: Load, plate: Plate | None, wall: Wall | None,
