@@ -1,6 +1,8 @@
 """Time stepping of Biot's consolidation (BDF2, steps growing geometrically per decade): the
 load path in time, the steps, and the loop that solves each step and records the foundation's
 settlement, the excess pore pressure and the isochrones.
+
+Beyond the paper: no equation of it is carried out here.
 """
 from __future__ import annotations
 

@@ -19,6 +19,9 @@ compressibility block:
 symmetric and indefinite. dt = 0 is the undrained response (tr eps = 0, the nu = 0.5
 soil of the same shear modulus); a step much longer than the consolidation time leaves
 p -> 0 and the drained response (E', nu'). Every integral carries the 2 pi r weight.
+
+Beyond the paper (which is drained or undrained at once): no equation of it is carried out
+here.
 """
 from __future__ import annotations
 

@@ -8,6 +8,9 @@ reactions are true forces in newtons.
 The modulus enters the forms only through ``stress(eps, E, nu)``, so that any UFL expression
 can stand for it: the depth-dependent ``E (1 + lambda h)`` of a linear soil, or a DG0 secant
 modulus held per cell for a nonlinear one.
+
+The paper: its axisymmetric soil elements (their elasticity is not numbered there); the secant
+modulus of Eqs. 17-19 enters as ``E`` (:mod:`tankfx.laws.kondner`).
 """
 from __future__ import annotations
 

@@ -28,6 +28,8 @@ fundamental form less its membrane part), so that both rigid motions of the firs
 curvatures do not have that property for this harmonic. The same unknowns as in the
 axisymmetric shell (the face displacement u = (A, Z), the meridian's rotation beta =
 d(u.n)/ds, the multiplier Q of that constraint) and the circumferential V, as D and S.
+
+Beyond the paper (which is axisymmetric): no equation of it is carried out here.
 """
 from __future__ import annotations
 

@@ -26,6 +26,9 @@ Resultants per unit length: ``N = E t/(1 - nu^2) [eps_s + nu eps_theta, ...]`` a
 ``M = D [kappa_s + nu kappa_theta, ...]``, D = E t^3 / (12 (1 - nu^2)). A positive moment puts
 the face opposite ``n`` in tension: the plate's underside (a sagging plate moment is
 positive), the wall's outer face.
+
+The paper: its plate and wall elements (thin shells, not numbered there); their thicknesses
+from Kp and Kt are Eqs. 21-22 (:mod:`tankfx.laws.rigidity`).
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """The soil's materials, cell by cell: which stratum of layered ground each cell is in (or a
 ringwall, or its fill), that stratum's constants, and the modulus fields of the stiffness
-forms: E(h) = E_top (1 + lambda (h - top)) (Eq. 3's soil, stiffening with depth), or a
+forms: E(h) = E_top (1 + lambda (h - top)) (the paper's soil, stiffening with depth), or a
 nonlinear soil's DG0 secant modulus (Eq. 19), starting at the initial tangent modulus.
 """
 from __future__ import annotations

@@ -24,6 +24,8 @@ converged states (stick: bonded; slip: friction mu times the added normal stress
 circumferential shear; separated: free). Superposition holds while the contact stays in
 those states: where a contact zone's net force on the heel side vanishes it lifts, and the
 results say at what multiple of the load (:func:`heel_uplift`).
+
+Beyond the paper (axisymmetric loads only there).
 """
 from __future__ import annotations
 

@@ -1,7 +1,8 @@
 """The soil block: the soil's displacement (and, in the mixed form or a consolidation, its
 pressures) on the parent (r, z) mesh, with its materials (strata, a ringwall and its fill), its
 stiffness forms (linear elasticity, the mixed u-p form, Biot's), its supports and its stresses.
-Eq. 3's elasticity per cell; the secant modulus of Eq. 19 is its DG0 field ``E``.
+The paper's soil elements (its axisymmetric elasticity, not numbered there) per cell; a
+nonlinear soil's secant modulus of Eq. 19 is the DG0 field ``E``.
 """
 from __future__ import annotations
 

@@ -9,6 +9,9 @@ The two are tied by the interface penalty of :mod:`tankfx.laws.interface` on the
 and, for an embedded tank, on the wall's outer face below the ground. Mixed-domain blocks are
 integrated over the parent's facets (``ds`` where the facet is on the outside of the mesh,
 ``dS`` where the tank's void lies on its other side); pure structure blocks over the submesh.
+
+The paper: Eq. 2's global stiffness of soil, structure and interface elements (here one block
+system of UFL forms), and Eq. 23's p (``reference_pressure``).
 """
 from __future__ import annotations
 

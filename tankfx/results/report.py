@@ -1,5 +1,7 @@
 """The summary a run prints and the report it writes (report.md): the key results, the scene
 in words, the warnings.
+
+The paper: Eq. 23's non-dimensional measures beside the dimensional results.
 """
 from __future__ import annotations
 

@@ -3,6 +3,9 @@ moments M_r, M_theta, M_z, forces N_theta, Q, contact stresses and states), the 
 moments, each course's largest hoop stress and moment, the settlement summary a tank code asks
 for, and the interface's summary: the results.json keys ``profiles.plate``, ``profiles.wall``,
 ``junction``, ``courses``, ``settlement_summary`` and ``interface``.
+
+The paper: M0 (Eq. 23c) is the plate's M_r at the centre; the interface's states (Eqs.
+6-10) per part.
 """
 from __future__ import annotations
 
