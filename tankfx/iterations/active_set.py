@@ -13,7 +13,6 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from dolfinx import fem
 from dolfinx import mesh as dmesh
 from mpi4py import MPI
 
@@ -21,6 +20,7 @@ from ..fem.solvers import SolveError
 from ..laws import interface as law
 from ..model.interface import InterfaceBlock
 from ..model.protocol import Model
+from .reversed_slips import ReversedSlips
 
 
 class InterfaceIteration:
@@ -33,9 +33,10 @@ class InterfaceIteration:
     excess forces, Eqs. 14-16; the paper re-solves with them on a fixed stiffness, here the
     element's traction law changes instead, which reaches the fixed point in a handful of
     solves). A slip that reversed its direction takes a secant law (see
-    :meth:`_track_reversals`). The iteration stops when no element changes state and the
-    out-of-balance force is below ``MAX_OUT_OF_BALANCE`` of the load (every element then
-    satisfies |tau| <= c + sigma_n tan phi and sigma_n >= 0, its friction along its slip);
+    :class:`~tankfx.iterations.reversed_slips.ReversedSlips`). The iteration stops when no
+    element changes state and the out-of-balance force is below ``MAX_OUT_OF_BALANCE`` of
+    the load (every element then satisfies |tau| <= c + sigma_n tan phi and sigma_n >= 0,
+    its friction along its slip);
     a state that recurs (a cycling active set) is held in the weaker state
     (``on_cycle = "hold"``) or refused (``"stop"``); after ``max_iterations`` solves, a
     fourth cycle, or separation everywhere it raises :class:`~tankfx.fem.solvers.SolveError`
@@ -69,36 +70,20 @@ class InterfaceIteration:
         self.history: list[dict] = []
         ifc = interface.settings
         self.tan_phi = ifc.tan_phi if ifc.tan_phi is not None else 0.0
-        # reversed slips (see _track_reversals): which carriers are on the secant law, which
-        # may restart stuck, and the slip direction of the states last solved
+        # reversed slips (tankfx.iterations.reversed_slips): which carriers are on the
+        # secant law, which may restart stuck, and the slip direction of the states last
+        # solved
         n = interface.n_carrier
-        self.secant = np.zeros(n, dtype=bool)
-        self.stick_first = interface.status != law.SEPARATED
+        self.slips = ReversedSlips(interface, self.owned, self.tan_phi)
         # slips on the secant law in the states this iteration starts from (a load path's,
         # a time step's or a soil iteration's last solution: k_s > 0 and no friction
         # coefficient): re-decided, they take the plain slip law along their jump (the
         # secant law's converged form), a change of law that the state does not show
         self.carried_secant = interface.mesh.comm.allreduce(int(np.any(
             ((interface.status == law.SLIP) & (interface.k_s.x.array[:n] > 0))[self.owned])))
-        self.slip_sign = np.where(interface.status == law.SLIP, np.sign(
-            interface.mu.x.array[:n] + interface.c_s.x.array[:n]), 0.0)
-        self._secant_prev = None
         # single_pass: state changes per carrier, and the state it is held in (-1: none)
         self.flips = np.zeros(n, dtype=int)
         self.held = np.full(n, -1)
-
-    def _track_reversals(self, status, sign) -> np.ndarray:
-        """Mark the slips whose direction reversed against the states last solved: the
-        friction, imposed along the trial shear, drove the slip the other way (the carrier
-        sits where the slip stops or turns). From then on its slip traction follows its own
-        jump, tau = (c + sigma_n tan phi) j_t / |j_t| (a secant shear stiffness, converged
-        with the out-of-balance force, not a discrete state). Returns the new reversals."""
-        slip_sign = np.where(status == law.SLIP, sign, 0.0)
-        self.stick_first &= status != law.SEPARATED
-        reversed_ = (slip_sign * self.slip_sign < 0) & ~self.secant
-        self.secant |= reversed_
-        self.slip_sign = slip_sign
-        return reversed_
 
     def _applied_tractions(self, jn, jt) -> tuple:
         """The normal and shear tractions (sigma, tau) of each carrier under the model's
@@ -122,10 +107,10 @@ class InterfaceIteration:
         for f, v in zip((m.k_n, m.k_s, m.mu, m.c_s), law.state_coefficients(
                 status, sign, m.stiffness_n, m.stiffness_s, ifc.cohesion, self.tan_phi)):
             f.x.array[:] = np.where(m.in_contact, v, 0.0)
-        secant = self.secant & (status == law.SLIP)
+        secant = self.slips.secant & (status == law.SLIP)
         if not m.mesh.comm.allreduce(int(np.any(secant[self.owned]))):
             return None
-        k_sec, k_next = self._secant_stiffness(secant, jn, jt, k_used, tau_used, solved_states)
+        k_sec, k_next = self.slips.stiffness(secant, jn, jt, k_used, tau_used, solved_states)
         m.k_s.x.array[:] = np.where(secant, k_sec, m.k_s.x.array)
         m.mu.x.array[:] = np.where(secant, 0.0, m.mu.x.array)
         m.c_s.x.array[:] = np.where(secant, 0.0, m.c_s.x.array)
@@ -142,7 +127,7 @@ class InterfaceIteration:
     def _state_key(self) -> tuple:
         """The model's states with their slip directions, partition-independent: what a
         cycle repeats."""
-        return self._global_status(self.interface.status + 4 * (self.slip_sign < 0))
+        return self._global_status(self.interface.status + 4 * (self.slips.slip_sign < 0))
 
     def element_jumps(self):
         """Normal and tangential jump of each state carrier: an element's average, or a
@@ -165,7 +150,7 @@ class InterfaceIteration:
         # a slip that reversed takes the secant law, as in run(); its stiffness converges
         # with the soil's iteration
         n_reversed = m.mesh.comm.allreduce(int(np.sum(
-            self._track_reversals(status, sign)[self.owned])))
+            self.slips.track(status, sign)[self.owned])))
         # an element that keeps changing state sits at the edge of a zone inside it: after
         # MAX_FLIPS changes it is held in the weaker of its last two states, as in run()
         hold, weaker = self._flip_holds(status, self.held >= 0, " during the soil iteration")
@@ -226,63 +211,7 @@ class InterfaceIteration:
 
     def reversed_slips(self) -> int:
         """How many state carriers reversed their slip and took the secant law."""
-        return self.interface.mesh.comm.allreduce(int(np.sum(self.secant[self.owned])))
-
-    def _secant_stiffness(self, secant, jn, jt, k_used, tau_used, solved_states) -> tuple:
-        """The secant shear stiffness of the elements whose slip reversed, k = (c + sigma_n
-        tan phi) / |j_t| (at most the elastic k_s), and the one to solve with next.
-
-        A reversal says the friction imposed was more than the element needed: it is first
-        solved stuck (k = k_s; not where it has been separated during this iteration, at a
-        contact zone's edge, where that was measured to make the states chatter). Then each
-        element's next stiffness comes from its own response: to the rest of a linear system
-        an element is a spring in series, so that its jump and the shear traction it
-        applies are related by j = j_free - C tau (j_free its jump free of shear, C the
-        rest's compliance at it), whatever the element's law. Fitted through its last two
-        solves (stuck, slipping or secant), that line gives the element's state directly:
-        stuck where the stuck traction k_s j_free / (1 + C k_s) is within the limit L = c +
-        sigma_n tan phi, else slipping with tau = L along j_free and k = L / |j_free - C L|.
-        Where the fit says nothing (C <= 0: the two solves' other elements moved more than
-        this one, or an element so stiff that its traction did not change) and the traction
-        is above 2 L, the stiffness drops a hundredfold; otherwise the plain secant k = L /
-        |j|. The fit is not made across a solve where another carrier changed state (the
-        rest was another system then: on the demo tank at tan phi = 0.1, node states, such
-        a fit took 7 solves instead of 5). Measured (docs/performance.md, session 18): the
-        small tank at tan phi = 0.01 / 0.02 / 0.03 from rest, two coupled reversed
-        elements, 10 / 13 / 10 solves, where a secant root of the misfit k |j| - L took
-        14 / 23 / 39 (its updates crawled down from k_s while the misfit stayed flat)."""
-        m, ifc = self.interface, self.interface.settings
-        limit = law.mohr_coulomb_limit(m.stiffness_n * jn, ifc.cohesion, self.tan_phi)
-        ks = np.where(m.stiffness_s > 0, m.stiffness_s, 1.0)
-        g = np.minimum(1.0, limit / np.maximum(np.abs(jt) * ks, 1e-300))   # k / k_s
-        x = np.where(secant, k_used / ks, g)          # what the last solve used
-        prev = self._secant_prev
-        new = np.where(secant & self.stick_first, 1.0, g)
-        if prev is not None:
-            tau0, jt0, was_secant, states0 = prev
-            # (the line is the rest's response: not across a change of another's state)
-            same_rest = not m.mesh.comm.allreduce(
-                int(np.any((states0 != solved_states)[self.owned])))
-            fitted = secant & was_secant & (tau0 != tau_used) & same_rest
-            C = -(jt - jt0) / np.where(fitted, tau_used - tau0, 1.0)
-            ok = fitted & (C > 0)
-            C = np.where(ok, C, 0.0)                  # (the rest take g or the drop below)
-            j_free = jt + C * tau_used
-            stuck = ks * np.abs(j_free) / (1.0 + C * ks) <= limit
-            j_slip = np.maximum(np.abs(j_free) - C * limit, 1e-300)
-            fit = np.where(stuck, 1.0, limit / (j_slip * ks))
-            too_stiff = secant & was_secant & ~ok & (x * np.abs(jt) * ks > 2.0 * limit)
-            new = np.where(ok, np.clip(fit, 1e-2 * x, 1.0), np.where(too_stiff, 1e-2 * x, g))
-            new = np.where(secant & ~was_secant & self.stick_first, 1.0, new)
-        self._secant_prev = (tau_used, jt.copy(), secant.copy(), solved_states)
-        # ghost carriers take their owner's values
-        out = []
-        for values in (g, new):
-            field = fem.Function(m.S)
-            field.x.array[:] = values
-            field.x.scatter_forward()
-            out.append(field.x.array[:m.n_carrier] * ks)
-        return tuple(out)
+        return self.slips.count()
 
     def run(self, solver, log) -> dict:
         """Solve, re-decide the states, until none changes and the out-of-balance force is
@@ -306,7 +235,7 @@ class InterfaceIteration:
             jn, jt = self.element_jumps()
             previous, change = self._traction_change(jn, jt, previous)
             status, sign = self._redecide(jn, jt)
-            reversed_ = self._track_reversals(status, sign)
+            reversed_ = self.slips.track(status, sign)
             moved_ = (status != m.status)[self.owned]
             moved = comm.allreduce(int(np.sum(moved_)))
             changed = comm.allreduce(int(np.sum(moved_ | reversed_[self.owned])))
