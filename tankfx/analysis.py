@@ -168,7 +168,7 @@ def _set_up(scene: Scene, first: Load, comm: MPI.Comm, timings: dict) -> tuple:
     # one factorisation: a linear soil under a bonded or smooth interface (its load stages
     # share the matrix)
     one_shot = linear_soil and not mohr_coulomb and scene.consolidation is None
-    solver = make_solver(scene, model.a, model.L, model.bcs, model.unknowns,
+    solver = make_solver(scene.solver, model.a, model.L, model.bcs, model.unknowns,
                          entity_maps=model.entity_maps, name="tank",
                          symmetric=not mohr_coulomb, one_shot=one_shot,
                          # on a linear soil only a Mohr-Coulomb interface's states and a

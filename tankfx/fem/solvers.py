@@ -505,18 +505,18 @@ def _checked_residual(problem, why: str, reference: float = 0.0) -> float:
     return rel
 
 
-def make_solver(scene, a, L, bcs, u, entity_maps=None, name: str = "tank",
+def make_solver(options, a, L, bcs, u, entity_maps=None, name: str = "tank",
                 symmetric: bool = False, one_shot: bool = False, split=None):
-    """The solver a scene asks for (``[solver] method``); ``one_shot``: a single
-    factorisation is expected, shared by all solves (the direct solver's ordering is chosen
-    for it); ``split``: (fixed, varying) block forms summing to ``a``, the fixed part
-    assembled once by the direct solver."""
-    keep_freed_memory()        # factorisations reuse the pages of the last one (_memory)
-    limit_blas_threads()       # numpy's BLAS threads leave the cores to the ranks (_threads)
-    if scene.solver.method == "iterative":
+    """The solver ``options`` ask for: its ``method`` ("direct" or "iterative") and, for an
+    iterative one, ``rtol`` and ``max_iterations`` (a scene's [solver] section);
+    ``one_shot``: a single factorisation is expected, shared by all solves (the direct
+    solver's ordering is chosen for it); ``split``: (fixed, varying) block forms summing to
+    ``a``, the fixed part assembled once by the direct solver."""
+    keep_freed_memory()        # factorisations reuse the pages of the last one (memory)
+    limit_blas_threads()       # numpy's BLAS threads leave the cores to the ranks (threads)
+    if options.method == "iterative":
         return IterativeSolver(a, L, bcs, u, entity_maps=entity_maps, name=name,
-                               rtol=scene.solver.rtol,
-                               max_iterations=scene.solver.max_iterations)
+                               rtol=options.rtol, max_iterations=options.max_iterations)
     return DirectSolver(a, L, bcs, u, entity_maps=entity_maps, name=name, symmetric=symmetric,
                         one_shot=one_shot, split=split)
 

@@ -47,7 +47,7 @@ def first_order_excess(scene, comm: MPI.Comm = MPI.COMM_WORLD) -> dict:
                          f"built)")
     domain = build_domain(scene, comm)
     model = build_model(scene, domain)
-    solver = make_solver(scene, model.a, model.L, model.bcs, model.unknowns,
+    solver = make_solver(scene.solver, model.a, model.L, model.bcs, model.unknowns,
                          entity_maps=model.entity_maps, name="first_order", symmetric=True)
     solve(model, solver, _Quiet())                  # the linear solution on E_0 = 1/a
     it = HyperbolicIteration(model)
