@@ -82,6 +82,40 @@ class SceneError(ValueError):
         super().__init__(f"the scene has {len(self.problems)} problem(s):\n{lines}")
 
 
+#: Duncan & Chang's constants, declared once for [soil] and each [[soil.layers]] table
+#: (a layer's p_a is the soil's): their keys' units, limits, defaults and meanings
+_KN = ("Duncan & Chang's K and n: the initial modulus K p_a (sigma_3 / p_a)^n, sigma_3 each "
+       "cell's minor principal compression (geostatic plus the tank's; at least 0.01 p_a); E "
+       "is then K p_a (the E_s of Eqs. 21-23) and may be left out; the soil is solved in the "
+       "mixed form (nu > 0; mesh degree 2 or 3; direct solver)")
+_STRENGTH = ("the Mohr-Coulomb strength q_f = (2 c cos phi + 2 sigma_3 sin phi) / (1 - sin phi) "
+             "and R_f: the ultimate deviator 1/b = q_f / R_f; c or phi must be > 0")
+_GEOSTATIC = "the geostatic stress gamma h (vertical) and K0 gamma h (horizontal), and p_a"
+_DUNCAN_CHANG_KEYS: dict[str, Key] = {
+    "modulus_number": Key(unit="-", limit=POSITIVE, meaning=_KN),
+    "modulus_exponent": Key(unit="-", limit=Limit(0.0, 1.0, False), why=EXPONENT_WHY,
+                            meaning=_KN),
+    "failure_ratio": Key(unit="-", limit=Limit(0.0, 1.0), why=RF_WHY, default_doc="0.9",
+                         meaning=_STRENGTH),
+    "cohesion": Key(unit="Pa", limit=NON_NEGATIVE, default_doc="0", meaning=_STRENGTH),
+    "friction_angle": Key(unit="deg", limit=ANGLE, why="degrees", default_doc="0",
+                          meaning=_STRENGTH),
+    "unit_weight": Key(unit="N/m^3", limit=POSITIVE, meaning=_GEOSTATIC),
+    "K0": Key(unit="-", limit=POSITIVE, default_doc="1 - sin(phi)", meaning=_GEOSTATIC),
+}
+#: a layer's Duncan & Chang constants, in words
+LAYER_DUNCAN_CHANG = ("Duncan & Chang's constants of the layer (E is K p_a, p_a the soil's); "
+                      "the geostatic stress sums the weights of the strata above")
+
+
+def duncan_chang_key(name: str, layer: bool = False) -> Any:
+    """The field of one of Duncan & Chang's constants (None unless given), as declared in
+    _DUNCAN_CHANG_KEYS (a layer's with the layer's meaning)."""
+    spec = _DUNCAN_CHANG_KEYS[name]
+    values = {f.name: getattr(spec, f.name) for f in fields(spec)}
+    return key(None, **(values | ({"meaning": LAYER_DUNCAN_CHANG} if layer else {})))
+
+
 @dataclass(frozen=True)
 class Layer:
     """A stratum of the ground from ``depth`` down to the next layer's top (or to the rigid
@@ -113,39 +147,13 @@ class Layer:
                                      meaning="Kondner's a and b of the layer (then E is 1/a and may"
                                              " be left out)")
     # Duncan & Chang's constants of the layer (model = "duncan_chang"; p_a is the soil's)
-    modulus_number: float | None = key(None, unit="-", limit=POSITIVE,
-                                       meaning="Duncan & Chang's constants of the layer (E is K "
-                                               "p_a, p_a the soil's); the geostatic stress sums the"
-                                               " weights of the strata above")
-    modulus_exponent: float | None = key(None, unit="-", limit=Limit(0.0, 1.0, False),
-                                         why=EXPONENT_WHY, meaning="Duncan & Chang's constants of "
-                                                                   "the layer (E is K p_a, p_a the "
-                                                                   "soil's); the geostatic stress "
-                                                                   "sums the weights of the strata "
-                                                                   "above")
-    failure_ratio: float | None = key(None, unit="-", limit=Limit(0.0, 1.0), why=RF_WHY,
-                                      default_doc="0.9", meaning="Duncan & Chang's constants of the"
-                                                                 " layer (E is K p_a, p_a the "
-                                                                 "soil's); the geostatic stress "
-                                                                 "sums the weights of the strata "
-                                                                 "above")
-    cohesion: float | None = key(None, unit="Pa", limit=NON_NEGATIVE, default_doc="0",
-                                 meaning="Duncan & Chang's constants of the layer (E is K p_a, p_a "
-                                         "the soil's); the geostatic stress sums the weights of the"
-                                         " strata above")
-    friction_angle: float | None = key(None, unit="deg", limit=ANGLE, why="degrees",
-                                       default_doc="0", meaning="Duncan & Chang's constants of the "
-                                                                "layer (E is K p_a, p_a the "
-                                                                "soil's); the geostatic stress sums"
-                                                                " the weights of the strata above")
-    unit_weight: float | None = key(None, unit="N/m^3", limit=POSITIVE,
-                                    meaning="Duncan & Chang's constants of the layer (E is K p_a, "
-                                            "p_a the soil's); the geostatic stress sums the weights"
-                                            " of the strata above")
-    K0: float | None = key(None, unit="-", limit=POSITIVE, default_doc="1 - sin(phi)",
-                           meaning="Duncan & Chang's constants of the layer (E is K p_a, p_a the "
-                                   "soil's); the geostatic stress sums the weights of the strata "
-                                   "above")
+    modulus_number: float | None = duncan_chang_key("modulus_number", layer=True)
+    modulus_exponent: float | None = duncan_chang_key("modulus_exponent", layer=True)
+    failure_ratio: float | None = duncan_chang_key("failure_ratio", layer=True)
+    cohesion: float | None = duncan_chang_key("cohesion", layer=True)
+    friction_angle: float | None = duncan_chang_key("friction_angle", layer=True)
+    unit_weight: float | None = duncan_chang_key("unit_weight", layer=True)
+    K0: float | None = duncan_chang_key("K0", layer=True)
     permeability: float | None = key(None, unit="m/s", limit=POSITIVE,
                                      default_doc="[consolidation] permeability",
                                      meaning="a layer's own Darcy k in a consolidation (e.g. a sand"
@@ -206,48 +214,13 @@ class Soil:
     # Duncan & Chang's soil (model = "duncan_chang"): Kondner's law with the initial modulus
     # K p_a (sigma_3 / p_a)^n and the ultimate deviator (Mohr-Coulomb strength) / R_f of
     # each cell's confining stress: geostatic (unit weight, K0) plus the tank's
-    modulus_number: float | None = key(None, unit="-", limit=POSITIVE,
-                                       meaning="Duncan & Chang's K and n: the initial modulus K p_a"
-                                               " (sigma_3 / p_a)^n, sigma_3 each cell's minor "
-                                               "principal compression (geostatic plus the tank's; "
-                                               "at least 0.01 p_a); E is then K p_a (the E_s of "
-                                               "Eqs. 21-23) and may be left out; the soil is solved"
-                                               " in the mixed form (nu > 0; mesh degree 2 or 3; "
-                                               "direct solver)")
-    modulus_exponent: float | None = key(None, unit="-", limit=Limit(0.0, 1.0, False),
-                                         why=EXPONENT_WHY, meaning="Duncan & Chang's K and n: the "
-                                                                   "initial modulus K p_a (sigma_3 "
-                                                                   "/ p_a)^n, sigma_3 each cell's "
-                                                                   "minor principal compression "
-                                                                   "(geostatic plus the tank's; at "
-                                                                   "least 0.01 p_a); E is then K "
-                                                                   "p_a (the E_s of Eqs. 21-23) and"
-                                                                   " may be left out; the soil is "
-                                                                   "solved in the mixed form (nu > "
-                                                                   "0; mesh degree 2 or 3; direct "
-                                                                   "solver)")
-    failure_ratio: float | None = key(None, unit="-", limit=Limit(0.0, 1.0), why=RF_WHY,
-                                      default_doc="0.9", meaning="the Mohr-Coulomb strength q_f = "
-                                                                 "(2 c cos phi + 2 sigma_3 sin phi)"
-                                                                 " / (1 - sin phi) and R_f: the "
-                                                                 "ultimate deviator 1/b = q_f / "
-                                                                 "R_f; c or phi must be > 0")
-    cohesion: float | None = key(None, unit="Pa", limit=NON_NEGATIVE, default_doc="0",
-                                 meaning="the Mohr-Coulomb strength q_f = (2 c cos phi + 2 sigma_3 "
-                                         "sin phi) / (1 - sin phi) and R_f: the ultimate deviator "
-                                         "1/b = q_f / R_f; c or phi must be > 0")
-    friction_angle: float | None = key(None, unit="deg", limit=ANGLE, why="degrees",
-                                       default_doc="0", meaning="the Mohr-Coulomb strength q_f = (2"
-                                                                " c cos phi + 2 sigma_3 sin phi) / "
-                                                                "(1 - sin phi) and R_f: the "
-                                                                "ultimate deviator 1/b = q_f / R_f;"
-                                                                " c or phi must be > 0")
-    unit_weight: float | None = key(None, unit="N/m^3", limit=POSITIVE,
-                                    meaning="the geostatic stress gamma h (vertical) and K0 gamma h"
-                                            " (horizontal), and p_a")
-    K0: float | None = key(None, unit="-", limit=POSITIVE, default_doc="1 - sin(phi)",
-                           meaning="the geostatic stress gamma h (vertical) and K0 gamma h "
-                                   "(horizontal), and p_a")
+    modulus_number: float | None = duncan_chang_key("modulus_number")
+    modulus_exponent: float | None = duncan_chang_key("modulus_exponent")
+    failure_ratio: float | None = duncan_chang_key("failure_ratio")
+    cohesion: float | None = duncan_chang_key("cohesion")
+    friction_angle: float | None = duncan_chang_key("friction_angle")
+    unit_weight: float | None = duncan_chang_key("unit_weight")
+    K0: float | None = duncan_chang_key("K0")
     atmospheric_pressure: float | None = key(None, unit="Pa", limit=POSITIVE,
                                              default_doc=f"{ATMOSPHERIC_PRESSURE:g}",
                                              meaning="the geostatic stress gamma h (vertical) and "
