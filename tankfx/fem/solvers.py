@@ -60,7 +60,7 @@ AMD_LIMIT = 1_000_000
 
 #: GAMG's graph threshold: edges weaker than this are dropped before aggregation, so the
 #: aggregates follow the strong couplings of the graded mesh and of the interface. Measured
-#: (session 6, rtol 1e-10): P3 flexible load at 272k dofs 89 -> 59 CG iterations (8.0 ->
+#: (2026-11-22, rtol 1e-10): P3 flexible load at 272k dofs 89 -> 59 CG iterations (8.0 ->
 #: 6.4 s; 0.1: 43 iterations but 9.7 s, denser coarse levels); embedded tank at 494k dofs
 #: 80 -> 45 Krylov iterations (15.3 -> 11.3 s).
 GAMG_THRESHOLD = 0.05

@@ -5,7 +5,7 @@ call, keeps its threads spinning for a while before they sleep. Under ``mpiexec`
 rank is already one core's worth of work (MUMPS's BLAS is single-threaded), so on 2 ranks
 of a 2-core machine numpy's threads take the cores from the other rank's MUMPS, assembly
 and collectives. Measured on the nonlinear embedded tank at 274k dofs, 2 ranks, per rank
-(session 9, ``OPENBLAS_NUM_THREADS`` 2 against 1): the point evaluations of w0 0.31-0.32
+(2026-11-22, ``OPENBLAS_NUM_THREADS`` 2 against 1): the point evaluations of w0 0.31-0.32
 against 0.03 s, the Anderson steps of the soil iteration 0.25-0.29 against 0.05 s, the
 matrix assemblies 2.9-3.6 against 2.4-2.6 s. A sweep's ranks (one case each) are as many
 processes on the same cores.
