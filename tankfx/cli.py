@@ -143,7 +143,6 @@ def cmd_run(args) -> int:
     r = solution.results
     log = logging.getLogger("tankfx")
     if comm.rank == 0:
-
         write_json(target, r)
         log.info("profiles (CSV): %s", ", ".join(map(str, write_profiles(r, out / PROFILES))))
     log.info("w0 = %.6g m, w_edge = %.6g m, wd = %.6g m", r["w0"], r["w_edge"], r["wd"])
@@ -153,16 +152,13 @@ def cmd_run(args) -> int:
     log.info("summary:\n%s", summary_table(r))
     log.info("results: %s; log: %s", target, out / "tankfx.log")
     if args.fields:
-
         log.info("fields for ParaView: %s",
                  ", ".join(map(str, write_fields(solution, out / FIELDS))))
     figures = []
     if args.figures:
-
         figures = write_figures(solution, out)
         log.info("figures: %s", ", ".join(map(str, figures)))
     if comm.rank == 0:
-
         log.info("report: %s", write_report(r, figures, out / REPORT))
     return 0
 
@@ -175,7 +171,6 @@ def describe(scene) -> list[str]:
     s, a = scene.soil, scene.foundation_radius
     out = [f"scene: {scene.title}"]
     if scene.consolidation is not None:
-
         permeability, c_v = stratum_coefficients(scene)
     for k, st in enumerate(s.strata):
         where = "from the surface" if k == 0 else f"from {st.depth:g} m"
@@ -248,7 +243,6 @@ def describe(scene) -> list[str]:
                      "has it)")
     c = scene.consolidation
     if c is not None:
-
         steps = len(path_steps(load_path(scene), c.times, c.steps_per_decade)) - 1
         parts.append(f"the excess pore pressure (Biot's consolidation, k = "
                      f"{c.permeability:g} m/s, drained at the {c.drainage.replace('_', ' ')})")
@@ -273,7 +267,6 @@ def cmd_check(args) -> int:
         data = {}                            # load_scene says what is wrong with it
     try:
         if "axes" in data:
-
             sweep = load_sweep(args.file)
             say(f"{args.file}: a sweep of {len(sweep.scenes)} cases over "
                 f"{', '.join(sweep.axes)}; every case is valid")
@@ -286,7 +279,6 @@ def cmd_check(args) -> int:
     for line in describe(scene):
         say(line)
     if args.mesh:
-
         domain = build_domain(scene, comm)
         dofs = build_model(scene, domain).dofs()
         cells = domain.mesh.topology.index_map(2).size_global

@@ -139,7 +139,6 @@ class TimeStepping:
         self.isochrone_depths = np.linspace(D, min(D + 3.0 * a, scene.domain.depth), 61)
 
     def _isochrone(self) -> list[float]:
-
         z = self.isochrone_depths
         return evaluate_at(self.soil.pore_pressure, np.column_stack([np.zeros_like(z), -z]),
                            cells=self.model.domain.cells("soil"))[:, 0].tolist()

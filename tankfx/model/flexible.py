@@ -25,6 +25,7 @@ class FlexibleLoad:
 
     def __init__(self, scene: Scene, domain: Domain):
         self.scene, self.domain = scene, domain
+        self.warnings: list[str] = []           # (its set-up finds none)
         self.soil = soil = SoilBlock(scene, domain)
         # a consolidation's step changes only the flow terms (no interface here)
         self.a_split = soil.split_rows(soil.a) if soil.consolidating else None
@@ -69,9 +70,8 @@ class FlexibleLoad:
         self.scene = replace(self.scene, load=load)
         self.pressure.value = load.pressure
 
-    #: no structure, so no interface and no set-up warnings
+    #: no structure, so no interface
     interface = None
-    warnings: list[str] = []
 
     @cached_property
     def _out_of_balance(self) -> OutOfBalance:

@@ -105,7 +105,6 @@ class SoilBlock:
         #: soil with an unloading modulus), else None
         self.memory = None
         if s.unloading_modulus_ratio is not None:
-
             self.memory = UnloadingMemory(self.E, scene.mesh.degree, s.unloading_modulus_ratio,
                                           self._cell_pressure() if self.mixed else None)
         if domain.has_void:

@@ -35,25 +35,7 @@ from .interface import InterfaceBlock
 from .soil import SoilBlock
 from .structure import ShellResultants
 
-#: Warn when the interface compliance adds more than this fraction to the settlement ...
-POLLUTION_WARNING = 1e-3
-
-
-#: ... when the penalty exceeds the soil element's stiffness E / h by more than this: it then
-#: ties the soil's quadratic trace to the structure's cubic one point by point (measured on
-#: a bonded plate, Kp = 1: M0 -0.5 % at 10 x the default 1e3 E / h, -2.1 % at 100 x) ...
-OVERSTIFF_WARNING = 3e4
-
-
-#: ... and when it costs more than half of the solve's 16 digits.
-CONDITIONING_WARNING = 1e8
-
-
-#: Soil-side facet tags that carry the interface, with the soil's outward normal n and the
-#: tangent t there (the structure's n and t on those cells).
-_INTERFACE = {"contact": ((0.0, 1.0), (1.0, 0.0)), "wall_embedded": ((-1.0, 0.0), (0.0, 1.0))}
-
-
+#: the structure submesh's cell tag of each of the parent's facet tags it is made of
 _SUB_TAG = {"contact": st.PLATE, "wall": st.WALL, "wall_embedded": st.WALL_EMBEDDED}
 
 

@@ -27,9 +27,8 @@ def _settlement_rows(r: dict) -> list[tuple[str, str, str]]:
     def bar(key, digits):            # Eq. 23 needs p: none under self-weight alone
         return "no p for Eq. 23" if nd[key] is None else f"{key}_bar = {nd[key]:.{digits}f}"
 
-    rows = []
-    rows += [("centre settlement w0", f"{1e3 * r['w0']:.2f} mm", bar("w0", 4)),
-             ("differential settlement wd", f"{1e3 * r['wd']:.2f} mm", bar("wd", 4))]
+    rows = [("centre settlement w0", f"{1e3 * r['w0']:.2f} mm", bar("w0", 4)),
+            ("differential settlement wd", f"{1e3 * r['wd']:.2f} mm", bar("wd", 4))]
     if r.get("M0") is not None:
         rows.append(("centre moment M0", f"{r['M0'] / 1e3:.2f} kN m/m", bar("M0", 5)))
     return rows

@@ -5,7 +5,6 @@ path's times. Each adds what it finds to the reader's problems.
 from __future__ import annotations
 
 import math
-from dataclasses import fields
 from typing import Any
 
 from .reader import (
@@ -440,18 +439,17 @@ def check_wall(rd: Reader, wall: dict | None, plate: dict | None, data: dict) ->
 def check_interface(rd: Reader, interface: dict, data: dict) -> dict[str, str]:
     """The condition, its friction (tan phi or an angle) and options; returns the choices
     (condition, on_cycle, states) as given or defaulted."""
-    fields_ = {f.name: f.default for f in fields(Interface)}
-    cond = rd.choice(interface, "interface", "condition", fields_["condition"], CONDITIONS)
+    cond = rd.choice(interface, "interface", "condition", Interface.condition, CONDITIONS)
     if "tan_phi" in interface and "friction_angle" in interface:
         rd.bad("interface.tan_phi and interface.friction_angle: give one of them, not both")
     if cond == "mohr_coulomb" and "tan_phi" not in interface \
             and "friction_angle" not in interface:
         rd.bad("interface.tan_phi: missing for condition = \"mohr_coulomb\"; give tan_phi or "
                "friction_angle (degrees)")
-    on_cycle = rd.choice(interface, "interface", "on_cycle", fields_["on_cycle"], ON_CYCLE,
+    on_cycle = rd.choice(interface, "interface", "on_cycle", Interface.on_cycle, ON_CYCLE,
                          "\"hold\": hold the alternating elements in the weaker state and "
                          "go on; \"stop\": stop with the iteration history")
-    states = rd.choice(interface, "interface", "states", fields_["states"], STATES,
+    states = rd.choice(interface, "interface", "states", Interface.states, STATES,
                        "\"element\": one state per interface element; \"node\": one per "
                        "node")
     if cond != "mohr_coulomb":

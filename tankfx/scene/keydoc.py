@@ -51,8 +51,7 @@ def _allowed(spec: Key) -> str:
 
 
 def _rows(cls, keys: dict[str, Key], types: dict[str, type]) -> list[str]:
-    defaults = {f.name: (f.default if f.default is not MISSING else MISSING)
-                for f in fields(cls)}
+    defaults = {f.name: f.default for f in fields(cls)}
     out = ["| key | type | unit | default | allowed | meaning |", "|---|---|---|---|---|---|"]
     for name, spec in keys.items():
         default = spec.default_text(defaults.get(name, MISSING))

@@ -31,7 +31,6 @@ class StandaloneShell:
     member whose thickness steps (a wall's courses; put the steps on vertices)."""
 
     def __init__(self, points, E, nu, thickness, supports, load, comm=MPI.COMM_WORLD):
-
         self.mesh, self.cell_tags = line_mesh(comm, points)
         msh = self.mesh
         msh.topology.create_connectivity(0, 1)
@@ -77,7 +76,6 @@ class StandaloneHarmonicShell:
 
     def __init__(self, points, E, nu, thickness, supports, load, edge_load=None,
                  comm=MPI.COMM_WORLD):
-
         self.mesh, _ = line_mesh(comm, points)
         msh = self.mesh
         msh.topology.create_connectivity(0, 1)
@@ -115,7 +113,6 @@ class Sample:
 
     def __init__(self, radius, bottom, top, cells, E, nu, permeability, water_unit_weight,
                  degree, comm):
-
         self.radius, self.bottom, self.top = radius, bottom, top
         msh = self.mesh = dmesh.create_rectangle(
             comm, [np.array([0.0, bottom]), np.array([radius, top])], list(cells),
