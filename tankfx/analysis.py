@@ -16,7 +16,7 @@ from dolfinx import fem
 from mpi4py import MPI
 
 from .fem.memory import keep_freed_memory
-from .fem.solvers import make_solver
+from .fem.solvers import SolveError, make_solver
 from .fem.threads import limit_blas_threads
 from .iterations.active_set import solve
 from .iterations.secant import HyperbolicIteration
@@ -27,6 +27,8 @@ from .model.overturning import RockingModel
 from .model.protocol import Model
 from .results.contract import results_of, stage_summary, versions
 from .results.overturning import superpose
+from .results.validity import validity
+from .scene.plausible import geometry_warnings
 from .scene.scene import Scene
 from .scene.sections import Load
 
@@ -103,8 +105,18 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             log.info("load stage %d of %d", k + 1, len(stages))
             model.set_loads(load)
         t = time.perf_counter()
-        stage_scene, soil_iteration, consolidation = _solve_stage(
-            scene, load, model, solver, one_shot, nested)
+        try:
+            stage_scene, soil_iteration, consolidation = _solve_stage(
+                scene, load, model, solver, one_shot, nested)
+        except SolveError as e:
+            if len(stages) > 1:
+                # a load path keeps what converged, and names the stage that failed
+                carried = (f"; the largest load carried is stage {k}'s, "
+                           f"{solutions[-1].results['equilibrium']['applied_load'] / 1e6:.4g} "
+                           f"MN" if solutions else "")
+                e.args = (f"load stage {k + 1} of {len(stages)} failed{carried}: {e}",)
+                e.converged_stages = [s.results for s in solutions]
+            raise
         timings["assemble_solve"] = time.perf_counter() - t
         log.info("solved in %.2f s", timings["assemble_solve"])
 
@@ -119,6 +131,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         load = stage_scene.load
         if load.overturning:
             rocking = _overturning(model, rocking, load, results, log, sigma_zz)
+        results["validity"] = validity(results, scene.foundation_radius)
+        for note in results["validity"]["notes"]:
+            log.warning("not valid: %s", note)
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,
                                   sigma_zz=sigma_zz, results=results, model=model,
                                   harmonic=rocking if load.overturning else None))
@@ -181,7 +196,7 @@ def _set_up(scene: Scene, first: Load, comm: MPI.Comm, timings: dict) -> tuple:
 def _warnings(scene: Scene, model: Model) -> list[str]:
     """What the set-up found: the model's (the interface's penalty), the mesh's grading
     against a soil stiffening fast with depth, and a nonlinear elastic soil unloaded."""
-    warnings = list(model.warnings)
+    warnings = list(model.warnings) + geometry_warnings(scene)
     grading = mesh_grading_warning(scene)
     if grading:
         warnings.append(grading)

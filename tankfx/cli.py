@@ -35,15 +35,16 @@ from .results.fields import FIELD_FILES, PROFILE_FILES, write_fields, write_prof
 from .results.figures import FIGURES, write_figures
 from .results.io import write_json
 from .results.report import summary_table, write_report
-from .scene.scene import load_scene
+from .scene.scene import load_scene, read_toml
 from .scene.sections import SceneError
 from .scene.text import member_text, ringwall_text, stratum_constants
 from .studies.sweep import load_sweep, run_sweep
 
-EXIT_BAD_INPUT = 2
-
-
-EXIT_NOT_CONVERGED = 3
+#: the exit codes of ``tankfx run`` (and ``check``, ``sweep``): 0 the results are valid; 2
+#: the input is refused (nothing is written); 3 the analysis failed (results.json says what
+#: and where, with what converged); 4 it ran, but a part of the results lies outside its
+#: model's range (results.json's ``validity`` says which)
+EXIT_OK, EXIT_BAD_INPUT, EXIT_NOT_CONVERGED, EXIT_NOT_VALID = 0, 2, 3, 4
 
 
 #: where ``tankfx run`` writes the fields for ParaView, and its report, under --out
@@ -74,28 +75,32 @@ def setup_logging(out: Path | None, rank: int) -> None:
         logger.addHandler(fh)
 
 
-def _fail(msg: str, code: int) -> int:
+def _fail(msg: str, code: int, label: str = "error") -> int:
     from mpi4py import MPI
 
     if MPI.COMM_WORLD.rank == 0:         # every rank fails alike: one message is enough
-        print(f"tankfx: error: {msg}", file=sys.stderr)
+        print(f"tankfx: {label}: {msg}", file=sys.stderr)
     return code
 
 
-def _make_out(out: Path, comm) -> str | None:
-    """Create the output directory on rank 0; the reason it cannot be, the same on every
-    rank (None when it is there), before any work is done."""
+def _make_out(out: Path, comm, subdirs=()) -> str | None:
+    """Create the output directory and the ``subdirs`` the run will write into on rank 0,
+    each checked writable; the reason one cannot be, the same on every rank (None when all
+    are there), before any work is done."""
     problem = None
     if comm.rank == 0:
-        try:
-            if out.exists() and not out.is_dir():
-                raise NotADirectoryError(0, "a file, not a directory")
-            out.mkdir(parents=True, exist_ok=True)
-            if not os.access(out, os.W_OK):
-                raise PermissionError("not writable")
-        except OSError as e:             # a file of that name, a read-only place, ...
-            problem = (f"--out {out}: cannot write there ({e.strerror or e}); choose "
-                       "another --out")
+        for d in (out, *(out / s for s in subdirs)):
+            try:
+                if d.exists() and not d.is_dir():
+                    raise NotADirectoryError(0, "a file, not a directory")
+                d.mkdir(parents=True, exist_ok=True)
+                if not os.access(d, os.W_OK | os.X_OK):
+                    raise PermissionError(0, "not writable")
+            except OSError as e:             # a file of that name, a read-only place, ...
+                problem = (f"{'--out ' if d == out else ''}{d}: cannot write there "
+                           f"({e.strerror or e}); choose another --out"
+                           + ("" if d == out else " or make it writable"))
+                break
     return comm.bcast(problem)
 
 
@@ -121,7 +126,8 @@ def cmd_run(args) -> int:
     if existing and not args.force:
         return _fail(f"{', '.join(existing)} exist(s); choose another --out or add --force to "
                      "overwrite", EXIT_BAD_INPUT)
-    if (problem := _make_out(out, comm)) is not None:
+    subdirs = [PROFILES] + ([FIELDS] if args.fields else [])
+    if (problem := _make_out(out, comm, subdirs)) is not None:
         return _fail(problem, EXIT_BAD_INPUT)
     if args.force and comm.rank == 0:
         # only files of ours: a stress-level figure or a field piece of an earlier run
@@ -136,21 +142,20 @@ def cmd_run(args) -> int:
         solution = analyse(scene, comm)
     except SolveError as e:
         if comm.rank == 0:
-            write_json(target, {"title": scene.title, "converged": False, "error": str(e),
-                                "history": e.history})
+            write_json(target, failure_record(scene, e))
         logging.getLogger("tankfx").error("not converged: %s", e)
         return _fail(f"the analysis did not converge: {e}", EXIT_NOT_CONVERGED)
     r = solution.results
     log = logging.getLogger("tankfx")
-    if comm.rank == 0:
-        write_json(target, r)
-        log.info("profiles (CSV): %s", ", ".join(map(str, write_profiles(r, out / PROFILES))))
     log.info("w0 = %.6g m, w_edge = %.6g m, wd = %.6g m", r["w0"], r["w_edge"], r["wd"])
     log.info("equilibrium: reaction %.6g N for %.6g N applied (relative error %.1e)",
              r["equilibrium"]["reaction"], r["equilibrium"]["applied_load"],
              r["equilibrium"]["relative_error"])
     log.info("summary:\n%s", summary_table(r))
-    log.info("results: %s; log: %s", target, out / "tankfx.log")
+    # results.json is written last but the report: a run stopped before it leaves nothing
+    # that reads as a finished analysis
+    if comm.rank == 0:
+        log.info("profiles (CSV): %s", ", ".join(map(str, write_profiles(r, out / PROFILES))))
     if args.fields:
         log.info("fields for ParaView: %s",
                  ", ".join(map(str, write_fields(solution, out / FIELDS))))
@@ -159,8 +164,28 @@ def cmd_run(args) -> int:
         figures = write_figures(solution, out)
         log.info("figures: %s", ", ".join(map(str, figures)))
     if comm.rank == 0:
+        write_json(target, r)
+        log.info("results: %s; log: %s", target, out / "tankfx.log")
         log.info("report: %s", write_report(r, figures, out / REPORT))
-    return 0
+    valid = r["validity"]["valid"] and all(st["valid"] for st in r.get("stages", []))
+    if not valid:
+        return _fail("the analysis ran, but its results lie outside the model's range: "
+                     + "; ".join(r["validity"]["notes"] or ["an earlier load stage's (see "
+                                                            "results.json's stages)"]),
+                     EXIT_NOT_VALID, label="not valid")
+    return EXIT_OK
+
+
+def failure_record(scene, e: SolveError) -> dict:
+    """results.json of a failed analysis: what failed (the message), the iteration
+    history, and what converged before (a load path's converged stages, in full)."""
+    record = {"title": scene.title, "converged": False, "error": str(e),
+              "history": e.history, "scene": scene.to_dict()}
+    done = e.converged_stages
+    if done:
+        record["failed_stage"] = len(done) + 1
+        record["converged_stages"] = done
+    return record
 
 
 def describe(scene) -> list[str]:
@@ -218,7 +243,7 @@ def describe(scene) -> list[str]:
     m, d = scene.mesh, scene.domain
     out.append(f"  mesh: soil P{m.degree}, edge {m.edge_size:.4g} m ({m.edge_size / a:.3g} a), "
                f"near field {m.near_size:.4g} m, growth {m.growth:g}; domain {d.radius:g} x "
-               f"{d.depth:g} m; solver {scene.solver.method}")
+               f"{d.depth:g} m ({d.side} side, {d.base} base); solver {scene.solver.method}")
     grading = geometry_of(scene).surface_grading
     if grading is not None:
         inv_lam, rate = grading
@@ -254,19 +279,13 @@ def describe(scene) -> list[str]:
 
 
 def cmd_check(args) -> int:
-    import tomllib
-
     from mpi4py import MPI
 
 
     comm = MPI.COMM_WORLD
     say = print if comm.rank == 0 else (lambda *a, **k: None)
     try:
-        data = tomllib.loads(Path(args.file).read_text()) if Path(args.file).is_file() else {}
-    except tomllib.TOMLDecodeError:
-        data = {}                            # load_scene says what is wrong with it
-    try:
-        if "axes" in data:
+        if "axes" in read_toml(args.file):
             sweep = load_sweep(args.file)
             say(f"{args.file}: a sweep of {len(sweep.scenes)} cases over "
                 f"{', '.join(sweep.axes)}; every case is valid")

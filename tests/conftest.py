@@ -15,7 +15,10 @@ def flexible_scene(nu=0.3, **sections):
     data = {"title": "flexible load", "soil": {"E": 10e6, "nu": nu},
             "load": {"pressure": 100e3, "load_radius": 1.0}}
     for name, values in sections.items():
-        data.setdefault(name, {}).update(values)
+        if isinstance(values, dict):
+            data.setdefault(name, {}).update(values)
+        else:
+            data[name] = values           # (a top-level key: accept)
     return Scene.from_dict(data)
 
 

@@ -53,7 +53,8 @@ def _gibson(near_size):
                                       "unit_weight": gamma, "K0": 1.0,
                                       "atmospheric_pressure": 1.0},
                              "load": {"pressure": p, "load_radius": a},
-                             "mesh": {"degree": 2, "near_size": near_size}})
+                             "mesh": {"degree": 2, "near_size": near_size},
+                             "accept": ["soil.cohesion", "soil.atmospheric_pressure"]})
     # Gibson (1967): G = m_G z and nu = 0.5 settle p / (2 m_G) under any load; E = 3 G
     return analyse(scene).results["w0"] / (3 * p / (2 * K * gamma)) - 1
 

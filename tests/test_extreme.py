@@ -20,7 +20,9 @@ def plate(Kp=1.0, condition="bonded", a=1.0, p=1e5, wall=None, **interface):
     data = {"soil": {"E": 10e6, "nu": 0.3},
             "plate": {"radius": a, "Kp": Kp, "E": 30e9, "nu": 0.2},
             "interface": {"condition": condition, **interface}, "load": {"pressure": p},
-            "mesh": {k: v * a if k != "growth" else v for k, v in COARSE.items()}}
+            "mesh": {k: v * a if k != "growth" else v for k, v in COARSE.items()},
+            # (the extreme cases are the tests: a bonded interface's cohesion, a heavy rim)
+            "accept": ["interface.cohesion", "wall.unit_weight"]}
     if wall:
         data["wall"] = {"radius": a, "height": 3.0 * a, "E": 30e9, "nu": 0.2, **wall}
     return Scene.from_dict(data)

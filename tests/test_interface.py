@@ -27,6 +27,7 @@ def scene(condition="mohr_coulomb", tan_phi=None, nu=0.3, embedment=0.0, Kp=1.0,
     if wall:
         data["wall"] = {"radius": 1.0, "Kt": 0.1, "height": 3.0, "E": 30e9, "nu": 0.2,
                         "unit_weight": 2e6}
+        data["accept"] = ["wall.unit_weight"]     # a heavy rim, to lift the plate's centre
     return Scene.from_dict(data)
 
 

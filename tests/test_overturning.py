@@ -294,6 +294,7 @@ def test_nonlinear_soil_rocks_on_its_secant_moduli():
     def tilt(soil):
         d = small_tank(soil=soil)
         d["load"] = {"pressure": 50e3, "overturning_moment": 2e4}
+        d["accept"] = ["soil.hyperbolic_b"]       # (a strength too large to matter)
         return analyse(Scene.from_dict(d)).results["overturning"]["tilt"]
 
     a = HYPERBOLIC_SOIL["hyperbolic_a"]

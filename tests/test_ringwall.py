@@ -98,7 +98,8 @@ def test_ringwall_on_nonlinear_soil_keeps_its_own_modulus():
     ring = {"inner_radius": 0.85, "outer_radius": 1.15, "depth": 0.4, "E": 30e9}
     linear = analyse(Scene.from_dict(small_tank(ringwall=ring))).results
     kondner = analyse(Scene.from_dict(small_tank(ringwall=ring, soil={
-        "model": "hyperbolic", "hyperbolic_a": 1e-7, "hyperbolic_b": 1e-12, "nu": 0.3})))
+        "model": "hyperbolic", "hyperbolic_a": 1e-7, "hyperbolic_b": 1e-12, "nu": 0.3},
+        accept=["soil.hyperbolic_b"])))
     assert kondner.results["w0"] == pytest.approx(linear["w0"], rel=1e-6)
     assert np.all(_ring_moduli(kondner) == 30e9)
     sand = {"model": "duncan_chang", "nu": 0.3, "modulus_number": 400.0,

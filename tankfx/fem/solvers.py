@@ -99,6 +99,8 @@ class SolveError(RuntimeError):
     def __init__(self, message: str, history: list | None = None):
         super().__init__(message)
         self.history = history or []
+        #: a load path's stages that converged before this one failed (their results)
+        self.converged_stages: list[dict] = []
 
 
 class _LinearSolver:

@@ -130,10 +130,16 @@ class HyperbolicIteration:
         nu_law = self.nu_intact if self.duncan_chang else self.nu
         for it in range(1, max_it + 1):
             t0 = time.perf_counter()
-            unsettled = inner_solve()     # interface elements that changed state (single loop)
+            try:
+                unsettled = inner_solve()   # interface elements that changed state (single loop)
+            except SolveError as e:
+                # the stiffness left by the soil at its ultimate no longer solves: say so in
+                # the soil's terms, with the history so far
+                raise self._collapse(s, it, e) from None
             eps_min, eps_max = self.cell_principal_strains()
             E = self.modulus.x.array[self.dof_E]
             law, E_new, misfit, ultimate = self._secant_moduli(s, E, eps_min, eps_max)
+            self._ultimate = ultimate
             switched = unloading = None
             if self.memory is not None:
                 E_new, misfit, ultimate, unloading, switched = self._unloading(
@@ -284,6 +290,36 @@ class HyperbolicIteration:
                 self.memory.set_unloading(unloading)
         self.modulus.x.array[self.dof_E] = np.where(self.is_soil, new, E)
 
+    def _load_text(self) -> str:
+        """The stage's load in words: the vertical load and its mean bearing pressure."""
+        m = self.model
+        a = m.scene.foundation_radius
+        P = m.applied_load
+        return (f"the vertical load {P / 1e6:.4g} MN, a mean bearing pressure of "
+                f"{P / (np.pi * a**2) / 1e3:.4g} kPa on the foundation (radius {a:g} m)")
+
+    def _strength_text(self, s) -> str:
+        if self.duncan_chang:
+            return (f"Duncan & Chang's strength c = {s.cohesion / 1e3:.4g} kPa, phi = "
+                    f"{s.friction_angle:g} deg")
+        return f"the ultimate deviator 1/b = {1.0 / s.hyperbolic_b / 1e3:.4g} kPa"
+
+    def _collapse(self, s, it: int, error: SolveError) -> SoilFailure:
+        """A linear solve failed inside the iteration (the soil so softened that the system
+        is singular to round-off): what failed, where and under what load."""
+        comm = self.model.domain.mesh.comm
+        mask = getattr(self, "_ultimate", np.zeros(len(self.is_soil), dtype=bool)) & \
+            self.is_soil
+        n = comm.allreduce(int(mask[: self.n_owned].sum()))
+        where = (f"{n} cells of the soil {self._where(mask)} had reached "
+                 f"{self._strength_text(s)}" if n else "no cell had yet reached the soil's "
+                 "strength")
+        return SoilFailure(
+            f"the soil cannot carry {self._load_text()}: at iteration {it} {where}, and the "
+            f"stiffness left could not be solved ({error}). The largest load carried lies "
+            f"below this one: give a load path ([[stages]] of rising load; each converged "
+            f"stage is kept) to find it", self.history)
+
     def _fail(self, s, n_ult, ultimate, max_it, worst, du_rel, tol) -> None:
         """No converged state in max_iterations: what failed, in physical terms."""
         if n_ult > 0 and self.duncan_chang:
@@ -297,10 +333,12 @@ class HyperbolicIteration:
                 f"foundation; raise [soil] max_iterations, or give the soil a little "
                 f"cohesion)", self.history)
         if n_ult > 0:
-            raise SoilFailure(f"soil failure {self._where(ultimate & self.is_soil)}: {n_ult} "
-                              f"elements at the ultimate deviator (1/b = "
-                              f"{1.0 / s.hyperbolic_b:.4g} Pa) after {max_it} iterations: the "
-                              f"soil cannot carry this load", self.history)
+            raise SoilFailure(f"the soil cannot carry {self._load_text()}: {n_ult} cells of the "
+                              f"soil {self._where(ultimate & self.is_soil)} reached "
+                              f"{self._strength_text(s)} and no converged state was found in "
+                              f"{max_it} iterations. The largest load carried lies below this "
+                              f"one: give a load path ([[stages]] of rising load; each "
+                              f"converged stage is kept) to find it", self.history)
         raise SolveError(f"the hyperbolic soil iteration did not converge in {max_it} "
                          f"iterations (largest deviator misfit {worst:.3g} > {tol:g})",
                          self.history)

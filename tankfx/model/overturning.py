@@ -43,6 +43,7 @@ from ..laws import harmonic as hm
 from ..laws import shell as st
 from ..laws.elasticity import mixed_stress
 from ..laws.elasticity import stress as elastic
+from .soil import far_supports
 
 
 class RockingModel:
@@ -188,8 +189,8 @@ class RockingModel:
         for c in (1, 2):
             dofs = fem.locate_dofs_topological(V.sub(c), fdim, axis)
             bcs.append(fem.dirichletbc(0.0, dofs, V.sub(c)))
-        far = fem.locate_dofs_topological(V, fdim, dom.facets("far_side", "bottom"))
-        bcs.append(fem.dirichletbc(np.zeros(3), far, V))
+        # (a roller side holds the horizontal amplitudes D and S: u_r = u_theta = 0)
+        bcs += far_supports(V, dom, tank.scene.domain, horizontal=(0, 2), vertical=1)
         bcs += soil.pins(V, [(pr.function_space, i) for pr, _, _, i in self.pressures])
         # the plate's centre: Z = S = 0 (its slope, the tilt, is free)
         sub = tank.mesh

@@ -29,6 +29,27 @@ from .pore_pressure import PorePressure
 STRATUM_TAG = 100
 
 
+def far_supports(V, dom: Domain, domain, horizontal: tuple[int, ...],
+                 vertical: int) -> list[fem.DirichletBC]:
+    """The supports of the far side and the rigid base (``domain``: the scene's
+    DomainSize): every component of ``V`` fixed on a "fixed" side and a "rough" base; on a
+    "roller" side only the ``horizontal`` components, on a "smooth" base only the
+    ``vertical`` one."""
+    fdim = dom.mesh.topology.dim - 1
+    fixed = [name for name, free in (("far_side", domain.side == "roller"),
+                                     ("bottom", domain.base == "smooth")) if not free]
+    bcs = []
+    if fixed:
+        dofs = fem.locate_dofs_topological(V, fdim, dom.facets(*fixed))
+        bcs.append(fem.dirichletbc(np.zeros(V.dofmap.index_map_bs), dofs, V))
+    for name, components in (("far_side", horizontal if domain.side == "roller" else ()),
+                             ("bottom", (vertical,) if domain.base == "smooth" else ())):
+        for c in components:
+            dofs = fem.locate_dofs_topological(V.sub(c), fdim, dom.facets(name))
+            bcs.append(fem.dirichletbc(0.0, dofs, V.sub(c)))
+    return bcs
+
+
 class SoilBlock:
     """The soil field on the parent mesh: its space, modulus, stiffness forms and supports.
 
@@ -196,10 +217,8 @@ class SoilBlock:
         fdim = dom.mesh.topology.dim - 1
         Vr = V.sub(0)
         axis = fem.locate_dofs_topological(Vr, fdim, dom.facets("axis"))
-        far = fem.locate_dofs_topological(V, fdim, dom.facets("far_side", "bottom"))
-        zero = np.zeros(2, dtype=np.float64)
-        bcs = [fem.dirichletbc(0.0, axis, Vr),                 # symmetry: u_r = 0 on r = 0
-               fem.dirichletbc(zero, far, V)]                  # rigid far boundary
+        bcs = [fem.dirichletbc(0.0, axis, Vr)]                 # symmetry: u_r = 0 on r = 0
+        bcs += far_supports(V, dom, self.scene.domain, horizontal=(0,), vertical=1)
         bcs += self.pins(V, [(pr.function_space, i) for i, (pr, _, _) in
                              zip(self.pressure_strata, self.pressures)])
         return bcs

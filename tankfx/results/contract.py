@@ -68,7 +68,8 @@ def stage_summary(r: dict) -> dict:
            "applied_load": r["equilibrium"]["applied_load"],
            **{k: r[k] for k in ("w0", "w_edge", "wd", "w_mean", "M0", "nondim")},
            "soil_iterations": r["soil"]["iterations"], "linear_solves": r["linear_solves"],
-           "tilt": r["overturning"]["tilt"] if "overturning" in r else None}
+           "tilt": r["overturning"]["tilt"] if "overturning" in r else None,
+           "valid": r["validity"]["valid"]}
     if "unloading_cells" in r["soil"]:
         out["unloading_cells"] = r["soil"]["unloading_cells"]
     if "interface" in r:

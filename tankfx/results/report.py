@@ -15,9 +15,20 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
     settlements and their Eq. 23 measures, the moments and the wall's hoop force, what a tank
     code asks of the settlements, the interface's state and the iterations. Only the rows
     the scene has (no moments without a plate, no interface lengths for a bonded one)."""
-    return (_settlement_rows(results) + _structure_rows(results)
+    return (_validity_rows(results) + _settlement_rows(results) + _structure_rows(results)
             + _consolidation_rows(results) + _overturning_rows(results)
             + _iteration_rows(results) + _stage_rows(results))
+
+
+def _validity_rows(r: dict) -> list[tuple[str, str, str]]:
+    """Whether the results lie within the model's range (tankfx.results.validity): a row
+    only where they do not, naming each part outside it."""
+    v = r.get("validity")
+    if v is None or v["valid"]:
+        return []
+    bad = [part for part, ok in v["parts"].items() if not ok]
+    return [("VALIDITY", "NOT VALID: " + ", ".join(p.replace("_", " ") for p in bad),
+             "; ".join(v["notes"]))]
 
 
 def _settlement_rows(r: dict) -> list[tuple[str, str, str]]:

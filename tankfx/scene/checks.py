@@ -25,6 +25,15 @@ from .reader import (
     Reader,
     suggest,
 )
+from .plausible import (
+    DOMAIN_WIDEST,
+    PLATE_THICKEST,
+    PLATE_THIN,
+    WALL_THICKEST,
+    WALL_THIN,
+    accept_problems,
+    ratio_problem,
+)
 from .sections import (
     ATMOSPHERIC_PRESSURE,
     DEFAULT_DOMAIN_FACTOR,
@@ -375,7 +384,10 @@ def stage_times_of(raw, consolidation: bool) -> tuple[Any, tuple[float, ...]]:
 def check_top(rd: Reader, data: dict) -> None:
     """The top level: a title, known sections, the required ones present."""
     for key, value in data.items():
-        if key in TOP:
+        if key == "accept":
+            for p in accept_problems(value, KEYS, LAYER_KEYS):
+                rd.bad(p)
+        elif key in TOP:
             if not isinstance(value, TOP[key]):
                 rd.bad(f"{key}: expected a string, got {value!r}")
         elif key not in SPEC:
@@ -395,6 +407,19 @@ def check_plate(rd: Reader, plate: dict | None, wall: dict | None) -> None:
                "(Kp fixes the thickness through Eq. 21)")
     elif "thickness" not in plate and "Kp" not in plate:
         rd.bad("plate.thickness: missing; give 'thickness = ...' (m) or 'Kp = ...'")
+    for key in ("thickness", "annular_thickness"):
+        if isinstance(plate.get(key), float) and isinstance(plate.get("radius"), float):
+            problem = ratio_problem(f"plate.{key}", plate[key], plate["radius"], PLATE_THIN,
+                                    PLATE_THICKEST, "plate", rd.accepted)
+            if problem:
+                rd.bad(problem)
+    D, H = plate.get("embedment", 0.0), (wall or {}).get("height")
+    if isinstance(H, float) and isinstance(D, float) and D > H \
+            and "plate.embedment" not in rd.accepted:
+        rd.bad(f"plate.embedment = {D:g} m: deeper than the wall is tall (wall.height = {H:g} "
+               f"m): the whole tank would lie below the ground; did you mean {D:g} mm = "
+               f"{D * 1e-3:g} m? If you mean it, add \"plate.embedment\" to the scene's "
+               f"top-level accept = [...]")
     check_annular_ring(rd, plate, wall)
 
 
@@ -424,6 +449,13 @@ def check_wall(rd: Reader, wall: dict | None, plate: dict | None, data: dict) ->
     elif "thickness" not in wall and "Kt" not in wall:
         rd.bad("wall.thickness: missing; give 'thickness = ...' (m), 'Kt = ...' or "
                "'courses = [{height = ..., thickness = ...}, ...]'")
+    for t in [wall.get("thickness")] + [t for _, t in courses or ()]:
+        if isinstance(t, float) and isinstance(wall.get("radius"), float):
+            problem = ratio_problem("wall.thickness", t, wall["radius"], WALL_THIN,
+                                    WALL_THICKEST, "shell", rd.accepted)
+            if problem and not any(p.startswith("wall.thickness = ") for p in rd.problems):
+                rd.bad(problem)
+                break
     if "height" not in wall and courses is None:   # (bad courses are reported)
         rd.bad("wall.height: missing; add 'height = ...' under [wall] (m, from the "
                "plate up)")
@@ -567,6 +599,12 @@ def check_domain(rd: Reader, domain: dict, mesh: dict, a: float | None, D: float
         rd.bad(f"domain.depth = {domain.get('depth', default)!r} m: the rigid base must lie "
                f"below the foundation's underside (embedment {D!r} m); deepen the domain "
                f"or omit domain.depth for the half-space default ({default:g} m)")
+    for key in ("radius", "depth"):
+        if domain.get(key, default) > DOMAIN_WIDEST * a:
+            rd.bad(f"domain.{key} = {domain[key]:g} m: more than {DOMAIN_WIDEST:g} foundation "
+                   f"radii ({DOMAIN_WIDEST * a:g} m); the half-space's truncation error falls "
+                   f"as 1/R (0.0074 % at the default {default:g} m), so a wider domain gains "
+                   f"nothing but round-off: omit domain.{key} for the half-space")
     base = domain.get("depth", default)
     for k, layer in enumerate(layers, start=1):
         if layer.get("depth", 0.0) >= base:

@@ -11,6 +11,7 @@ from dataclasses import fields
 from typing import Any
 
 from .keys import Key
+from .plausible import implausible
 from .sections import (
     ALTERNATIVE_KEYS,
     STRATUM_DUNCAN_CHANG,
@@ -68,7 +69,7 @@ ON_CYCLE = KEYS["interface"]["on_cycle"].choices
 STATES = KEYS["interface"]["states"].choices
 DRAINAGE = KEYS["consolidation"]["drainage"].choices
 
-TOP = {"title": str}
+TOP = {"title": str, "accept": list}
 REQUIRED_SECTIONS = ("soil", "load")
 #: the keys of Duncan & Chang's soil, and those of them it requires
 DUNCAN_CHANG = (*STRATUM_DUNCAN_CHANG, "atmospheric_pressure", "water_table",
@@ -87,6 +88,11 @@ class Reader:
     def __init__(self, data: dict[str, Any]):
         self.data = data
         self.problems: list[str] = []
+        #: the keys whose implausible values the scene means (its top-level ``accept``)
+        accept = data.get("accept", []) if isinstance(data, dict) else []
+        self.accepted = set(accept) if isinstance(accept, list) else set()
+        #: the accepted keys that are outside their plausible range, with their values
+        self.accepted_outside: list[str] = []
 
     def bad(self, msg: str) -> None:
         self.problems.append(msg)
@@ -128,17 +134,36 @@ class Reader:
     def limits(self, table: dict, name: str, keys: dict[str, Key]) -> None:
         """Each number of ``table`` (a section, or a layer named ``name``) within its key's
         limit (those not ``custom``, which their section's rules check): else a problem
-        naming the key, the value and the range."""
+        naming the key, the value and the range; then within its plausible range
+        (:mod:`tankfx.scene.plausible`) unless the scene accepts it."""
+        kind = "layer" if name.startswith("soil.layers") else name
         for k, value in table.items():
             spec = keys.get(k)
-            if spec is None or spec.limit is None or spec.custom \
-                    or not isinstance(value, (int, float)) or isinstance(value, bool):
+            if spec is None or not isinstance(value, (int, float)) or isinstance(value, bool):
+                continue
+            if spec.limit is None or spec.custom or spec.limit.holds(value):
+                if k == "E" and table.get("E_gradient", 0.0) > 0.0:
+                    # a modulus growing with depth (a Gibson soil starts from almost
+                    # nothing): the modulus a metre down is the one checked
+                    value = value * (1.0 + table["E_gradient"])
+                self.plausible(f"{name}.{k}", f"{kind}.{k}", value, spec.unit)
                 continue
             if not spec.limit.holds(value):
                 range_ = spec.limit.text()
                 need = f"be {range_}" if spec.limit.high is None else f"lie in {range_}"
                 self.bad(f"{name}.{k} = {value!r}: must {need}"
                          + (f" ({spec.why})" if spec.why else ""))
+
+    def plausible(self, where: str, name: str, value: float, unit: str) -> None:
+        """``value`` of ``where`` within the plausible range of ``name`` ("section.key"), or
+        accepted (recorded), or a problem naming the likely slip."""
+        problem = implausible(where, name, value, unit, ())
+        if problem is None:
+            return
+        if where in self.accepted:
+            self.accepted_outside.append(problem.split(" Give it in")[0].split("; did you")[0])
+        else:
+            self.bad(problem)
 
     def _typed(self, where: str, value, typ):
         if typ is list:

@@ -100,7 +100,8 @@ def load_of(load: dict, radius: float) -> Load:
 def domain_of(domain: dict, a: float) -> DomainSize:
     """The domain, DEFAULT_DOMAIN_FACTOR foundation radii wide and deep by default."""
     size = DEFAULT_DOMAIN_FACTOR * a
-    return DomainSize(radius=domain.get("radius", size), depth=domain.get("depth", size))
+    return given(DomainSize, domain, radius=domain.get("radius", size),
+                 depth=domain.get("depth", size))
 
 
 def mesh_of(mesh: dict, degree: int, a: float, embedment: float, flexible: bool) -> MeshOptions:

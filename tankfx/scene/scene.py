@@ -79,6 +79,10 @@ class Scene:
     #: from the stage before's (from no load at t = 0 for the first; a time equal to the
     #: one before: at once); empty without stages or without a consolidation
     stage_times: tuple[float, ...] = ()
+    #: the keys whose values outside their plausible range the scene means (its top-level
+    #: ``accept``; tankfx.scene.plausible), and what each of them is, in words
+    accept: tuple[str, ...] = ()
+    accepted: tuple[str, ...] = field(default=(), compare=False)
 
     @property
     def foundation_radius(self) -> float:
@@ -139,6 +143,8 @@ class Scene:
     def to_dict(self) -> dict[str, Any]:
         """The scene as a plain dict, re-readable by :meth:`from_dict` (resolved values)."""
         out: dict[str, Any] = {"title": self.title}
+        if self.accept:
+            out["accept"] = list(self.accept)
         for name in ("soil", "plate", "wall", "ringwall", "interface", "load", "domain",
                      "mesh", "solver", "consolidation"):
             part = getattr(self, name)
@@ -178,7 +184,8 @@ class Scene:
         """The scene as a scene file with every value resolved (the defaults written out,
         a thickness for a Kp); :func:`load_scene` reads it back to an equal scene."""
         d = self.to_dict()
-        lines = [f"title = {toml_value(d.pop('title'))}", ""]
+        lines = [f"title = {toml_value(d.pop('title'))}",
+                 *([f"accept = {toml_value(d.pop('accept'))}"] if "accept" in d else []), ""]
         stages = d.pop("stages", [])
         for name, values in d.items():
             layers = values.pop("layers", []) if name == "soil" else []
@@ -240,7 +247,8 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
                        f"table; remove it or add [consolidation]")
     if rd.problems:
         raise SceneError(rd.problems)
-    return _build(data, secs, layers, choices, deg)
+    return replace(_build(data, secs, layers, choices, deg),
+                   accept=tuple(data.get("accept", ())), accepted=tuple(rd.accepted_outside))
 
 
 def _parse_path(data: dict[str, Any]) -> Scene:
@@ -321,17 +329,42 @@ def _parse_stages(data: dict[str, Any], raw, scene: Scene) -> tuple[Load, ...]:
     return tuple(loads)
 
 
-def load_scene(path: str | Path) -> Scene:
-    """Read and validate a TOML scene file."""
+def read_toml(path: str | Path, what: str = "scene") -> dict[str, Any]:
+    """A TOML file's tables, read as UTF-8 (a byte-order mark is skipped): a file of another
+    encoding, or not TOML, is refused with the encoding it seems to be in, or the TOML
+    error."""
     p = Path(path)
     if not p.is_file():
-        raise SceneError([f"{p}: no such scene file"])
+        raise SceneError([f"{p}: no such {what} file"])
+    raw = p.read_bytes()
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise SceneError([f"{p}: a UTF-16 file (it starts with UTF-16's byte-order mark); "
+                          f"save it as UTF-8"])
     try:
-        with p.open("rb") as f:
-            data = tomllib.load(f)
+        text = raw.decode("utf-8-sig")          # (a UTF-8 byte-order mark is accepted)
+    except UnicodeDecodeError as e:
+        line = raw[:e.start].count(b"\n") + 1
+        seems = "Windows-1252 or Latin-1" if _is_text(raw, "cp1252") else "not text"
+        raise SceneError([f"{p}: not UTF-8 (byte 0x{raw[e.start]:02x} on line {line}; the file "
+                          f"seems {seems}); save it as UTF-8 (tankfx reads scene files as "
+                          f"UTF-8, as TOML requires)"]) from None
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as e:
         raise SceneError([f"{p}: not valid TOML: {e}"]) from None
-    return _parse_scene(data)
+
+
+def _is_text(raw: bytes, encoding: str) -> bool:
+    try:
+        text = raw.decode(encoding)
+    except UnicodeDecodeError:
+        return False
+    return all(c.isprintable() or c in "\r\n\t" for c in text)
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a TOML scene file (UTF-8)."""
+    return _parse_scene(read_toml(path))
 
 
 def _parse_scene(data: dict[str, Any]) -> Scene:

@@ -660,6 +660,16 @@ class DomainSize:
     depth: float = key(unit="m", limit=POSITIVE, default_doc="10000 a",
                        meaning="extent of the soil; `depth` is the depth of a rigid (rough) base, "
                                "anywhere below the foundation (e.g. rock under a thin layer)")
+    #: the far side's support: "fixed" (both displacements) or "roller" (u_r = 0, free
+    #: to settle: PLAXIS's standard vertical rollers)
+    side: str = key("fixed", choices=("fixed", "roller"),
+                    meaning="the far side r = radius: \"fixed\" (u_r = u_z = 0) or \"roller\" "
+                            "(u_r = 0, free to settle: the standard box of a verification, e.g. "
+                            "PLAXIS's); with an overturning load the roller also holds u_theta")
+    #: the rigid base's contact: "rough" (both displacements) or "smooth" (u_z = 0)
+    base: str = key("rough", choices=("rough", "smooth"),
+                    meaning="the rigid base z = depth: \"rough\" (u_r = u_z = 0, bonded to rock)"
+                            " or \"smooth\" (u_z = 0, free to slide)")
 
 
 @dataclass(frozen=True)

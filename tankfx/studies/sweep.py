@@ -24,7 +24,6 @@ import json
 import logging
 import re
 import time
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -34,7 +33,7 @@ from ..analysis import analyse
 from ..fem.solvers import SolveError
 from ..results.figures import plot_sweep
 from ..results.io import write_json
-from ..scene.scene import Scene, load_scene
+from ..scene.scene import Scene, load_scene, read_toml
 from ..scene.sections import E_FROM_KEYS, SceneError
 
 log = logging.getLogger("tankfx")
@@ -82,12 +81,7 @@ def scene_with(scene: Scene, values: dict) -> Scene:
 def load_sweep(path: str | Path) -> Sweep:
     """Read and validate a sweep file and every case it makes (SceneError if any is bad)."""
     p = Path(path)
-    if not p.is_file():
-        raise SceneError([f"{p}: no such sweep file"])
-    try:
-        data = tomllib.loads(p.read_text())
-    except tomllib.TOMLDecodeError as e:
-        raise SceneError([f"{p}: not valid TOML: {e}"]) from None
+    data = read_toml(p, "sweep")
     problems = [f"{k}: unknown sweep key (valid: base, mode, axes)" for k in data
                 if k not in ("base", "mode", "axes")]
     if "base" not in data:
