@@ -8,6 +8,7 @@ compression (the paper's and geotechnical convention).
 from __future__ import annotations
 
 import logging
+import math
 import time
 from dataclasses import dataclass, replace
 
@@ -21,7 +22,7 @@ from .fem.threads import limit_blas_threads
 from .iterations.active_set import solve
 from .iterations.secant import HyperbolicIteration
 from .iterations.time_stepping import TimeStepping
-from .mesh import SURFACE_GRADING, Domain, build_domain
+from .mesh import SURFACE_GRADING, Domain, build_domain, estimate, resource_problem
 from .model.build import build_model
 from .model.overturning import RockingModel
 from .model.protocol import Model
@@ -30,7 +31,7 @@ from .results.overturning import superpose
 from .results.validity import validity
 from .scene.plausible import geometry_warnings
 from .scene.scene import Scene
-from .scene.sections import Load
+from .scene.sections import Load, SceneError
 
 log = logging.getLogger("tankfx")
 
@@ -71,24 +72,34 @@ def mesh_grading_warning(scene: Scene) -> str | None:
             f"{SURFACE_GRADING / lam:.3g} m (the grading's own size) for more accuracy")
 
 
-def analyse(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD, nested: bool = False) -> Solution:
+def analyse(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD, nested: bool = False,
+            allow_large: bool = False) -> Solution:
     """Mesh, solve and post-process a scene; returns the solution and its results dict (of
     the last stage of the scene's load path, with every stage's key numbers under
     ``stages``, when it has one). ``nested`` (with a hyperbolic soil and a Mohr-Coulomb
     interface): converge the interface inside every soil iteration, or (default) update both
     once per iteration, which took fewer solves on the embedded demo tank (21 against 26,
-    README)."""
-    return analyse_path(scene, list(scene.stages) or [scene.load], comm, nested)[-1]
+    README). A scene whose estimated memory exceeds what the machine has free is refused
+    (SceneError, before meshing) unless ``allow_large``."""
+    return analyse_path(scene, list(scene.stages) or [scene.load], comm, nested,
+                        allow_large)[-1]
 
 
 def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
-                 nested: bool = False) -> list[Solution]:
+                 nested: bool = False, allow_large: bool = False) -> list[Solution]:
     """Solve a scene under a sequence of total loads (``Load`` objects or ``[load]`` dicts),
     on one mesh, carrying the interface's element states from each stage to the next: an
     element separated at one stage and in contact at the next is reported ``rebonded``.
     (Each stage is the response to its total load, as in the paper; slip is not
     accumulated along the path.) Returns one solution per stage."""
     stages = _load_stages(scene, loads)
+    est = estimate(scene, comm.size)
+    log.info("estimate: %s", est.text())
+    if not allow_large:
+        # (rank 0's answer for all: the memory free may differ between the ranks' nodes)
+        problem = comm.bcast(resource_problem(scene, comm.size) if comm.rank == 0 else None)
+        if problem:
+            raise SceneError([problem])
     t_start = time.perf_counter()
     timings: dict[str, float] = {}
     domain, model, solver, one_shot = _set_up(scene, stages[0], comm, timings)
@@ -111,9 +122,11 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         except SolveError as e:
             if len(stages) > 1:
                 # a load path keeps what converged, and names the stage that failed
-                carried = (f"; the largest load carried is stage {k}'s, "
-                           f"{solutions[-1].results['equilibrium']['applied_load'] / 1e6:.4g} "
-                           f"MN" if solutions else "")
+                P = solutions[-1].results["equilibrium"]["applied_load"] if solutions else 0
+                a = scene.foundation_radius
+                carried = (f"; the largest load carried is stage {k}'s, {P / 1e6:.4g} MN (a "
+                           f"mean bearing pressure of {P / (math.pi * a**2) / 1e3:.4g} kPa)"
+                           if solutions else "")
                 e.args = (f"load stage {k + 1} of {len(stages)} failed{carried}: {e}",)
                 e.converged_stages = [s.results for s in solutions]
             raise

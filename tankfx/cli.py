@@ -29,7 +29,7 @@ from .analysis import analyse, mesh_grading_warning
 from .fem.solvers import SolveError
 from .iterations.time_stepping import load_path, path_steps
 from .laws.biot import stratum_coefficients
-from .mesh import build_domain, geometry_of
+from .mesh import build_domain, estimate, geometry_of, resource_problem
 from .model.build import build_model
 from .results.fields import FIELD_FILES, PROFILE_FILES, write_fields, write_profiles
 from .results.figures import FIGURES, write_figures
@@ -58,7 +58,7 @@ PROFILES = Path("profiles")
 REPORT = "report.md"
 
 
-def setup_logging(out: Path | None, rank: int) -> None:
+def setup_logging(out: Path | None, rank: int, append: bool = False) -> None:
     logger = logging.getLogger("tankfx")
     logger.setLevel(logging.INFO)
     logger.handlers.clear()
@@ -70,7 +70,7 @@ def setup_logging(out: Path | None, rank: int) -> None:
     console.setFormatter(logging.Formatter("tankfx: %(message)s"))
     logger.addHandler(console)
     if out is not None:
-        fh = logging.FileHandler(out / "tankfx.log", mode="w")
+        fh = logging.FileHandler(out / "tankfx.log", mode="a" if append else "w")
         fh.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
         logger.addHandler(fh)
 
@@ -117,6 +117,11 @@ def cmd_run(args) -> int:
         return _fail(f"{args.scene}: {e}", EXIT_BAD_INPUT)
     if args.coarse:
         scene = scene.with_coarse_mesh()
+    if not args.allow_large:
+        # (rank 0's answer for all, as analyse's)
+        problem = comm.bcast(resource_problem(scene, comm.size) if comm.rank == 0 else None)
+        if problem:
+            return _fail(f"{args.scene}: {problem}", EXIT_BAD_INPUT)
     target = out / "results.json"
 
     ours = [target, out / REPORT, *(out / PROFILES / f for f in PROFILE_FILES),
@@ -139,7 +144,9 @@ def cmd_run(args) -> int:
 
 
     try:
-        solution = analyse(scene, comm)
+        solution = analyse(scene, comm, allow_large=args.allow_large)
+    except SceneError as e:                   # too large for this machine: before meshing
+        return _fail(f"{args.scene}: {e}", EXIT_BAD_INPUT)
     except SolveError as e:
         if comm.rank == 0:
             write_json(target, failure_record(scene, e))
@@ -180,7 +187,7 @@ def failure_record(scene, e: SolveError) -> dict:
     """results.json of a failed analysis: what failed (the message), the iteration
     history, and what converged before (a load path's converged stages, in full)."""
     record = {"title": scene.title, "converged": False, "error": str(e),
-              "history": e.history, "scene": scene.to_dict()}
+              "history": e.history, "scene": scene.to_dict(resolved=True)}
     done = e.converged_stages
     if done:
         record["failed_stage"] = len(done) + 1
@@ -214,7 +221,7 @@ def describe(scene) -> list[str]:
     if s.model == "duncan_chang" and s.water_table is not None:
         out.append(f"  water table {s.water_table:g} m down: the confinement below it is "
                    f"effective (gamma_w = {s.water_unit_weight:g} N/m^3)")
-    members = scene.to_dict()
+    members = scene.to_dict(resolved=True)
     if scene.plate is not None:
         out.append(f"  plate: {member_text('plate', members['plate'], scene.Kp)}")
     else:
@@ -297,6 +304,11 @@ def cmd_check(args) -> int:
         return _fail(f"{args.file}: {e}", EXIT_BAD_INPUT)
     for line in describe(scene):
         say(line)
+    est = estimate(scene, comm.size)
+    say(f"  estimate: {est.text()} (a direct solve on {comm.size} rank(s))")
+    problem = resource_problem(scene, comm.size)
+    if problem:
+        say(f"  refused by tankfx run (unless --allow-large): {problem}")
     if args.mesh:
         domain = build_domain(scene, comm)
         dofs = build_model(scene, domain).dofs()
@@ -327,7 +339,7 @@ def cmd_sweep(args) -> int:
                       out / "table.csv", out / "charts.png"]:
                 f.unlink(missing_ok=True)
     comm.barrier()
-    setup_logging(out, comm.rank)
+    setup_logging(out, comm.rank, append=True)     # a resumed sweep adds to its log
     try:
         run_sweep(sweep, out, comm)
     except SceneError as e:
@@ -353,6 +365,9 @@ def main(argv: list[str] | None = None) -> int:
                      help="do not draw the figures (PNG)")
     run.add_argument("--no-fields", dest="fields", action="store_false",
                      help="do not write the fields for ParaView (DIR/fields/)")
+    run.add_argument("--allow-large", action="store_true",
+                     help="run a scene whose estimated memory exceeds what this machine has "
+                     "free (refused otherwise, before meshing)")
     sweep = sub.add_parser("sweep", help="run a parametric study (resumes where it stopped)")
     sweep.add_argument("sweep", help="sweep file (TOML): base scene and axes")
     sweep.add_argument("--out", required=True, help="directory for cases/, table.csv, log")

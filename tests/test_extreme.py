@@ -271,7 +271,8 @@ def test_loads_just_below_and_above_the_soils_capacity():
     below = analyse(load(150e3)).results
     assert below["soil"]["converged"] and below["soil"]["cells_at_ultimate"] > 0
     assert np.isfinite(below["w0"])
-    with pytest.raises(SoilFailure, match="soil failure under the plate edge") as failure:
+    with pytest.raises(SoilFailure,
+                       match="cells of the soil under the foundation's edge") as failure:
         analyse(load(200e3))
     assert len(failure.value.history) == 40          # the scene's max_iterations
     assert all(np.isfinite(h["max_misfit"]) for h in failure.value.history)

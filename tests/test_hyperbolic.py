@@ -133,8 +133,9 @@ def test_linear_scene_never_enters_the_loop():
 
 
 def test_overload_fails_cleanly():
-    with pytest.raises(SoilFailure, match=r"soil failure under the plate edge .* elements at "
-                                          r"the ultimate deviator"):
+    with pytest.raises(SoilFailure, match=r"the soil cannot carry .* mean bearing pressure "
+                                          r"of 300 kPa .* cells of the soil under the "
+                                          r"foundation's edge .* reached the ultimate deviator"):
         analyse(flexible(300e3, max_iterations=25))
 
 

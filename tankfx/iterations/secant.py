@@ -400,7 +400,7 @@ class HyperbolicIteration:
         a = self.model.scene.foundation_radius
         D = self.model.scene.embedment
         r, z = pts[:, 0].mean(), -pts[:, 1].mean()
-        place = "under the plate edge" if abs(r - a) < 0.5 * a else \
+        place = "under the foundation's edge" if abs(r - a) < 0.5 * a else \
             ("under the foundation" if r < a else "beside the foundation")
         return f"{place} (around r = {r:.3g} m, depth {z:.3g} m; foundation level {D:g} m)"
 

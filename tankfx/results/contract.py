@@ -126,7 +126,7 @@ def results_of(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
         "equilibrium": {"applied_load": applied, "reaction": reaction,
                         "relative_error": abs(reaction - applied) / model.load_scale},
         "conventions": CONVENTIONS,
-        "scene": scene.to_dict(),
+        "scene": scene.to_dict(resolved=True),
     }
     if isinstance(model, TankModel):
         extra = structure_results(model)

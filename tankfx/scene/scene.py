@@ -134,14 +134,22 @@ class Scene:
             if isinstance(changes, dict):
                 if sec == "soil" and "E" not in changes and set(E_FROM_KEYS) & set(changes):
                     d["soil"].pop("E", None)      # 1/a or K p_a: the new one's
+                for K in ("Kp", "Kt"):            # a thickness replaces a rigidity, and back
+                    if sec in d and "thickness" in changes:
+                        d[sec].pop(K, None)
+                    if sec in d and K in changes:
+                        d[sec].pop("thickness", None)
                 d.setdefault(sec, {}).update(changes)
                 d[sec] = {k: v for k, v in d[sec].items() if v is not None}
             else:
                 d[sec] = changes
         return Scene.from_dict(d)
 
-    def to_dict(self) -> dict[str, Any]:
-        """The scene as a plain dict, re-readable by :meth:`from_dict` (resolved values)."""
+    def to_dict(self, resolved: bool = False) -> dict[str, Any]:
+        """The scene as a plain dict, re-readable by :meth:`from_dict` (resolved values; a
+        plate or wall given by Kp or Kt as that, so that its rigidity is held when the soil
+        changes). ``resolved``: with the thickness of such a member too (what the results
+        record; not re-readable)."""
         out: dict[str, Any] = {"title": self.title}
         if self.accept:
             out["accept"] = list(self.accept)
@@ -156,6 +164,9 @@ class Scene:
             out["soil"].pop("layers", None)
         if self.plate is not None and not self.plate.annular_width:
             out["plate"].pop("annular_width")
+        for name, K in (("plate", "Kp"), ("wall", "Kt")):
+            if name in out and K in out[name] and not resolved:
+                del out[name]["thickness"]          # the rigidity decides it
         if self.ringwall is not None and self.ringwall.fill_E is None:
             out["ringwall"].pop("fill_nu")          # no fill
         if self.wall is not None:
@@ -182,14 +193,19 @@ class Scene:
 
     def to_toml(self) -> str:
         """The scene as a scene file with every value resolved (the defaults written out,
-        a thickness for a Kp); :func:`load_scene` reads it back to an equal scene."""
+        the thickness a Kp gives as a comment); :func:`load_scene` reads it back to an equal
+        scene."""
         d = self.to_dict()
         lines = [f"title = {toml_value(d.pop('title'))}",
                  *([f"accept = {toml_value(d.pop('accept'))}"] if "accept" in d else []), ""]
         stages = d.pop("stages", [])
         for name, values in d.items():
             layers = values.pop("layers", []) if name == "soil" else []
-            lines += [f"[{name}]", *(f"{k} = {toml_value(v)}" for k, v in values.items()), ""]
+            lines += [f"[{name}]", *(f"{k} = {toml_value(v)}" for k, v in values.items())]
+            member = getattr(self, name) if name in ("plate", "wall") else None
+            if member is not None and ("Kp" in values or "Kt" in values):
+                lines.append(f"# (thickness = {member.thickness!r} m, from the rigidity)")
+            lines.append("")
             for layer in layers:
                 lines += ["[[soil.layers]]",
                           *(f"{k} = {toml_value(v)}" for k, v in layer.items()), ""]

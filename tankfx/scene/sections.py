@@ -319,6 +319,11 @@ class Plate:
     E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="plate material")
     nu: float = key(unit="-", required=True, limit=SHELL_POISSON, why=SHELL_POISSON_WHY,
                     meaning="plate material")
+    #: Eq. 21's relative rigidity where the scene gives it instead of the thickness: held
+    #: (the thickness follows) when the soil changes (Scene.with_changes, a sweep's case)
+    Kp: float | None = key(None, unit="-", limit=POSITIVE, default_doc="-",
+                           meaning="t_p, or the relative rigidity Kp = (1 - nu_s^2)(E_p / E_s)(t_p "
+                                   "/ a_p)^3 (Eq. 21, E_s and nu_s at the surface)")
     embedment: float = key(0.0, unit="m", limit=NON_NEGATIVE,
                            meaning="depth of the plate's underside below the ground; the soil above"
                                    " it, inside r <= a_p, is excavated")
@@ -379,6 +384,14 @@ class Wall:
                                                                      "plate's underside")
     nu: float = key(unit="-", required=True, limit=SHELL_POISSON, why=SHELL_POISSON_WHY,
                     meaning="H is measured from the plate's underside")
+    #: Eq. 22's relative rigidity where the scene gives it instead of the thickness: held
+    #: (the thickness follows) when the soil changes
+    Kt: float | None = key(None, unit="-", limit=POSITIVE, default_doc="-",
+                           meaning="t_t, or Kt = (1 - nu_s^2)(E_t / E_s)(t_t / a_t)^3 (Eq. 22), or "
+                                   "a wall whose thickness steps: `courses = [{height = 2.4, "
+                                   "thickness = 0.013}, ...]` from the bottom up (m), their outer "
+                                   "faces flush; `height` may then be left out (it is their sum; "
+                                   "given, it must equal it), and Kt is the bottom course's")
     unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
                              meaning="H is measured from the plate's underside")
     #: the courses of a wall whose thickness steps, (height, thickness) in m from the bottom
@@ -533,18 +546,8 @@ class Interface:
                               "state 4 times is held in the weaker state: see Limitations)")
 
 
-#: The keys a scene file may give instead of a field: Eq. 21's Kp for the plate's thickness,
-#: Eq. 22's Kt for the wall's, a friction angle for tan phi
+#: The keys a scene file may give instead of a field: a friction angle for tan phi
 ALTERNATIVE_KEYS: dict[str, dict[str, Key]] = {
-    "plate": {"Kp": Key(unit="-", limit=POSITIVE, default_doc="-",
-                        meaning="t_p, or the relative rigidity Kp = (1 - nu_s^2)(E_p / E_s)(t_p / "
-                                "a_p)^3 (Eq. 21, E_s and nu_s at the surface)")},
-    "wall": {"Kt": Key(unit="-", limit=POSITIVE, default_doc="-",
-                       meaning="t_t, or Kt = (1 - nu_s^2)(E_t / E_s)(t_t / a_t)^3 (Eq. 22), or a "
-                               "wall whose thickness steps: `courses = [{height = 2.4, thickness = "
-                               "0.013}, ...]` from the bottom up (m), their outer faces flush; "
-                               "`height` may then be left out (it is their sum; given, it must "
-                               "equal it), and Kt is the bottom course's")},
     "interface": {"friction_angle": Key(unit="deg", limit=ANGLE, why="degrees", default_doc="-",
                                         meaning="the interface friction; the paper's limits are "
                                                 "tan_phi = 10 (bonded) and 0.001 (smooth)")},

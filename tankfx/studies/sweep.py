@@ -40,8 +40,9 @@ log = logging.getLogger("tankfx")
 
 
 #: Result columns of table.csv, after the axes.
-COLUMNS = ("converged", "w0", "wd", "M0", "nondim.w0", "nondim.wd", "nondim.M0", "nondim.Kp",
-           "nondim.Kt", "w_edge", "w_mean", "junction.M_wall", "junction.M_plate")
+COLUMNS = ("converged", "validity.valid", "w0", "wd", "M0", "nondim.w0", "nondim.wd",
+           "nondim.M0", "nondim.Kp", "nondim.Kt", "w_edge", "w_mean", "junction.M_wall",
+           "junction.M_plate")
 
 
 @dataclass(frozen=True)
@@ -149,10 +150,17 @@ def _canonical(scene: Scene) -> str:
     return json.dumps(scene.to_dict(), sort_keys=True, default=str)
 
 
+def case_text(case: dict) -> str:
+    """A case's parameters as its log line names them: "soil.nu = 0.3, plate.Kp = 1"."""
+    return ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}"
+                     for k, v in case.items())
+
+
 def finished_cases(sweep: Sweep, out: Path) -> list[int]:
-    """The cases already written in ``out/cases``. A case file written for a different
-    scene (the sweep file or its base changed since) is refused: resuming would mix two
-    studies in one table."""
+    """The cases already written in ``out/cases``. A case file that is not valid JSON (a
+    run stopped while the disk was full, a file cut short) is computed again; one written
+    for a different scene (the sweep file or its base changed since) is refused: resuming
+    would mix two studies in one table."""
     done, stale = [], []
     for k, scene in enumerate(sweep.scenes):
         path = out / "cases" / f"{k:04d}.json"
@@ -160,8 +168,12 @@ def finished_cases(sweep: Sweep, out: Path) -> list[int]:
             continue
         try:
             record = json.loads(path.read_text())
-        except (OSError, json.JSONDecodeError):
-            stale.append(f"{path}: unreadable")
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+            log.warning("sweep: %s is not a valid case file (%s): case %d is computed again",
+                        path, e, k)
+            continue
+        if not isinstance(record, dict):
+            log.warning("sweep: %s is not a case record: case %d is computed again", path, k)
             continue
         if json.dumps(record.get("scene"), sort_keys=True, default=str) != _canonical(scene):
             stale.append(f"{path}: computed for a different scene than case {k} of this sweep")
@@ -205,19 +217,26 @@ def run_sweep(sweep: Sweep, out: Path, comm: MPI.Comm = MPI.COMM_WORLD) -> list[
             results = analyse(scene, MPI.COMM_SELF).results
         except SolveError as e:
             results = {"converged": False, "error": str(e), "history": e.history}
+        except SceneError as e:         # too large for this machine (validated otherwise)
+            results = {"converged": False, "error": str(e), "history": []}
         record = {"case": k, "axes": sweep.cases[k],
                   "scene": json.loads(_canonical(scene)), "results": results}
         write_json(cases_dir / f"{k:04d}.json", record)
         elapsed = time.perf_counter() - t0
         eta = elapsed / (i + 1) * (len(mine) - i - 1)
-        print(f"tankfx sweep [rank {comm.rank}]: case {k + 1} of {n} done "
-              f"({i + 1}/{len(mine)} of this rank's, ETA {eta:.0f} s)", flush=True)
+        print(f"tankfx sweep [rank {comm.rank}]: case {k + 1} of {n} ({case_text(sweep.cases[k])})"
+              f" {'done' if results.get('converged') else 'FAILED'} ({i + 1}/{len(mine)} of "
+              f"this rank's, ETA {eta:.0f} s)", flush=True)
     comm.barrier()
     if comm.rank != 0:
         return None
     rows = []
     for k in range(n):
         record = json.loads((cases_dir / f"{k:04d}.json").read_text())
+        if k in todo:           # (the log names each case run now, on any rank)
+            r = record["results"]
+            log.info("sweep: case %d of %d (%s): %s", k + 1, n, case_text(sweep.cases[k]),
+                     "converged" if r.get("converged") else f"FAILED: {r.get('error')}")
         rows.append({"case": k, **record["axes"], **_flatten(record["results"])})
     with (out / "table.csv").open("w", newline="") as f:
         # (a failed case has no overturning columns: the union of every row's, in order)
