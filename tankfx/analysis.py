@@ -22,7 +22,14 @@ from .fem.threads import limit_blas_threads
 from .iterations.active_set import solve
 from .iterations.secant import HyperbolicIteration
 from .iterations.time_stepping import TimeStepping
-from .mesh import SURFACE_GRADING, Domain, build_domain, estimate, resource_problem
+from .mesh import (
+    SURFACE_GRADING,
+    Domain,
+    build_domain,
+    estimate,
+    heartbeat,
+    resource_problem,
+)
 from .model.build import build_model
 from .model.overturning import RockingModel
 from .model.protocol import Model
@@ -117,8 +124,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             model.set_loads(load)
         t = time.perf_counter()
         try:
-            stage_scene, soil_iteration, consolidation = _solve_stage(
-                scene, load, model, solver, one_shot, nested)
+            with heartbeat("solving" + (f" load stage {k + 1}" if len(stages) > 1 else "")):
+                stage_scene, soil_iteration, consolidation = _solve_stage(
+                    scene, load, model, solver, one_shot, nested)
         except SolveError as e:
             if len(stages) > 1:
                 # a load path keeps what converged, and names the stage that failed

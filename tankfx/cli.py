@@ -35,6 +35,7 @@ from .results.fields import FIELD_FILES, PROFILE_FILES, write_fields, write_prof
 from .results.figures import FIGURES, write_figures
 from .results.io import write_json
 from .results.report import summary_table, write_report
+from .scene.plausible import geometry_warnings
 from .scene.scene import load_scene, read_toml
 from .scene.sections import SceneError
 from .scene.text import member_text, ringwall_text, stratum_constants
@@ -260,6 +261,7 @@ def describe(scene) -> list[str]:
     warning = mesh_grading_warning(scene)
     if warning:
         out.append(f"  warning: {warning}")
+    out += [f"  warning: {w}" for w in geometry_warnings(scene)]
     iterations = []
     if s.nonlinear:
         iterations.append(f"Picard on the secant modulus (tolerance {s.tolerance:g}, at most "

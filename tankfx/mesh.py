@@ -273,7 +273,18 @@ def estimate(scene: Scene, ranks: int = 1) -> Estimate:
     """The cells, unknowns and memory of a scene's analysis, from its size field alone (no
     meshing, a fraction of a second): within a factor 2 of the real cell count (tested on
     the demo scenes)."""
-    g = geometry_of(scene)
+    cells = estimate_cells(geometry_of(scene))
+    degree = scene.mesh.degree
+    unknowns = 2.0 * NODES_PER_CELL[degree] * cells
+    if scene.soil.mixed_strata or scene.consolidation is not None:
+        unknowns += NODES_PER_CELL[max(degree - 1, 1)] * cells
+    memory = MEMORY_BASE * ranks + MEMORY_PER_DOF * unknowns * np.log10(unknowns / 1e4 + 1.0)
+    return Estimate(cells=int(cells), unknowns=int(unknowns), memory=float(memory))
+
+
+def estimate_cells(g: DomainGeometry) -> float:
+    """The cells gmsh will make of a geometry: its size field integrated over the soil and
+    the tank's void, cells = integral of dA / (CELL_AREA h^2)."""
     a, D, R, Z = g.load_radius, g.embedment, g.domain_radius, g.domain_depth
     finest = min(s for s in (g.edge_size, g.wall_size, g.near_size,
                              *(size for _, size in g.wall_joints)) if s)
@@ -289,12 +300,7 @@ def estimate(scene: Scene, ranks: int = 1) -> Estimate:
         xm, ym = np.meshgrid(0.5 * (xb[1:] + xb[:-1]), 0.5 * (yb[1:] + yb[:-1]))
         area = np.outer(np.diff(yb), np.diff(xb))
         cells += float(np.sum(area / (CELL_AREA * size_at(g, xm, ym) ** 2)))
-    degree = scene.mesh.degree
-    unknowns = 2.0 * NODES_PER_CELL[degree] * cells
-    if scene.soil.mixed_strata or scene.consolidation is not None:
-        unknowns += NODES_PER_CELL[max(degree - 1, 1)] * cells
-    memory = MEMORY_BASE * ranks + MEMORY_PER_DOF * unknowns * np.log10(unknowns / 1e4 + 1.0)
-    return Estimate(cells=int(cells), unknowns=int(unknowns), memory=float(memory))
+    return cells
 
 
 def _mesh_on_rank0(geom: DomainGeometry, gmsh) -> None:
@@ -339,7 +345,7 @@ def build_domain(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD,
     gmsh.option.setNumber("General.Terminal", 0)
     try:
         if comm.rank == 0:
-            with heartbeat(f"meshing (about {estimate(scene).cells:,} cells)"):
+            with heartbeat(f"meshing (about {int(estimate_cells(geom)):,} cells)"):
                 _mesh_on_rank0(geom, gmsh)
         partitioner = dmesh.create_cell_partitioner(graph.partitioner(),
                                                     dmesh.GhostMode.shared_facet, 2)
