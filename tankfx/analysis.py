@@ -20,7 +20,7 @@ from .fem.memory import keep_freed_memory
 from .fem.solvers import SolveError, make_solver
 from .fem.threads import limit_blas_threads
 from .iterations.active_set import solve
-from .iterations.secant import HyperbolicIteration
+from .iterations.secant import HyperbolicIteration, SoilFailure
 from .iterations.time_stepping import TimeStepping
 from .mesh import (
     SURFACE_GRADING,
@@ -38,7 +38,7 @@ from .results.overturning import superpose
 from .results.validity import validity
 from .scene.plausible import geometry_warnings
 from .scene.scene import Scene
-from .scene.sections import Load, SceneError
+from .scene.sections import Load, SceneError, vertical_load
 
 log = logging.getLogger("tankfx")
 
@@ -118,6 +118,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
              ", ".join(f"{k} {v}" for k, v in dofs.items()), scene.mesh.degree)
     solutions = []
     rocking = None          # the first harmonic, built by the first stage that overturns
+    # a nonlinear soil's initial state, from which a failed single load's largest fraction
+    # carried is searched
+    initial = _soil_state(model) if scene.soil.nonlinear and len(stages) == 1 else None
     for k, load in enumerate(stages):
         if k > 0:
             log.info("load stage %d of %d", k + 1, len(stages))
@@ -127,16 +130,15 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             with heartbeat("solving" + (f" load stage {k + 1}" if len(stages) > 1 else "")):
                 stage_scene, soil_iteration, consolidation = _solve_stage(
                     scene, load, model, solver, one_shot, nested)
+        except SoilFailure as e:
+            if initial is not None:
+                _search_carried(e, scene, load, model, solver, nested, initial)
+            elif len(stages) > 1:
+                _stage_failed(e, k, stages, solutions, scene)
+            raise
         except SolveError as e:
             if len(stages) > 1:
-                # a load path keeps what converged, and names the stage that failed
-                P = solutions[-1].results["equilibrium"]["applied_load"] if solutions else 0
-                a = scene.foundation_radius
-                carried = (f"; the largest load carried is stage {k}'s, {P / 1e6:.4g} MN (a "
-                           f"mean bearing pressure of {P / (math.pi * a**2) / 1e3:.4g} kPa)"
-                           if solutions else "")
-                e.args = (f"load stage {k + 1} of {len(stages)} failed{carried}: {e}",)
-                e.converged_stages = [s.results for s in solutions]
+                _stage_failed(e, k, stages, solutions, scene)
             raise
         timings["assemble_solve"] = time.perf_counter() - t
         log.info("solved in %.2f s", timings["assemble_solve"])
@@ -161,6 +163,75 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     if len(solutions) > 1:
         solutions[-1].results["stages"] = [stage_summary(s.results) for s in solutions]
     return solutions
+
+
+#: halvings of the load in the search for the largest fraction a failed load carries
+#: (4: to within 1/16 of it)
+CARRIED_SEARCH_STEPS = 4
+
+
+def _stage_failed(e: SolveError, k: int, stages: list, solutions: list, scene: Scene) -> None:
+    """A load path keeps what converged (``e.converged_stages``), and its message names the
+    stage that failed and the largest load carried (the last converged stage's)."""
+    P = solutions[-1].results["equilibrium"]["applied_load"] if solutions else 0.0
+    a = scene.foundation_radius
+    carried = (f"; the largest load carried is stage {k}'s, {P / 1e6:.4g} MN (a mean bearing "
+               f"pressure of {P / (math.pi * a**2) / 1e3:.4g} kPa)" if solutions else "")
+    e.args = (f"load stage {k + 1} of {len(stages)} failed{carried}: {e}",)
+    e.converged_stages = [s.results for s in solutions]
+
+
+def _soil_state(model: Model) -> list:
+    """Copies of the soil's fields a secant iteration changes (its modulus, and a Duncan &
+    Chang soil's Poisson's ratio), to start again from."""
+    return [(f, f.x.array.copy()) for f in (model.soil.E, model.soil.nu)
+            if isinstance(f, fem.Function)]
+
+
+def scaled_load(load: Load, fraction: float) -> Load:
+    """The load with every applied force times ``fraction`` (the structure's own weight,
+    where it is asked for, stays whole)."""
+    return replace(load, **{k: fraction * getattr(load, k) for k in (
+        "pressure", "liquid_unit_weight", "roof_weight", "gas_pressure",
+        "overturning_moment", "base_shear")})
+
+
+def _search_carried(e: SoilFailure, scene: Scene, load: Load, model: Model, solver,
+                    nested: bool, initial: list) -> None:
+    """A single load the soil cannot carry: bisect the fraction of it that it does
+    (CARRIED_SEARCH_STEPS halvings, each a secant iteration from the initial state), and
+    say it in the failure's message and ``e.carried``."""
+    a = scene.foundation_radius
+    lo, hi = 0.0, 1.0
+    log.info("the soil cannot carry the load: searching the largest fraction it carries "
+             "(%d halvings)", CARRIED_SEARCH_STEPS)
+    for _ in range(CARRIED_SEARCH_STEPS):
+        f = 0.5 * (lo + hi)
+        for field, values in initial:
+            field.x.array[:] = values
+        if model.interface is not None and model.interface.mohr_coulomb:
+            model.interface.set_stuck()
+        model.set_loads(scaled_load(load, f))
+        try:
+            _solve_stage(scene, scaled_load(load, f), model, solver, False, nested)
+            lo = f
+        except SolveError:
+            hi = f
+        log.info("  %.4g of the load: %s", f, "carried" if lo == f else "not carried")
+
+    def pressure(fraction):
+        P = vertical_load(scaled_load(load, fraction), scene.plate, scene.wall,
+                          scene.ringwall)
+        return P / (math.pi * a**2)
+
+    e.carried = {"fraction_carried": lo, "fraction_failed": hi,
+                 "mean_bearing_pressure_carried": pressure(lo),
+                 "mean_bearing_pressure_failed": pressure(hi)}
+    said = (f"the largest load carried lies between {lo:.4g} and {hi:.4g} of it (mean bearing "
+            f"pressures of {pressure(lo) / 1e3:.4g} and {pressure(hi) / 1e3:.4g} kPa)"
+            if lo > 0 else f"not even {hi:.4g} of it is carried (a mean bearing pressure of "
+                           f"{pressure(hi) / 1e3:.4g} kPa)")
+    e.args = (f"{e}; {said}",)
 
 
 def _load_stages(scene: Scene, loads: list) -> list[Load]:

@@ -189,6 +189,8 @@ def failure_record(scene, e: SolveError) -> dict:
     history, and what converged before (a load path's converged stages, in full)."""
     record = {"title": scene.title, "converged": False, "error": str(e),
               "history": e.history, "scene": scene.to_dict(resolved=True)}
+    if e.carried is not None:
+        record["largest_load_carried"] = e.carried
     done = e.converged_stages
     if done:
         record["failed_stage"] = len(done) + 1

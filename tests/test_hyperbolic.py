@@ -135,8 +135,9 @@ def test_linear_scene_never_enters_the_loop():
 def test_overload_fails_cleanly():
     with pytest.raises(SoilFailure, match=r"the soil cannot carry .* mean bearing pressure "
                                           r"of 300 kPa .* cells of the soil under the "
-                                          r"foundation's edge .* reached the ultimate deviator"):
-        analyse(flexible(300e3, max_iterations=25))
+                                          r"foundation's edge .* reached the ultimate deviator"
+                                          r".* the largest load carried lies between"):
+        analyse(flexible(300e3, max_iterations=25).with_coarse_mesh())
 
 
 def test_soil_failure_is_a_solve_error():

@@ -101,6 +101,9 @@ class SolveError(RuntimeError):
         self.history = history or []
         #: a load path's stages that converged before this one failed (their results)
         self.converged_stages: list[dict] = []
+        #: a single load's search for the largest fraction of it carried (see
+        #: tankfx.analysis), None where not searched
+        self.carried: dict | None = None
 
 
 class _LinearSolver:

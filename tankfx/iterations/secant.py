@@ -316,9 +316,7 @@ class HyperbolicIteration:
                  "strength")
         return SoilFailure(
             f"the soil cannot carry {self._load_text()}: at iteration {it} {where}, and the "
-            f"stiffness left could not be solved ({error}). The largest load carried lies "
-            f"below this one: give a load path ([[stages]] of rising load; each converged "
-            f"stage is kept) to find it", self.history)
+            f"stiffness left could not be solved ({error})", self.history)
 
     def _fail(self, s, n_ult, ultimate, max_it, worst, du_rel, tol) -> None:
         """No converged state in max_iterations: what failed, in physical terms."""
@@ -336,9 +334,7 @@ class HyperbolicIteration:
             raise SoilFailure(f"the soil cannot carry {self._load_text()}: {n_ult} cells of the "
                               f"soil {self._where(ultimate & self.is_soil)} reached "
                               f"{self._strength_text(s)} and no converged state was found in "
-                              f"{max_it} iterations. The largest load carried lies below this "
-                              f"one: give a load path ([[stages]] of rising load; each "
-                              f"converged stage is kept) to find it", self.history)
+                              f"{max_it} iterations", self.history)
         raise SolveError(f"the hyperbolic soil iteration did not converge in {max_it} "
                          f"iterations (largest deviator misfit {worst:.3g} > {tol:g})",
                          self.history)
