@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import tankfx.cli
-from tankfx import Scene, SceneError, analyse, load_scene, load_sweep
+from tankfx import Scene, SceneError, SoilFailure, SolveError, analyse, load_scene, load_sweep
 from tankfx.mesh import build_domain, estimate
 from tankfx.scene.plausible import geometry_warnings
 from tankfx.verification.reference import layered_surface_settlement
@@ -358,3 +358,20 @@ def test_an_interrupted_run_leaves_nothing_that_reads_as_complete(tmp_path, monk
         tankfx.cli.main(["run", str(ROOT / "demos" / "scenes" / "flexible_load.toml"),
                          "--out", str(out), "--coarse", "--no-fields"])
     assert not (out / "results.json").exists() and not (out / "report.md").exists()
+
+
+def test_a_tank_loaded_far_past_its_soils_strength_fails_in_the_soils_terms():
+    """The embedded demo tank on the paper's soil (1/b = 100 kPa) under 5 MPa: the soil so
+    softened that its linear solve fails (it was "too ill-conditioned", with an empty
+    history): a SoilFailure that says what failed, where and under what load, with the
+    iterations so far, and how much of the load is carried."""
+    scene = load_scene(ROOT / "demos" / "scenes" / "embedded_tank_nonlinear.toml")
+    scene = scene.with_changes(load={"pressure": 5e6}, accept=["load.pressure"])
+    with pytest.raises(SolveError) as failure:
+        analyse(scene.with_coarse_mesh())
+    e = failure.value
+    assert isinstance(e, SoilFailure) and e.history
+    for words in ("the soil cannot carry the vertical load", "kPa on the foundation",
+                  "reached the ultimate deviator 1/b = 100 kPa"):
+        assert words in str(e), words
+    assert e.carried["fraction_carried"] < e.carried["fraction_failed"] <= 0.5
