@@ -42,7 +42,7 @@ lint: $(STAMP)
 WORKERS ?= 2
 
 test-serial: $(STAMP)
-	$(PY) -m pytest -q -p no:cacheprovider $(if $(filter 0,$(WORKERS)),,-n $(WORKERS) --dist loadfile)
+	$(PY) -m pytest -q -p no:cacheprovider --durations=12 $(if $(filter 0,$(WORKERS)),,-n $(WORKERS) --dist loadfile)
 
 # The tests marked `mpi` again on $(NP) ranks: each compares its parallel results with a
 # serial solve of the same scene.
