@@ -658,13 +658,13 @@ class Consolidation:
 @dataclass(frozen=True)
 class DomainSize:
     radius: float = key(unit="m", limit=POSITIVE, default_doc="10000 a",
-                        meaning="extent of the soil; `depth` is the depth of a rigid base (rough or "
-                                "smooth: `base`), anywhere below the foundation (e.g. rock under "
-                                "a thin layer)")
+                        meaning="extent of the soil; `depth` is the depth of a rigid base "
+                                "(rough or smooth: `base`), anywhere below the foundation (e.g. "
+                                "rock under a thin layer)")
     depth: float = key(unit="m", limit=POSITIVE, default_doc="10000 a",
-                       meaning="extent of the soil; `depth` is the depth of a rigid base (rough or "
-                               "smooth: `base`), anywhere below the foundation (e.g. rock under "
-                               "a thin layer)")
+                       meaning="extent of the soil; `depth` is the depth of a rigid base "
+                               "(rough or smooth: `base`), anywhere below the foundation (e.g. "
+                               "rock under a thin layer)")
     #: the far side's support: "fixed" (both displacements) or "roller" (u_r = 0, free
     #: to settle: PLAXIS's standard vertical rollers)
     side: str = key("fixed", choices=("fixed", "roller"),
