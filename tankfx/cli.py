@@ -1,7 +1,8 @@
 """Command line: ``tankfx run SCENE.toml --out DIR`` (also ``python -m tankfx run ...``).
 
-Writes ``DIR/results.json``, ``DIR/tankfx.log``, ``DIR/report.md`` (the summary and the
-figures on one page), the profiles as CSV files (``DIR/profiles/``: surface, axis, plate,
+Writes ``DIR/results.json``, ``DIR/tankfx.log``, ``DIR/report.html`` (the calculation
+report: one self-contained page, figures inline) and ``DIR/report.md`` (the same in
+Markdown), the profiles as CSV files (``DIR/profiles/``: surface, axis, plate,
 wall), the figures (``DIR/section.png``;
 ``stress_level.png`` for a hyperbolic soil; ``moments.png``, ``profiles.png``,
 ``contact.png`` with a plate, ``settlement.png`` without) and the fields for ParaView
@@ -33,6 +34,7 @@ from .mesh import build_domain, estimate, geometry_of, resource_problem
 from .model.build import build_model
 from .results.fields import FIELD_FILES, PROFILE_FILES, write_fields, write_profiles
 from .results.figures import FIGURES, write_figures
+from .results.html import write_report_html
 from .results.io import write_json
 from .results.report import summary_table, write_report
 from .scene.plausible import geometry_warnings
@@ -56,7 +58,7 @@ FIELDS = Path("fields")
 PROFILES = Path("profiles")
 
 
-REPORT = "report.md"
+REPORT, REPORT_HTML = "report.md", "report.html"
 
 
 def setup_logging(out: Path | None, rank: int, append: bool = False) -> None:
@@ -125,7 +127,8 @@ def cmd_run(args) -> int:
             return _fail(f"{args.scene}: {problem}", EXIT_BAD_INPUT)
     target = out / "results.json"
 
-    ours = [target, out / REPORT, *(out / PROFILES / f for f in PROFILE_FILES),
+    ours = [target, out / REPORT, out / REPORT_HTML,
+            *(out / PROFILES / f for f in PROFILE_FILES),
             *([out / f for f in FIGURES] if args.figures else []),
             *([out / FIELDS / f for f in FIELD_FILES] if args.fields else [])]
     existing = [str(p) for p in ours if p.exists()]
@@ -174,7 +177,8 @@ def cmd_run(args) -> int:
     if comm.rank == 0:
         write_json(target, r)
         log.info("results: %s; log: %s", target, out / "tankfx.log")
-        log.info("report: %s", write_report(r, figures, out / REPORT))
+        log.info("report: %s, %s", write_report_html(r, figures, out / REPORT_HTML),
+                 write_report(r, figures, out / REPORT))
     valid = r["validity"]["valid"] and all(st["valid"] for st in r.get("stages", []))
     if not valid:
         return _fail("the analysis ran, but its results lie outside the model's range: "

@@ -158,15 +158,15 @@ def test_hydrotest_scene_file_remembers_through_the_command_line(tmp_path):
     assert r["w0"] == pytest.approx(stages[3]["w0"], rel=2e-3)
     assert not any("less vertical load" in w for w in r["warnings"])
     assert "soil cells unloading" in (out / "tankfx.log").read_text()
-    assert "unloads with E_ur = 3 x E_i" in (out / "report.md").read_text()
+    assert "unloading_modulus_ratio = 3" in (out / "report.md").read_text()
     assert "unloading" in _owned_grid(out / "fields" / "soil.pvd").cell_data
 
 
 def test_without_figures_and_fields_writes_neither(tmp_path):
     out = tmp_path / "out"
     assert _run("run", SCENE, "--out", out, "--no-figures", "--no-fields").returncode == 0
-    assert sorted(p.name for p in out.iterdir()) == ["profiles", "report.md", "results.json",
-                                                     "tankfx.log"]
+    assert sorted(p.name for p in out.iterdir()) == ["profiles", "report.html", "report.md",
+                                                     "results.json", "tankfx.log"]
     assert "![" not in (out / "report.md").read_text()
     # --coarse: the same scene on the coarse mesh, w0 within a few tenths of a per cent
     coarse = tmp_path / "coarse"
@@ -240,9 +240,9 @@ def test_fields_file_holds_the_soil_state(tmp_path):
             [STATUS_CODES[c] for c in prof["contact_status"]]
     # the summary of a bonded tank: its moments and hoop force, no interface states
     rows = {name: value for name, value, _ in summary_rows(r)}
-    assert rows["centre moment M0"] == f"{r['M0'] / 1e3:.2f} kN m/m"
+    assert rows["centre moment M0"] == f"{r['M0'] / 1e3:.4g} kN m/m"
     assert rows["largest wall hoop force"] == \
-        f"{max(r['profiles']['wall']['N_theta']) / 1e3:.1f} kN/m"
+        f"{max(r['profiles']['wall']['N_theta']) / 1e3:.4g} kN/m"
     assert "interface slipping" not in rows
     # the figures `tankfx run` draws for a tank on a hyperbolic soil
     from tankfx.results.figures import write_figures

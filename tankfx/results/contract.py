@@ -16,6 +16,7 @@ from ..laws.rigidity import nondimensional
 from ..mesh import Domain
 from ..model.tank import TankModel
 from ..scene.scene import Scene
+from ..scene.sections import load_breakdown, vertical_load
 from .structure import structure_results
 
 CONVENTIONS = {
@@ -133,4 +134,30 @@ def results_of(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
         out["profiles"].update(extra.pop("profiles"))
         out["equilibrium"].update(extra.pop("equilibrium"))
         out.update(extra)
+    out["vertical_load"] = vertical_load_parts(scene)
+    out["bearing_pressure"] = bearing_pressure(out, a)
     return out
+
+
+def vertical_load_parts(scene: Scene) -> dict:
+    """The vertical load by its parts (N, downward positive; tankfx.scene.sections.
+    load_breakdown) and their resultant ``total`` (the gas's force on the floor is carried
+    back up by the roof: not in it)."""
+    parts = load_breakdown(scene.load, scene.plate, scene.wall, scene.ringwall)
+    return parts | {"total": vertical_load(scene.load, scene.plate, scene.wall,
+                                           scene.ringwall)}
+
+
+def bearing_pressure(results: dict, a: float) -> dict:
+    """The bearing pressure under the foundation, Pa: ``mean``, the vertical load over the
+    foundation's area (a ringwall's net weight included), and, under a plate, the
+    ``largest`` contact normal stress of its stations and where (``at``, m; at the plate's
+    edge it is the edge element's average, which grows as the mesh is refined: the
+    singularity); a flexible load's is its pressure."""
+    mean = results["vertical_load"]["total"] / (np.pi * a**2)
+    plate = results["profiles"].get("plate")
+    if plate is None:
+        return {"mean": mean, "largest": results["scene"]["load"]["pressure"], "at": 0.0}
+    sn = np.asarray(plate["contact_normal"])
+    k = int(np.argmax(sn))
+    return {"mean": mean, "largest": float(sn[k]), "at": float(plate["r"][k])}

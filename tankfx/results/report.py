@@ -5,19 +5,40 @@ The paper: Eq. 23's non-dimensional measures beside the dimensional results.
 """
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
-from ..scene.text import member_text, ringwall_text, stratum_constants
+from ..scene.reader import KEYS, LAYER_KEYS
 
 
 def summary_rows(results: dict) -> list[tuple[str, str, str]]:
-    """What an engineer reads first, as (quantity, value, non-dimensional / note) rows: the
-    settlements and their Eq. 23 measures, the moments and the wall's hoop force, what a tank
-    code asks of the settlements, the interface's state and the iterations. Only the rows
-    the scene has (no moments without a plate, no interface lengths for a bonded one)."""
-    return (_validity_rows(results) + _settlement_rows(results) + _structure_rows(results)
+    """What an engineer reads first, as (quantity, value, note) rows: whether the results
+    are valid, the load by its parts, the settlements, the bearing pressure, the moments and
+    the wall's forces (dimensional, in mm, kPa, kN m/m), what a tank code asks of the
+    settlements; then the paper's non-dimensional set (Eq. 23, its p defined), the
+    interface's state and the iterations. Only the rows the scene has (no moments without a
+    plate, no interface lengths for a bonded one)."""
+    return (_validity_rows(results) + _load_rows(results) + _settlement_rows(results)
+            + _bearing_rows(results) + _structure_rows(results)
             + _consolidation_rows(results) + _overturning_rows(results)
-            + _iteration_rows(results) + _stage_rows(results))
+            + _nondim_rows(results) + _iteration_rows(results) + _stage_rows(results))
+
+
+def force(newtons: float) -> str:
+    """A force in kN or MN, four significant digits."""
+    return (f"{newtons / 1e6:.4g} MN" if abs(newtons) >= 1e6 else
+            f"{newtons / 1e3:.4g} kN")
+
+
+def stress(pascals: float) -> str:
+    """A stress or pressure with the digits its size needs: MPa from 1 MPa, else kPa."""
+    return (f"{pascals / 1e6:.3g} MPa" if abs(pascals) >= 1e6 else
+            f"{pascals / 1e3:.3g} kPa")
+
+
+def moment(newton_metres: float) -> str:
+    """A moment per unit length in kN m/m, four significant digits."""
+    return f"{newton_metres / 1e3:.4g} kN m/m"
 
 
 def _validity_rows(r: dict) -> list[tuple[str, str, str]]:
@@ -31,44 +52,98 @@ def _validity_rows(r: dict) -> list[tuple[str, str, str]]:
              "; ".join(v["notes"]))]
 
 
+#: the vertical load's parts, in the order and words of the summary
+LOAD_PARTS = (("liquid", "liquid"), ("self_weight", "self-weight"), ("roof", "roof"),
+              ("pressure", "pressure"))
+
+
+def _load_rows(r: dict) -> list[tuple[str, str, str]]:
+    """The vertical load and its parts (a gas pressure's force on the floor, which the
+    roof carries back up, beside them)."""
+    vl = r.get("vertical_load")
+    if vl is None:
+        return []
+    parts = [f"{words} {force(vl[key])}" for key, words in LOAD_PARTS if vl[key]]
+    if vl["gas"]:
+        parts.append(f"gas {force(vl['gas'])} on the floor, carried back up by the roof")
+    return [("vertical load", force(vl["total"]), ", ".join(parts))]
+
+
 def _settlement_rows(r: dict) -> list[tuple[str, str, str]]:
-    """w0, wd and M0 with their Eq. 23 measures."""
-    nd = r["nondim"]
+    """The settlements in mm."""
+    rows = [("centre settlement w0", f"{1e3 * r['w0']:.2f} mm", ""),
+            ("edge settlement w_edge", f"{1e3 * r['w_edge']:.2f} mm",
+             "at the plate's edge" if "plate" in r["profiles"] else "at the load's edge"),
+            ("differential settlement wd", f"{1e3 * r['wd']:.2f} mm",
+             "largest minus smallest under the foundation")]
+    return rows
 
-    def bar(key, digits):            # Eq. 23 needs p: none under self-weight alone
-        return "no p for Eq. 23" if nd[key] is None else f"{key}_bar = {nd[key]:.{digits}f}"
 
-    rows = [("centre settlement w0", f"{1e3 * r['w0']:.2f} mm", bar("w0", 4)),
-            ("differential settlement wd", f"{1e3 * r['wd']:.2f} mm", bar("wd", 4))]
-    if r.get("M0") is not None:
-        rows.append(("centre moment M0", f"{r['M0'] / 1e3:.2f} kN m/m", bar("M0", 5)))
+def _bearing_rows(r: dict) -> list[tuple[str, str, str]]:
+    """The mean and largest bearing pressure."""
+    bp = r.get("bearing_pressure")
+    if bp is None:
+        return []
+    rows = [("bearing pressure: mean", stress(bp["mean"]),
+             "vertical load over the foundation's area")]
+    if "plate" in r["profiles"]:
+        a = r["scene"]["plate"]["radius"]
+        edge = bp["at"] >= 0.95 * a
+        rows.append(("bearing pressure: largest", stress(bp["largest"]),
+                     f"at r = {bp['at']:.3g} m" + (" (the edge element's average: grows as "
+                                                   "the mesh is refined)" if edge else "")))
     return rows
 
 
 def _structure_rows(r: dict) -> list[tuple[str, str, str]]:
-    """The joint's moments, the wall's hoop force and courses, the settlement summary."""
+    """The centre and joint moments, the wall's hoop force and courses, the settlement
+    summary."""
     rows = []
+    if r.get("M0") is not None:
+        rows.append(("centre moment M0", moment(r["M0"]), "plate, radial"))
     if "junction" in r:
         j = r["junction"]
-        rows += [("plate moment at the joint", f"{j['M_plate'] / 1e3:.2f} kN m/m",
-                  f"6 M / t^2 = {j['plate_bending_stress'] / 1e6:.1f} MPa"),
-                 ("wall base moment", f"{j['M_wall'] / 1e3:.2f} kN m/m",
-                  f"6 M / t^2 = {j['wall_bending_stress'] / 1e6:.1f} MPa")]
+        rows += [("plate moment at the joint", moment(j["M_plate"]),
+                  f"6 M / t^2 = {stress(j['plate_bending_stress'])}"),
+                 ("wall base moment", moment(j["M_wall"]),
+                  f"6 M / t^2 = {stress(j['wall_bending_stress'])}")]
     wall = r["profiles"].get("wall")
     if wall:
-        rows.append(("largest wall hoop force", f"{max(wall['N_theta']) / 1e3:.1f} kN/m", ""))
+        rows.append(("largest wall hoop force", f"{max(wall['N_theta']) / 1e3:.4g} kN/m", ""))
     courses = r.get("courses", [])
     for k, c in enumerate(courses, start=1):
         # what a tank code checks against its allowable stress, course by course
         which = f"course {k} ({1e3 * c['thickness']:.4g} mm)" if len(courses) > 1 else "wall"
-        rows.append((f"{which}: largest hoop stress", f"{c['max_hoop_stress'] / 1e6:.1f} MPa",
-                     f"at {c['at']:.2f} m; |M_z| up to {c['max_abs_M_z'] / 1e3:.2f} kN m/m"))
+        rows.append((f"{which}: largest hoop stress", stress(c["max_hoop_stress"]),
+                     f"at {c['at']:.2f} m; M_z up to {moment(c['max_abs_M_z'])} in size"))
     ss = r.get("settlement_summary")
     if ss:
         rows += [("uniform settlement (mean)", f"{1e3 * ss['uniform_settlement']:.2f} mm", ""),
                  ("settlement at the shell", f"{1e3 * ss['shell_settlement']:.2f} mm", ""),
                  ("centre-to-shell dish", f"{1e3 * ss['dish']:.2f} mm",
                   f"dish / radius = {ss['dish_over_radius']:.2e}")]
+    return rows
+
+
+def _nondim_rows(r: dict) -> list[tuple[str, str, str]]:
+    """The paper's non-dimensional set (Eq. 23) with its p, E_s and a defined, and the
+    relative rigidities (Eqs. 21-22)."""
+    nd, sc = r["nondim"], r["scene"]
+    a = sc["plate"]["radius"] if "plate" in sc else sc["load"]["load_radius"]
+    p = r["reference_pressure"]
+    if nd["w0"] is None:
+        values, note = "none", "no p: Eq. 23 needs a pressure on the floor"
+    else:
+        values = ", ".join(f"{nd[k]:.4g}" for k in ("w0", "wd", "M0") if nd[k] is not None)
+        note = (f"Eq. 23: w E_s / (p a), M / (p a^2); p = {stress(p)} (the pressure, liquid "
+                f"and gas on the floor: self-weight and roof are not in p), E_s = "
+                f"{stress(sc['soil']['E'])}, a = {a:g} m")
+    names = "w0_bar, wd_bar" + (", M0_bar" if nd.get("M0") is not None else "")
+    rows = [(names, values, note)]
+    if nd.get("Kp") is not None:
+        rows.append(("Kp" + (", Kt" if nd.get("Kt") is not None else ""),
+                     ", ".join(f"{nd[k]:.4g}" for k in ("Kp", "Kt") if nd.get(k) is not None),
+                     "Eqs. 21-22, relative rigidities"))
     return rows
 
 
@@ -168,52 +243,98 @@ def _stage_rows(r: dict) -> list[tuple[str, str, str]]:
 
 def summary_table(results: dict) -> str:
     """:func:`summary_rows` as a plain-text table."""
-    lines = [f"{'quantity':36s} {'value':>26s}   non-dimensional / note"]
+    lines = [f"{'quantity':36s} {'value':>26s}   note"]
     lines += [f"{name:36s} {value:>26s}   {note}" for name, value, note in
               summary_rows(results)]
     return "\n".join(lines)
 
 
+def quantity(value, unit: str) -> str:
+    """A scene value with its unit, in the multiple that reads best (GPa for a concrete's
+    modulus, kPa for a pressure, kN/m^3 for a unit weight, MN for a load)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return value
+    if not isinstance(value, (int, float)):
+        return str(value)
+    scaled = {"Pa": ((1e9, "GPa"), (1e6, "MPa"), (1e3, "kPa")),
+              "N": ((1e6, "MN"), (1e3, "kN")), "N m": ((1e6, "MN m"), (1e3, "kN m")),
+              "N/m^3": ((1e3, "kN/m^3"),)}.get(unit, ())
+    for factor, name in scaled:
+        if abs(value) >= factor:
+            return f"{value / factor:.4g} {name}"
+    return f"{value:.4g}" + (f" {unit}" if unit and unit != "-" else "")
+
+
+def scene_rows(results: dict) -> list[tuple[str, str]]:
+    """The scene as the report shows it: each section's keys with their units (the
+    resolved values: a thickness from Kp too), a stratum per row, the interface's friction
+    as an angle."""
+    sc = results["scene"]
+    rows = []
+    for name, keys in KEYS.items():
+        table = sc.get(name)
+        if not isinstance(table, dict):
+            continue
+        items = [f"{k} = {quantity(v, keys[k].unit if k in keys else '')}"
+                 for k, v in table.items()
+                 if k in keys and not isinstance(v, (list, dict)) and v is not None
+                 # (a load's parts that are not there, and a plate's own radius again)
+                 and not (name == "load" and (v in (0.0, False) or
+                                              (k == "load_radius" and "plate" in sc)))]
+        if name == "wall" and table.get("courses"):
+            items.append("courses (height x thickness, from the bottom): " + ", ".join(
+                f"{c['height']:g} m x {1e3 * c['thickness']:.4g} mm" for c in table["courses"]))
+        if name == "interface" and table.get("tan_phi") is not None:
+            items.append(f"friction angle = {math.degrees(math.atan(table['tan_phi'])):.3g} deg")
+        if name in ("plate", "wall"):
+            K = "Kp" if name == "plate" else "Kt"
+            items.append(f"{K} = {results['nondim'][K]:.4g}")
+        rows.append((name, ", ".join(items)))
+        if name == "soil":
+            for k, layer in enumerate(table.get("layers", []), start=1):
+                rows.append((f"soil layer {k}", ", ".join(
+                    f"{key} = {quantity(v, LAYER_KEYS[key].unit)}" for key, v in layer.items()
+                    if key in LAYER_KEYS and v is not None)))
+    if sc.get("accept"):
+        rows.append(("accepted", ", ".join(sc["accept"]) + " (outside their plausible ranges, "
+                                                          "as the scene asks)"))
+    if "stages" in results:
+        rows.append(("load path", f"these results are the last of {len(results['stages'])} "
+                                  f"stages"))
+    return rows
+
+
+def _cell(text: str) -> str:
+    """A Markdown table cell: its pipes escaped."""
+    return str(text).replace("|", "\\|")
+
+
 def write_report(results: dict, figures: list[Path], path) -> Path:
-    """A one-page Markdown report of a run beside its results (rank 0 only): the scene in a
-    few lines, the summary table, the warnings, and the figures (by their file names, so
+    """A one-page Markdown report of a run beside its results (rank 0 only): the scene with
+    its units, the summary table, the warnings, and the figures (by their file names, so
     the report and the figures move together)."""
     path = Path(path)
-    r, sc = results, results["scene"]
-    soil = sc["soil"]
+    r = results
     lines = [f"# {r['title']}", ""]
-    model = soil.get("model", "linear")
-    scene_rows = [("soil", f"{model}, E_s = {soil['E']:.4g} Pa, nu = {soil['nu']:g}, lambda = "
-                           f"{soil.get('E_gradient', 0.0):g} /m{stratum_constants(model, soil)}"
-                           + (f"; unloads with E_ur = {soil['unloading_modulus_ratio']:g} x E_i"
-                              if soil.get("unloading_modulus_ratio") else ""))]
-    for k, layer in enumerate(soil.get("layers", []), start=1):
-        scene_rows.append((f"layer {k}", f"from {layer['depth']:g} m down: E = "
-                                         f"{layer['E']:.4g} Pa, nu = {layer['nu']:g}, lambda = "
-                                         f"{layer.get('E_gradient', 0.0):g} /m"
-                                         f"{stratum_constants(model, layer)}"))
-    for name, K in (("plate", "Kp"), ("wall", "Kt")):
-        if name in sc:
-            scene_rows.append((name, member_text(name, sc[name], r["nondim"][K])))
-    if "ringwall" in sc:
-        scene_rows.append(("ringwall", ringwall_text(sc["ringwall"])))
-    if "interface" in sc:
-        scene_rows.append(("interface", sc["interface"]["condition"]))
-    path_note = f" (the last of {len(r['stages'])} stages)" if "stages" in r else ""
-    scene_rows.append(("load", ", ".join(f"{k} = {v:g}" if isinstance(v, float) else
-                                         f"{k} = {str(v).lower()}"
-                                         for k, v in sc["load"].items()
-                                         if v not in (0.0, False, None)) + path_note))
-    lines += ["| scene | |", "|---|---|", *(f"| {k} | {v} |" for k, v in scene_rows), ""]
-    lines += ["| quantity | value | non-dimensional / note |", "|---|---|---|",
-              *(f"| {a} | {b} | {c} |" for a, b, c in summary_rows(r)), ""]
+    lines += ["| scene | |", "|---|---|",
+              *(f"| {_cell(k)} | {_cell(v)} |" for k, v in scene_rows(r)), ""]
+    lines += ["| quantity | value | note |", "|---|---|---|",
+              *(f"| {_cell(a)} | {_cell(b)} | {_cell(c)} |" for a, b, c in summary_rows(r)),
+              ""]
     for w in r.get("warnings", []):
         lines.append(f"**Warning:** {w}")
     for f in figures:                # a paragraph each: one figure per line of the page
         lines += ["", f"![{f.stem}]({f.name})"]
-    lines += ["", f"{r['dofs']['total']} dofs, {r['mpi_ranks']} MPI rank(s), "
-                  f"{r['timings_s']['total']:.1f} s; tankfx {r['versions'].get('tankfx', '?')}, "
-                  f"DOLFINx {r['versions'].get('dolfinx', '?')}. Numbers in results.json; "
-                  f"conventions there under `conventions`.", ""]
+    lines += ["", footer(r), ""]
     path.write_text("\n".join(lines))
     return path
+
+
+def footer(r: dict) -> str:
+    """How the results were computed, in a line."""
+    return (f"{r['dofs']['total']} dofs, {r['mpi_ranks']} MPI rank(s), "
+            f"{r['timings_s']['total']:.1f} s; tankfx {r['versions'].get('tankfx', '?')}, "
+            f"DOLFINx {r['versions'].get('dolfinx', '?')}. Numbers in results.json; "
+            f"conventions there under `conventions`.")

@@ -714,24 +714,35 @@ class SolverOptions:
                                       "residual)")
 
 
+def load_breakdown(load: Load, plate: Plate | None, wall: Wall | None,
+                   ringwall: "Ringwall | None" = None) -> dict[str, float]:
+    """The vertical load's parts, N, downward positive: ``pressure`` on the plate (or the
+    loaded circle), ``liquid`` on the floor, ``roof`` on the wall, ``self_weight`` (the
+    plate's, the wall's and a ringwall's net weight, when asked for), and ``gas`` (a gas
+    pressure's force on the floor inside the wall; the roof carries as much up to the wall,
+    so it is not part of the resultant)."""
+    a = plate.radius if plate is not None else load.load_radius
+    out = {"pressure": load.pressure * math.pi * a**2, "liquid": 0.0, "roof": 0.0,
+           "self_weight": 0.0, "gas": 0.0}
+    if wall is not None:
+        out["liquid"] = load.liquid_unit_weight * load.liquid_height * math.pi * wall.radius**2
+        out["roof"] = load.roof_weight
+        out["gas"] = load.gas_pressure * math.pi * wall.radius**2
+    if load.self_weight and plate is not None:
+        out["self_weight"] = plate.unit_weight * plate.volume
+        if wall is not None:
+            out["self_weight"] += wall.unit_weight * wall.volume
+        if ringwall is not None:
+            out["self_weight"] += ringwall.unit_weight * ringwall.volume
+    return out
+
+
 def vertical_load(load: Load, plate: Plate | None, wall: Wall | None,
                   ringwall: "Ringwall | None" = None) -> float:
-    """The load's resultant, N, downward positive: the pressure on the plate (or the loaded
-    circle), the liquid on the floor, the roof's weight on the wall, and the structure's
-    (and a ringwall's net) weight when asked for. A gas pressure adds nothing: it presses
-    the floor down as hard as it lifts the roof."""
-    a = plate.radius if plate is not None else load.load_radius
-    net = load.pressure * math.pi * a**2
-    if wall is not None:
-        net += load.liquid_unit_weight * load.liquid_height * math.pi * wall.radius**2
-        net += load.roof_weight
-    if load.self_weight and plate is not None:
-        net += plate.unit_weight * plate.volume
-        if wall is not None:
-            net += wall.unit_weight * wall.volume
-        if ringwall is not None:
-            net += ringwall.unit_weight * ringwall.volume
-    return net
+    """The load's resultant, N, downward positive (:func:`load_breakdown`'s parts but the
+    gas pressure, which presses the floor down as hard as it lifts the roof)."""
+    parts = load_breakdown(load, plate, wall, ringwall)
+    return sum(v for k, v in parts.items() if k != "gas")
 
 
 def vertical_load_scale(load: Load, plate: Plate | None, wall: Wall | None,
