@@ -7,7 +7,7 @@ MPIEXEC := $(VENV)/bin/mpiexec
 NP      ?= 2
 STAMP   := $(VENV)/.tankfx-installed
 
-.PHONY: demo test lint test-serial test-mpi benchmark venv clean
+.PHONY: demo test lint test-serial test-mpi benchmark venv clean gallery
 
 venv: $(STAMP)
 
@@ -28,6 +28,10 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	$(PY) demos/embedded_tank.py
+
+# Every figure of `tankfx run` for three scenes, in docs/gallery/ (docs/gallery.md)
+gallery: $(STAMP)
+	$(PY) docs/gallery.py
 
 test: lint test-serial test-mpi
 

@@ -249,7 +249,8 @@ def test_fields_file_holds_the_soil_state(tmp_path):
 
     written = write_figures(solution, tmp_path)
     assert sorted(p.name for p in written) == ["contact.png", "moments.png", "profiles.png",
-                                                "section.png", "stress_level.png"]
+                                                "section.png", "settlement.png",
+                                                "stress_level.png"]
     assert all(_png_size(p)[0] >= 800 for p in written)
 
 
@@ -305,8 +306,8 @@ def test_a_plate_without_a_wall_gets_its_figures_and_fields(tmp_path):
     assert [p.name for p in write_fields(solution, tmp_path / "fields")] == ["soil.pvd",
                                                                               "plate.vtp"]
     written = write_figures(solution, tmp_path)
-    assert [p.name for p in written] == ["section.png", "moments.png", "profiles.png",
-                                         "contact.png"]
+    assert [p.name for p in written] == ["section.png", "settlement.png", "moments.png",
+                                         "profiles.png", "contact.png"]
     assert all(_png_size(p)[0] >= 800 for p in written)
 
 

@@ -382,7 +382,7 @@ def test_a_figure_rank_0_cannot_render_leaves_the_others(tmp_path_factory, monke
         logging.getLogger("tankfx").removeHandler(handler)
     comm.barrier()              # every rank got here: no gathering was left open
     if comm.rank == 0:
-        assert [p.name for p in written] == ["stress_level.png", "moments.png",
+        assert [p.name for p in written] == ["stress_level.png", "settlement.png", "moments.png",
                                              "profiles.png", "contact.png"]
         assert any("section.png not written (RuntimeError: no rendering context)" in w
                    for w in warned)

@@ -70,7 +70,9 @@ def stage_summary(r: dict) -> dict:
            **{k: r[k] for k in ("w0", "w_edge", "wd", "w_mean", "M0", "nondim")},
            "soil_iterations": r["soil"]["iterations"], "linear_solves": r["linear_solves"],
            "tilt": r["overturning"]["tilt"] if "overturning" in r else None,
-           "valid": r["validity"]["valid"]}
+           "valid": r["validity"]["valid"],
+           # (each stage's settlement profile, for the settlement figure's curve per stage)
+           "surface": {k: r["profiles"]["surface"][k] for k in ("r", "w")}}
     if "unloading_cells" in r["soil"]:
         out["unloading_cells"] = r["soil"]["unloading_cells"]
     if "interface" in r:

@@ -1,4 +1,6 @@
-"""PyVista figures, off screen to PNG (or on screen when asked and a display is there).
+"""The figures of a run: the section and the 3D views with PyVista, off screen to PNG (or on
+screen when asked and a display is there); the line charts are matplotlib's
+(:mod:`tankfx.results.charts`, re-exported here).
 
 Every figure is built on rank 0 from data gathered across all ranks, never from one rank's
 part of the mesh. Call these functions on all ranks; only rank 0 writes a file.
@@ -12,7 +14,14 @@ from pathlib import Path
 import numpy as np
 from dolfinx import fem, plot
 
-from ..laws.interface import mohr_coulomb_limit
+from .charts import (  # noqa: F401  (the line charts, re-exported: one place to import figures)
+    plot_contact,
+    plot_curves,
+    plot_settlement,
+    plot_structure_profiles,
+    plot_surface_settlement,
+    plot_sweep,
+)
 from .fields import soil_cell_fields
 
 #: The figures ``write_figures`` may write (which ones depends on the scene).
@@ -96,18 +105,53 @@ def ringwall_outline(scene) -> list[np.ndarray]:
     return lines
 
 
+#: the section's colour range: these percentiles of the values weighted by the area they
+#: cover (a node count would be ruled by the fine mesh at the foundation's edge, where the
+#: stress is singular); the rest is marked over-range
+COLOUR_PERCENTILES = (1.0, 99.0)
+#: the section's colour bands (filled contours)
+COLOUR_BANDS = 12
+
+
+def colour_range(grid, name: str) -> tuple[float, float]:
+    """The colour range of the point field ``name`` on a 2D grid: COLOUR_PERCENTILES of
+    its cell averages weighted by the cells' areas."""
+    cells = grid.point_data_to_cell_data(pass_point_data=False)
+    values = np.asarray(cells.cell_data[name], dtype=float)
+    areas = np.abs(grid.compute_cell_sizes(length=False, volume=False).cell_data["Area"])
+    order = np.argsort(values)
+    cumulative = np.cumsum(areas[order])
+    cumulative /= cumulative[-1]
+    lo, hi = (float(np.interp(q / 100.0, cumulative, values[order]))
+              for q in COLOUR_PERCENTILES)
+    return (lo, hi) if hi > lo else (lo, lo + 1.0)
+
+
+def nice_ticks(lo: float, hi: float, n: int = 6) -> tuple[float, float, int]:
+    """Bounds around [lo, hi] at a round step (1, 2, 2.5 or 5 times a power of ten) and
+    the number of labels between them, about ``n``."""
+    raw = max(hi - lo, 1e-12) / max(n - 1, 1)
+    power = 10.0 ** np.floor(np.log10(raw))
+    step = next(m * power for m in (1.0, 2.0, 2.5, 5.0, 10.0) if m * power >= raw * 0.999)
+    lo, hi = np.floor(lo / step) * step, np.ceil(hi / step) * step
+    return float(lo), float(hi), int(round((hi - lo) / step)) + 1
+
+
 def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, extent: float,
                  depth_offset: float = 0.0, label: str = "sigma_zz [kPa]",
                  scalar_scale: float = 1e-3, title: str = "", soil_cells=None,
                  structure: dict | None = None, layer_depths=(), outlines=(),
-                 r_min: float = 0.0) -> Path | None:
+                 r_min: float = 0.0, mesh_lines: bool = False) -> Path | None:
     """The (r, z) section within ``extent`` of the foundation centre, deformed (the scale is
     printed on the figure) and coloured by ``scalar``; ``structure`` (a gathered
     results dict) adds the plate and wall as thick lines, ``layer_depths`` the soil layers'
     tops and ``outlines`` other lines in the soil (polylines of (r, z) vertices, e.g. a
     ringwall's) as white lines, deformed with the soil; ``r_min`` > 0 shows the window
-    r_min <= r <= extent, as deep as it is wide, instead (e.g. around a wall's foot).
-    Returns the PNG path on rank 0."""
+    r_min <= r <= extent, as deep as it is wide, instead (e.g. around a wall's foot). The
+    colours are COLOUR_BANDS filled bands over :func:`colour_range` (the singular peak at
+    the foundation's edge marked over-range, not setting it); ``mesh_lines`` draws the
+    cells' edges. The whole structure is in view, at equal scales, with ticks at round
+    numbers. Returns the PNG path on rank 0."""
     grid = gather_grid({"u": u, "s": scalar}, soil_cells)
     if grid is None:
         return None
@@ -148,11 +192,12 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
     near.points = near.points + scale * disp
     near.point_data[label] = near.point_data["s"] * scalar_scale
     p = pv.Plotter(off_screen=True, window_size=(1100, 900))
-    # the colour range leaves out the singular peaks at the foundation edge (1 % of nodes)
-    clim = np.percentile(near.point_data[label], [0.5, 99.5])
-    p.add_mesh(near, scalars=label, cmap="viridis", show_edges=True, edge_color="grey",
-               line_width=0.3, clim=clim, above_color="yellow",
-               scalar_bar_args={"title": label, "vertical": True})
+    clim = colour_range(near, label)
+    p.add_mesh(near, scalars=label, cmap="viridis", show_edges=mesh_lines, edge_color="grey",
+               line_width=0.3, clim=clim, n_colors=COLOUR_BANDS, above_color="magenta",
+               below_color="cyan",
+               scalar_bar_args={"title": label, "vertical": True, "fmt": "%.3g"})
+    points = [near.points[:, :2]]
     for line in members:
         # the plate and wall, displaced with the same scale (within a window: its part)
         x, d = line
@@ -163,11 +208,27 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
             if len(x) < 2:
                 continue
         pts = np.column_stack([x + scale * d, np.zeros(len(x))])
+        points.append(pts[:, :2])
         p.add_mesh(pv.lines_from_points(pts), color="black", line_width=6)
     for pts in tops:
         p.add_mesh(pv.lines_from_points(pts), color="white", line_width=3)
-    p.add_text(f"{title}\ndisplacements x {scale:.3g}", font_size=11)
-    return save_figure(p, path, section_view=True)
+    p.add_text(f"{title}\ndisplacements x {scale:.3g}; colours: {COLOUR_PERCENTILES[0]:g}-"
+               f"{COLOUR_PERCENTILES[1]:g} % of the area (magenta above, cyan below)",
+               font_size=11)
+    return save_section(p, path, np.concatenate(points))
+
+
+def save_section(plotter, path, xy: np.ndarray) -> Path:
+    """Write a section view (r, z) that shows every point ``xy`` drawn, between round
+    numbers on both axes, at equal scales."""
+    x0, x1, nx = nice_ticks(float(xy[:, 0].min()), float(xy[:, 0].max()))
+    y0, y1, ny = nice_ticks(float(xy[:, 1].min()), float(xy[:, 1].max()))
+    bounds = (x0, x1, y0, y1, 0.0, 0.0)
+    plotter.view_xy()
+    plotter.show_bounds(bounds=bounds, xtitle="r [m]", ytitle="z [m]", location="outer",
+                        font_size=12, n_xlabels=nx, n_ylabels=ny, fmt="%g", use_2d=True)
+    plotter.reset_camera(bounds=bounds)
+    return save_figure(plotter, path)
 
 
 def plot_cutaway(u: fem.Function, scalar: fem.Function, path: str | Path, *, extent: float,
@@ -216,32 +277,6 @@ def plot_cutaway(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
     return save_figure(p, path)
 
 
-def plot_surface_settlement(results: dict, path: str | Path, *, reference=None,
-                            title: str = "") -> Path | None:
-    """Non-dimensional settlement w E_s / (p a) along the ground surface against r / a, with an
-    optional reference curve ``reference(r) -> w`` (same units as results). Rank 0 only."""
-    from mpi4py import MPI
-
-    if MPI.COMM_WORLD.rank != 0:
-        return None
-    pv = offscreen_pyvista()
-    scene = results["scene"]
-    a = scene["load"]["load_radius"]
-    scale = results["reference_pressure"] * a / scene["soil"]["E"]
-    r = np.asarray(results["profiles"]["surface"]["r"])
-    w = np.asarray(results["profiles"]["surface"]["w"])
-    chart = pv.Chart2D(x_label="r / a", y_label="w E_s / (p a)")
-    chart.title = title
-    chart.line(r / a, w / scale, width=3, color="tab:blue", label="tankfx")
-    if reference is not None:
-        rr = np.linspace(0.0, r.max(), 60)
-        chart.scatter(rr / a, reference(rr) / scale, color="tab:red", size=8,
-                      label="closed form")
-    p = pv.Plotter(off_screen=True, window_size=(900, 600))
-    p.add_chart(chart)
-    return save_figure(p, path)
-
-
 def _member_diagram(pv, base, direction, normal, s, values, scale, color_pos, color_neg):
     """Filled diagram of ``values`` along a member: base + s*direction, offset along normal."""
     pts_base = base[None, :] + s[:, None] * direction[None, :]
@@ -271,8 +306,10 @@ def plot_moment_diagrams(results: dict, path: str | Path, title: str = "") -> Pa
     a, D = sc["plate"]["radius"], sc["plate"].get("embedment", 0.0)
     plate = results["profiles"]["plate"]
     wall = results["profiles"].get("wall")
-    mmax = max(np.abs(plate["M_r"]).max(), np.abs(wall["M_z"]).max() if wall else 0.0) or 1.0
-    scale = 0.25 * a / mmax
+    # each member at a scale of its own (a wall's moments may be a hundredth of the
+    # plate's), stated on the figure
+    scale = 0.25 * a / (np.abs(plate["M_r"]).max() or 1.0)
+    wall_scale = 0.25 * a / (np.abs(wall["M_z"]).max() or 1.0) if wall else scale
     p = pv.Plotter(off_screen=True, window_size=(1200, 800))
     r = np.asarray(plate["r"])
     diag, outline = _member_diagram(pv, np.array([0.0, -D]), np.array([1.0, 0.0]),
@@ -287,7 +324,7 @@ def plot_moment_diagrams(results: dict, path: str | Path, title: str = "") -> Pa
         z = np.asarray(wall["z"])
         diag, outline = _member_diagram(pv, np.array([at, -D]), np.array([0.0, 1.0]),
                                         np.array([1.0, 0.0]), z, np.asarray(wall["M_z"]),
-                                        scale, "tab:blue", "tab:red")
+                                        wall_scale, "tab:blue", "tab:red")
         p.add_mesh(diag, scalars="sign", cmap=["tab:red", "tab:blue"], show_scalar_bar=False,
                    opacity=0.6)
         p.add_mesh(outline, color="black", line_width=2)
@@ -300,145 +337,15 @@ def plot_moment_diagrams(results: dict, path: str | Path, title: str = "") -> Pa
     p.add_point_labels(np.array([[0.0, -D - scale * plate["M_r"][0], 0.0]]),
                        [f"M0 = {plate['M_r'][0] / 1e3:.3g} kN m/m"], font_size=14,
                        shape_opacity=0.3)
+    drawn = [np.array([[0.0, 0.0], [1.3 * a, 0.0]])] + [m[:, :2] for m in members] + \
+        [np.asarray(mesh.points)[:, :2] for mesh in p.meshes]
     ground = pv.Line((0.0, 0.0, 0.0), (1.3 * a, 0.0, 0.0))
     p.add_mesh(ground, color="saddlebrown", line_width=2)
     p.add_text(f"{title}\nbending moments (blue: plate underside / wall outer face in "
-               f"tension; red: the other face)\nscale: {scale * 1e3:.3g} m per kN m/m",
-               font_size=11)
-    return save_figure(p, path, section_view=True)
-
-
-def plot_structure_profiles(results: dict, path: str | Path, title: str = "") -> Path | None:
-    """Line charts: plate moments (M_r, M_theta), contact stresses under the plate, and the
-    wall's moment M_z and hoop force N_theta (for a wall of courses its hoop stress
-    N_theta / t), against position. Rank 0 writes the PNG."""
-    from mpi4py import MPI
-
-    if MPI.COMM_WORLD.rank != 0:
-        return None
-    pv = offscreen_pyvista()
-    plate = results["profiles"]["plate"]
-    wall = results["profiles"].get("wall")
-    ncol = 3 if wall else 2
-    p = pv.Plotter(off_screen=True, window_size=(600 * ncol, 500), shape=(1, ncol))
-    r = np.asarray(plate["r"])
-    c1 = pv.Chart2D(x_label="r [m]", y_label="moment [kN m/m]")
-    c1.title = f"{title}: plate moments"
-    c1.line(r, np.asarray(plate["M_r"]) / 1e3, color="tab:blue", width=3, label="M_r")
-    c1.line(r, np.asarray(plate["M_theta"]) / 1e3, color="tab:orange", width=3,
-            label="M_theta")
-    p.subplot(0, 0)
-    p.add_chart(c1)
-    c2 = pv.Chart2D(x_label="r [m]", y_label="contact stress [kPa]")
-    c2.title = "contact under the plate (compression +)"
-    c2.line(r, np.asarray(plate["contact_normal"]) / 1e3, color="tab:green", width=3,
-            label="normal")
-    c2.line(r, np.asarray(plate["contact_shear"]) / 1e3, color="tab:purple", width=3,
-            label="shear")
-    p.subplot(0, 1)
-    p.add_chart(c2)
-    if wall:
-        z = np.asarray(wall["z"])
-        c3 = pv.Chart2D(x_label="value", y_label="height above the base z [m]")
-        c3.line(np.asarray(wall["M_z"]) / 1e3, z, color="tab:blue", width=3, label="M_z")
-        if len(results.get("courses", [])) > 1:
-            # a wall of courses: its hoop stress, which a tank code checks course by course
-            c3.title = "wall: M_z [kN m/m], hoop stress N_theta / t [MPa]"
-            c3.line(np.asarray(wall["hoop_stress"]) / 1e6, z, color="tab:red", width=3,
-                    label="N_theta / t")
-        else:
-            c3.title = "wall: M_z [kN m/m], N_theta / 10 [kN/m]"
-            c3.line(np.asarray(wall["N_theta"]) / 1e4, z, color="tab:red", width=3,
-                    label="N_theta / 10")
-        p.subplot(0, 2)
-        p.add_chart(c3)
-    return save_figure(p, path)
-
-
-def plot_sweep(rows: list[dict], axes: dict, path: str | Path, title: str = "") -> Path | None:
-    """The non-dimensional results (w0_bar, wd_bar, M0_bar; and where the cases overturn,
-    the tilt) against the sweep's first numeric axis, one curve per value of the other axes
-    (e.g. per interface condition), as in the paper's figure families. Rank 0 writes the
-    PNG."""
-    from mpi4py import MPI
-
-    if MPI.COMM_WORLD.rank != 0 or not rows:
-        return None
-    pv = offscreen_pyvista()
-    numeric = [k for k, v in axes.items() if all(isinstance(x, (int, float)) for x in v)]
-    if not numeric:
-        return None
-    x_key = numeric[0]
-    others = [k for k in axes if k != x_key]
-    groups: dict[tuple, list[dict]] = {}
-    for row in rows:
-        if row.get("converged"):
-            groups.setdefault(tuple(row[k] for k in others), []).append(row)
-    values = np.asarray(axes[x_key], dtype=float)
-    use_log = bool(np.all(values > 0) and values.max() / values.min() >= 100)
-    colors = ["tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple", "tab:brown"]
-    panels = [("nondim.w0", "w0_bar"), ("nondim.wd", "wd_bar"), ("nondim.M0", "M0_bar")]
-    if any(row.get("overturning.tilt") is not None for row in rows):
-        panels.append(("overturning.tilt", "tilt [rad]"))
-    p = pv.Plotter(off_screen=True, window_size=(600 * len(panels), 550),
-                   shape=(1, len(panels)))
-    for col, (key, label) in enumerate(panels):
-        chart = pv.Chart2D(x_label=("log10 " if use_log else "") + x_key, y_label=label)
-        chart.title = f"{title}: {label}" if col == 0 and title else label
-        for g, (group, members) in enumerate(sorted(groups.items(), key=lambda kv: str(kv[0]))):
-            members = [m for m in members if m.get(key) is not None]
-            if not members:
-                continue
-            members.sort(key=lambda m: m[x_key])
-            x = np.array([m[x_key] for m in members], dtype=float)
-            y = np.array([m[key] for m in members], dtype=float)
-            xs = np.log10(x) if use_log else x
-            name = ", ".join(f"{k}={v}" for k, v in zip(others, group)) or "tankfx"
-            chart.line(xs, y, color=colors[g % len(colors)], width=3, label=name)
-            chart.scatter(xs, y, color=colors[g % len(colors)], size=8)
-        p.subplot(0, col)
-        p.add_chart(chart)
-    return save_figure(p, path)
-
-
-def plot_curves(x, panels: dict[str, dict[str, np.ndarray]], path: str | Path,
-                x_label: str, title: str = "", log_x: bool = False,
-                legend_left: bool = False) -> Path | None:
-    """Side-by-side line charts against one x: ``panels`` maps each panel's y label to its
-    curves (label -> y values, NaN where a curve has none; a curve of one value is drawn
-    as a dashed level across the chart, e.g. a limit); ``log_x`` a logarithmic x axis,
-    ``legend_left`` the legends in the upper left corner (for curves that rise to the
-    right). Rank 0 writes the PNG."""
-    from mpi4py import MPI
-
-    if MPI.COMM_WORLD.rank != 0:
-        return None
-    pv = offscreen_pyvista()
-    x = np.asarray(x, dtype=float)
-    colors = ["tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple", "tab:brown",
-              "tab:pink", "tab:gray", "tab:olive", "tab:cyan"]
-    p = pv.Plotter(off_screen=True, window_size=(600 * len(panels), 550),
-                   shape=(1, len(panels)))
-    for col, (y_label, curves) in enumerate(panels.items()):
-        chart = pv.Chart2D(x_label=x_label, y_label=y_label)
-        if log_x:
-            chart.x_axis.log_scale = True
-        if legend_left:
-            chart.legend.SetHorizontalAlignment(chart.legend.LEFT)
-        chart.title = f"{title}: {y_label}" if col == 0 and title else y_label
-        for k, (label, y) in enumerate(curves.items()):
-            y = np.atleast_1d(np.asarray(y, dtype=float))
-            color = colors[k % len(colors)]
-            if len(y) == 1:
-                chart.line([x.min(), x.max()], [y[0], y[0]], color=color, width=2,
-                           style="--", label=label)
-                continue
-            ok = np.isfinite(y)
-            chart.line(x[ok], y[ok], color=color, width=3, label=label)
-            chart.scatter(x[ok], y[ok], color=color, size=8)
-        p.subplot(0, col)
-        p.add_chart(chart)
-    return save_figure(p, path)
+               f"tension; red: the other face)\nscales: plate {1.0 / (scale * 1e3):.3g} kN m/m "
+               f"per m" + (f", wall {1.0 / (wall_scale * 1e3):.3g} kN m/m per m" if wall else
+                           ""), font_size=11)
+    return save_section(p, path, np.concatenate(drawn))
 
 
 def plot_load_path(results: dict, path: str | Path, title: str = "") -> Path | None:
@@ -606,50 +513,6 @@ def plot_tilt(results: dict, path: str | Path, title: str = "",
     return save_figure(p, path)
 
 
-def plot_contact(results: dict, path: str | Path, title: str = "") -> Path | None:
-    """Contact normal and shear stress along the plate underside (and the embedded wall
-    face), with the Mohr-Coulomb limit c + sigma_n tan phi drawn beside the shear and the
-    slipping and separated elements marked. Rank 0 writes the PNG."""
-    from mpi4py import MPI
-
-    if MPI.COMM_WORLD.rank != 0:
-        return None
-    pv = offscreen_pyvista()
-    sc = results["scene"]
-    ifc = sc.get("interface", {})
-    mc = ifc.get("condition") == "mohr_coulomb"
-    parts = [("plate", "r [m]", "r")]
-    if "contact_status" in results["profiles"].get("wall", {}):
-        parts.append(("wall", "height above the base z [m]", "z"))
-    p = pv.Plotter(off_screen=True, window_size=(900 * len(parts), 550), shape=(1, len(parts)))
-    for col, (part, xlabel, xkey) in enumerate(parts):
-        prof = results["profiles"][part]
-        x = np.asarray(prof[xkey])
-        status = np.asarray(prof["contact_status"])
-        keep = status != "none"
-        x = x[keep]
-        sn = np.asarray(prof["contact_normal"])[keep] / 1e3
-        tau = np.asarray(prof["contact_shear"])[keep] / 1e3
-        status = status[keep]
-        chart = pv.Chart2D(x_label=xlabel, y_label="stress [kPa]")
-        chart.title = f"{title}: {'plate underside' if part == 'plate' else 'embedded wall face'}"
-        chart.line(x, sn, color="tab:green", width=3, label="normal (compression +)")
-        chart.line(x, tau, color="tab:purple", width=3, label="shear")
-        if mc:
-            limit = mohr_coulomb_limit(sn, ifc.get("cohesion", 0.0) / 1e3, ifc["tan_phi"])
-            chart.line(x, limit, color="black", width=1, style="--", label="c + sigma_n tan phi")
-            chart.line(x, -limit, color="black", width=1, style="--")
-        for state, color in (("slip", "tab:orange"), ("separated", "tab:gray"),
-                             ("rebonded", "tab:cyan")):
-            sel = status == state
-            if sel.any():
-                chart.scatter(x[sel], np.zeros(sel.sum()), color=color, size=9,
-                              label=f"{state} ({sel.sum()} stations)")
-        p.subplot(0, col)
-        p.add_chart(chart)
-    return save_figure(p, path)
-
-
 def write_figures(solution, directory: str | Path) -> list[Path]:
     """A solved scene's figures in ``directory``: the deformed section coloured by sigma_zz
     (and, for a hyperbolic soil, by Kondner's stress level: how near each cell is to the
@@ -684,14 +547,12 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
                         {**section, "label": "q / q_ult", "scalar_scale": 1.0}))
     if "stages" in r:
         figures.append((plot_load_path, (r, directory / "load_path.png"), {"title": title}))
+    figures.append((plot_settlement, (r, directory / "settlement.png"), {"title": title}))
     if scene.plate is not None:
         figures += [(plot_moment_diagrams, (r, directory / "moments.png"), {"title": title}),
                     (plot_structure_profiles, (r, directory / "profiles.png"),
                      {"title": title}),
                     (plot_contact, (r, directory / "contact.png"), {"title": title})]
-    else:
-        figures.append((plot_surface_settlement, (r, directory / "settlement.png"),
-                        {"title": title}))
     if "consolidation" in r:
         figures += [(plot_consolidation, (r, directory / "consolidation.png"),
                      {"title": title}),

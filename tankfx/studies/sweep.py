@@ -13,8 +13,13 @@ Under ``mpiexec -n N`` the cases are dealt out over the ranks, each solved on it
 communicator (``MPI.COMM_SELF``). Each case's results are written atomically to
 ``DIR/cases/NNNN.json`` as it finishes; a sweep started again skips the cases already
 written, so an interrupted sweep resumes without redoing or losing any. At the end rank 0
-writes ``DIR/table.csv`` (one row a case: its axis values and the non-dimensional results)
-and ``DIR/charts.png`` (w0_bar, wd_bar, M0_bar against the first numeric axis).
+writes ``DIR/table.csv`` (one row a case: its axis values and the results) and
+``DIR/charts.png``: the results a ``[charts]`` table names against its axis, in their units
+(by default w0, wd and M0, in mm and kN m/m, against the first numeric axis)::
+
+    [charts]
+    x = "soil.E"                            # an axis of the sweep
+    y = ["w0", "wd", "nondim.w0"]           # results (tankfx.results.charts.CHARTABLE)
 """
 from __future__ import annotations
 
@@ -31,9 +36,11 @@ from mpi4py import MPI
 
 from ..analysis import analyse
 from ..fem.solvers import SolveError
+from ..results.charts import CHARTABLE
 from ..results.figures import plot_sweep
 from ..results.io import write_json
 from ..scene.scene import Scene, load_scene, read_toml
+from ..scene.reader import KEYS, LAYER_KEYS, suggest
 from ..scene.sections import E_FROM_KEYS, SceneError
 
 log = logging.getLogger("tankfx")
@@ -51,6 +58,34 @@ class Sweep:
     axes: dict[str, list]
     cases: list[dict]          # one dict of axis values per case
     scenes: list[Scene]
+    #: the chart's axis and results ([charts] x and y; None: the defaults)
+    chart_x: str | None = None
+    chart_y: tuple[str, ...] | None = None
+
+
+def _charts(table, axes: dict) -> tuple[list[str], str | None, tuple[str, ...] | None]:
+    """The problems of a sweep's [charts] table, its x and its y."""
+    if table is None:
+        return [], None, None
+    if not isinstance(table, dict):
+        return ["[charts]: a table with x (an axis) and y (a list of results)"], None, None
+    problems = [f"charts.{k}: unknown key (valid: x, y)" for k in table if k not in ("x", "y")]
+    x, y = table.get("x"), table.get("y")
+    numeric = [k for k, v in axes.items() if isinstance(v, list) and v and all(
+        isinstance(e, (int, float)) and not isinstance(e, bool) for e in v)]
+    if x is not None and x not in numeric:
+        problems.append(f"charts.x = {x!r}: must be a numeric axis of the sweep "
+                        f"({', '.join(numeric) or 'none'})")
+    if y is not None:
+        if not isinstance(y, list) or not y or not all(isinstance(k, str) for k in y):
+            problems.append("charts.y: a list of results, e.g. [\"w0\", \"M0\"]")
+            y = None
+        else:
+            for k in y:
+                if k not in CHARTABLE:
+                    problems.append(f"charts.y: {k!r} is not a result a chart can show"
+                                    f"{suggest(k, CHARTABLE)}")
+    return problems, x, None if y is None else tuple(y)
 
 
 def scene_with(scene: Scene, values: dict) -> Scene:
@@ -83,8 +118,8 @@ def load_sweep(path: str | Path) -> Sweep:
     """Read and validate a sweep file and every case it makes (SceneError if any is bad)."""
     p = Path(path)
     data = read_toml(p, "sweep")
-    problems = [f"{k}: unknown sweep key (valid: base, mode, axes)" for k in data
-                if k not in ("base", "mode", "axes")]
+    problems = [f"{k}: unknown sweep key (valid: base, mode, axes, charts)" for k in data
+                if k not in ("base", "mode", "axes", "charts")]
     if "base" not in data:
         problems.append("base: missing; give the scene file the sweep varies")
     axes = data.get("axes", {})
@@ -96,6 +131,9 @@ def load_sweep(path: str | Path) -> Sweep:
                             f"\"plate.Kp\"")
         if not isinstance(values, list) or not values:
             problems.append(f"axes.{key}: give a non-empty list of values")
+    chart_problems, chart_x, chart_y = _charts(data.get("charts"), axes if isinstance(
+        axes, dict) else {})
+    problems += chart_problems
     mode = data.get("mode", "grid")
     if mode not in ("grid", "zip"):
         problems.append(f"mode = {mode!r}: \"grid\" (every combination) or \"zip\" (lists "
@@ -121,7 +159,8 @@ def load_sweep(path: str | Path) -> Sweep:
             problems += [f"case {k} {case}: {msg}" for msg in e.problems]
     if problems:
         raise SceneError(problems)
-    return Sweep(base=base, axes=axes, cases=cases, scenes=scenes)
+    return Sweep(base=base, axes=axes, cases=cases, scenes=scenes, chart_x=chart_x,
+                 chart_y=chart_y)
 
 
 #: ... and, for results with an overturning load, these
@@ -135,10 +174,11 @@ CONSOLIDATION_COLUMNS = ("consolidation.degree", "consolidation.undrained.w0",
                          "consolidation.drained.M0", "consolidation.c_v")
 
 
-def _flatten(results: dict) -> dict:
+def _flatten(results: dict, extra=()) -> dict:
     out = {}
     for col in COLUMNS + (OVERTURNING_COLUMNS if "overturning" in results else ()) + \
-            (CONSOLIDATION_COLUMNS if "consolidation" in results else ()):
+            (CONSOLIDATION_COLUMNS if "consolidation" in results else ()) + \
+            tuple(c for c in extra if c not in COLUMNS):
         value = results
         for part in col.split("."):
             value = value.get(part) if isinstance(value, dict) else None
@@ -148,6 +188,14 @@ def _flatten(results: dict) -> dict:
 
 def _canonical(scene: Scene) -> str:
     return json.dumps(scene.to_dict(), sort_keys=True, default=str)
+
+
+def key_unit(name: str) -> str:
+    """The unit of a sweep's axis ("soil.E", "soil.layers[1].depth"), '' if unknown."""
+    section, _, key = name.partition(".")
+    layer = re.fullmatch(r"layers\[\d+\]\.(\w+)", key)
+    spec = LAYER_KEYS.get(layer[1]) if layer else KEYS.get(section, {}).get(key)
+    return spec.unit if spec is not None else ""
 
 
 def case_text(case: dict) -> str:
@@ -237,7 +285,8 @@ def run_sweep(sweep: Sweep, out: Path, comm: MPI.Comm = MPI.COMM_WORLD) -> list[
             r = record["results"]
             log.info("sweep: case %d of %d (%s): %s", k + 1, n, case_text(sweep.cases[k]),
                      "converged" if r.get("converged") else f"FAILED: {r.get('error')}")
-        rows.append({"case": k, **record["axes"], **_flatten(record["results"])})
+        rows.append({"case": k, **record["axes"],
+                     **_flatten(record["results"], sweep.chart_y or ())})
     with (out / "table.csv").open("w", newline="") as f:
         # (a failed case has no overturning columns: the union of every row's, in order)
         writer = csv.DictWriter(f, fieldnames=list(dict.fromkeys(k for row in rows
@@ -245,7 +294,11 @@ def run_sweep(sweep: Sweep, out: Path, comm: MPI.Comm = MPI.COMM_WORLD) -> list[
         writer.writeheader()
         writer.writerows(rows)
 
-    chart = plot_sweep(rows, sweep.axes, out / "charts.png", title=sweep.base.title)
+    x_key = sweep.chart_x or next((k for k, v in sweep.axes.items() if all(
+        isinstance(e, (int, float)) and not isinstance(e, bool) for e in v)), None)
+    chart = plot_sweep(rows, sweep.axes, out / "charts.png", title=sweep.base.title,
+                       x_key=x_key, y_keys=list(sweep.chart_y) if sweep.chart_y else None,
+                       x_unit=key_unit(x_key) if x_key else "")
     log.info("sweep: table written to %s%s", out / "table.csv",
              f", charts to {chart}" if chart else "")
     return rows

@@ -1,0 +1,410 @@
+"""Line charts of the results, drawn with matplotlib (its object API on the Agg canvas: no
+pyplot, no global state, no display).
+
+Why matplotlib and not PyVista's charts for these: an engineer reads a line chart by its
+axes, and matplotlib gives full control of them (units on every axis, ticks at round
+numbers, axes of their own for quantities of different size, limits set from the data
+with nothing clipped unless said), annotations (a clipped peak's value, the Mohr-Coulomb
+limit, a stated scale) and print-quality text; it is already installed with PyVista. The
+section and the 3D views stay PyVista's (tankfx.results.figures).
+
+Every chart is built on rank 0 from the gathered results (``results.json``'s dict) and
+returned as a matplotlib ``Figure`` by a ``*_chart`` function (which the tests inspect),
+and written by the matching ``plot_*`` function, a no-op on the other ranks.
+
+Robust ranges: a contact stress has a singular peak at the plate's edge, which would set
+the axis and flatten the rest. Its axis stops at :func:`robust_limit` (a stated level
+above the body of the values); a value beyond is drawn at the axis, marked, and its value
+written beside it.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
+
+from ..laws.interface import mohr_coulomb_limit
+
+#: the charts' size per panel, inches, and resolution
+PANEL = (6.0, 4.2)
+DPI = 130
+COLORS = ["tab:blue", "tab:red", "tab:green", "tab:orange", "tab:purple", "tab:brown",
+          "tab:pink", "tab:gray", "tab:olive", "tab:cyan"]
+#: a robust limit is this many times the 95th percentile of the values' sizes, where the
+#: largest exceeds it (else the largest: nothing is clipped)
+ROBUST_FACTOR = 1.5
+ROBUST_PERCENTILE = 95.0
+
+
+def _rank0() -> bool:
+    from mpi4py import MPI
+
+    return MPI.COMM_WORLD.rank == 0
+
+
+def figure(panels: int = 1, rows: int = 1, sharey: bool = False,
+           size=PANEL) -> tuple[Figure, list]:
+    """A figure of ``panels`` axes side by side (``rows`` rows of them)."""
+    cols = int(np.ceil(panels / rows))
+    fig = Figure(figsize=(size[0] * cols, size[1] * rows), dpi=DPI, layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(rows, cols, sharey=sharey, squeeze=False).ravel().tolist()
+    for ax in axes[panels:]:
+        ax.set_visible(False)
+    for ax in axes[:panels]:
+        ax.grid(True, color="0.9")
+        ax.xaxis.set_major_locator(MaxNLocator(7))
+        ax.yaxis.set_major_locator(MaxNLocator(7))
+    return fig, axes[:panels]
+
+
+def save(fig: Figure, path) -> Path:
+    path = Path(path)
+    fig.savefig(path, dpi=DPI)
+    return path
+
+
+def robust_limit(values) -> tuple[float, bool]:
+    """The axis limit for the sizes of ``values`` and whether it clips any: the largest
+    size, unless it exceeds ROBUST_FACTOR x the ROBUST_PERCENTILE-th percentile (a
+    singular peak at an edge), which is then the limit."""
+    size = np.abs(np.asarray(values, dtype=float))
+    size = size[np.isfinite(size)]
+    if size.size == 0:
+        return 1.0, False
+    largest = float(size.max())
+    level = ROBUST_FACTOR * float(np.percentile(size, ROBUST_PERCENTILE))
+    if level > 0.0 and largest > level:
+        return level, True
+    return largest or 1.0, False
+
+
+def clipped_line(ax, x, y, limit: float, label: str, color: str, unit: str,
+                 **kwargs) -> None:
+    """Plot y(x) within +-limit: values beyond are drawn at the limit, marked with a
+    triangle, and the largest of them written beside it ("peak 1,210 kPa, clipped")."""
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    shown = np.clip(y, -limit, limit)
+    ax.plot(x, shown, color=color, label=label, **kwargs)
+    over = np.abs(y) > limit
+    if over.any():
+        ax.plot(x[over], shown[over], linestyle="none", marker="^", color=color, ms=6)
+        k = int(np.argmax(np.abs(np.where(over, y, 0.0))))
+        ax.annotate(f"peak {y[k]:,.0f} {unit}\n(clipped at {np.sign(y[k]) * limit:,.0f})",
+                    xy=(x[k], shown[k]), xytext=(-8, -6 if y[k] > 0 else 6),
+                    textcoords="offset points", ha="right",
+                    va="top" if y[k] > 0 else "bottom", fontsize=8, color=color)
+
+
+def _margin(lo: float, hi: float, zero: bool = True) -> tuple[float, float]:
+    """Axis limits around [lo, hi] with a margin (through zero where ``zero``)."""
+    if zero:
+        lo, hi = min(lo, 0.0), max(hi, 0.0)
+    span = (hi - lo) or max(abs(hi), 1.0)
+    return lo - 0.06 * span, hi + 0.06 * span
+
+
+def settlement_chart(results: dict, title: str = "") -> Figure:
+    """The settlement profile w(r) (mm) along the foundation and the ground beyond it out to
+    5 radii, the undeformed line, the plate (where there is one) and the wall's foot; for a
+    load path, one curve per stage."""
+    fig, (ax,) = figure(1, size=(8.0, 4.6))
+    sc = results["scene"]
+    surf = results["profiles"]["surface"]
+    r, w = np.asarray(surf["r"]), 1e3 * np.asarray(surf["w"])
+    ax.axhline(0.0, color="0.4", lw=1, ls="--", label="undeformed ground")
+    stages = results.get("stages") or []
+    for k, st in enumerate(stages[:-1]):
+        if "surface" in st:
+            ax.plot(st["surface"]["r"], 1e3 * np.asarray(st["surface"]["w"]),
+                    color=COLORS[k % len(COLORS)], lw=1.2, alpha=0.8,
+                    label=f"stage {st['stage']}")
+    ax.plot(r, w, color="black", lw=2,
+            label="ground surface" + (f" (stage {stages[-1]['stage']})" if stages else ""))
+    lo, hi = float(w.min()), float(w.max())
+    if "plate" in results["profiles"]:
+        pl = results["profiles"]["plate"]
+        wp = 1e3 * np.asarray(pl["w"])
+        ax.plot(pl["r"], wp, color="tab:blue", lw=3, alpha=0.6, label="plate")
+        lo, hi = min(lo, wp.min()), max(hi, wp.max())
+    if "wall" in sc:
+        at = sc["wall"]["radius"]
+        foot = float(np.interp(at, r, w))
+        ax.plot([at], [foot], marker="s", color="tab:red", ms=8, ls="none",
+                label=f"wall's foot, {foot:.1f} mm")
+    ax.invert_yaxis()                # settlement downward
+    ax.set_ylim(*_margin(lo, hi)[::-1])
+    ax.set_xlim(0.0, float(r.max()))
+    ax.set_xlabel("r [m]")
+    ax.set_ylabel("settlement w [mm] (down)")
+    ax.set_title(f"{title}: settlement" if title else "settlement")
+    ax.legend(fontsize=8, loc="lower right")
+    return fig
+
+
+def plot_settlement(results: dict, path, title: str = "") -> Path | None:
+    return save(settlement_chart(results, title), path) if _rank0() else None
+
+
+def plot_surface_settlement(results: dict, path, *, reference=None,
+                            title: str = "") -> Path | None:
+    """The settlement profile (as :func:`plot_settlement`), with an optional reference
+    curve ``reference(r) -> w`` (m) beside it."""
+    if not _rank0():
+        return None
+    fig = settlement_chart(results, title)
+    if reference is not None:
+        ax = fig.axes[0]
+        rr = np.linspace(0.0, max(results["profiles"]["surface"]["r"]), 60)
+        ax.plot(rr, 1e3 * np.asarray(reference(rr)), ls="none", marker="o", ms=4,
+                color="tab:red", label="closed form")
+        ax.legend(fontsize=8, loc="lower right")
+    return save(fig, path)
+
+
+def contact_chart(results: dict, title: str = "") -> Figure:
+    """The contact normal and shear stress (kPa) along the plate's underside (and the
+    embedded wall's face), each on its own axes: the normal stress's edge peak clipped at a
+    stated level with its value written; the shear beside the Mohr-Coulomb limit c +
+    sigma_n tan phi; slipping, separated and rebonded stations marked."""
+    sc = results["scene"]
+    ifc = sc.get("interface", {})
+    mc = ifc.get("condition") == "mohr_coulomb"
+    parts = [("plate", "r [m]", "r", "plate underside")]
+    if "contact_status" in results["profiles"].get("wall", {}):
+        parts.append(("wall", "height above the base z [m]", "z", "embedded wall face"))
+    fig, axes = figure(2 * len(parts), rows=2)
+    cols = len(parts)
+    for col, (part, xlabel, xkey, where) in enumerate(parts):
+        prof = results["profiles"][part]
+        status = np.asarray(prof["contact_status"])
+        keep = status != "none"
+        x = np.asarray(prof[xkey], dtype=float)[keep]
+        sn = np.asarray(prof["contact_normal"], dtype=float)[keep] / 1e3
+        tau = np.asarray(prof["contact_shear"], dtype=float)[keep] / 1e3
+        status = status[keep]
+        top, bottom = axes[col], axes[cols + col]
+        limit, _ = robust_limit(sn)
+        clipped_line(top, x, sn, limit, "normal (compression +)", "tab:green", "kPa", lw=2)
+        top.set_ylim(*_margin(max(-limit, sn.min()), min(limit, sn.max())))
+        top.set_ylabel("normal stress [kPa]")
+        top.set_title(f"{title}: {where}" if title else where)
+        shear_values = [tau]
+        if mc:
+            c = ifc.get("cohesion", 0.0) / 1e3
+            bound = mohr_coulomb_limit(np.clip(sn, -limit, limit), c, ifc["tan_phi"])
+            bottom.plot(x, bound, color="black", lw=1, ls="--", label="c + sigma_n tan phi")
+            bottom.plot(x, -bound, color="black", lw=1, ls="--")
+            shear_values.append(bound)
+        t_limit, _ = robust_limit(np.concatenate(shear_values))
+        clipped_line(bottom, x, tau, t_limit, "shear", "tab:purple", "kPa", lw=2)
+        values = np.clip(np.concatenate(shear_values), -t_limit, t_limit)
+        bottom.set_ylim(*_margin(values.min(), values.max()))
+        bottom.set_ylabel("shear stress [kPa]")
+        for state, color in (("slip", "tab:orange"), ("separated", "tab:gray"),
+                             ("rebonded", "tab:cyan")):
+            sel = status == state
+            if sel.any():
+                for ax in (top, bottom):
+                    ax.plot(x[sel], np.zeros(sel.sum()), ls="none", marker="o", ms=5,
+                            color=color, label=f"{state} ({sel.sum()} stations)"
+                            if ax is bottom else None)
+        for ax in (top, bottom):
+            ax.set_xlabel(xlabel)
+            ax.set_xlim(float(x.min()), float(x.max()))
+            ax.legend(fontsize=8, loc="best")
+    return fig
+
+
+def plot_contact(results: dict, path, title: str = "") -> Path | None:
+    return save(contact_chart(results, title), path) if _rank0() else None
+
+
+def structure_chart(results: dict, title: str = "") -> Figure:
+    """The plate's moments M_r, M_theta against r, and the wall's moment M_z, hoop force
+    N_theta (for a wall of courses also its hoop stress) and shear Q against the height,
+    each on axes of their own."""
+    plate = results["profiles"]["plate"]
+    wall = results["profiles"].get("wall")
+    courses = len(results.get("courses", [])) > 1
+    n = 1 + (0 if wall is None else 3 + courses)
+    fig, axes = figure(n)
+    ax = axes[0]
+    r = np.asarray(plate["r"])
+    ax.plot(r, np.asarray(plate["M_r"]) / 1e3, color="tab:blue", lw=2, label="M_r")
+    ax.plot(r, np.asarray(plate["M_theta"]) / 1e3, color="tab:orange", lw=2, label="M_theta")
+    ax.axhline(0.0, color="0.5", lw=0.8)
+    ax.set_xlabel("r [m]")
+    ax.set_ylabel("plate moment [kN m/m] (sagging +)")
+    ax.set_title(f"{title}: plate" if title else "plate")
+    ax.set_xlim(0.0, float(r.max()))
+    ax.legend(fontsize=8)
+    if wall is not None:
+        z = np.asarray(wall["z"])
+        series = [("M_z [kN m/m] (outer face in tension +)", np.asarray(wall["M_z"]) / 1e3,
+                   "tab:blue"),
+                  ("N_theta [kN/m] (tension +)", np.asarray(wall["N_theta"]) / 1e3, "tab:red"),
+                  ("Q [kN/m]", np.asarray(wall["Q"]) / 1e3, "tab:green")]
+        if courses:
+            series.insert(2, ("hoop stress N_theta / t [MPa]",
+                              np.asarray(wall["hoop_stress"]) / 1e6, "tab:purple"))
+        for ax, (label, values, color) in zip(axes[1:], series):
+            ax.plot(values, z, color=color, lw=2)
+            ax.axvline(0.0, color="0.5", lw=0.8)
+            ax.set_xlabel(label)
+            ax.set_ylabel("height above the base z [m]")
+            ax.set_ylim(0.0, float(z.max()))
+            ax.set_xlim(*_margin(float(values.min()), float(values.max())))
+            ax.set_title("wall")
+    return fig
+
+
+def plot_structure_profiles(results: dict, path, title: str = "") -> Path | None:
+    return save(structure_chart(results, title), path) if _rank0() else None
+
+
+def curves_chart(x, panels: dict[str, dict[str, np.ndarray]], x_label: str,
+                 title: str = "", log_x: bool = False, legend_left: bool = False) -> Figure:
+    """Side-by-side line charts against one x: ``panels`` maps each panel's y label to its
+    curves (label -> y values, NaN where a curve has none; a curve of one value is drawn
+    as a dashed level across the chart, e.g. a limit)."""
+    x = np.asarray(x, dtype=float)
+    fig, axes = figure(len(panels))
+    for col, (ax, (y_label, curves)) in enumerate(zip(axes, panels.items())):
+        lo, hi = np.inf, -np.inf
+        for k, (name, y) in enumerate(curves.items()):
+            y = np.asarray(y, dtype=float)
+            color = COLORS[k % len(COLORS)]
+            if y.size == 1:
+                ax.axhline(float(y[0]), color=color, lw=1.2, ls="--", label=name)
+                values = y
+            else:
+                ok = np.isfinite(y)
+                ax.plot(x[ok], y[ok], color=color, lw=2, marker="o" if ok.sum() < 25 else None,
+                        ms=4, label=name)
+                values = y[ok]
+            if values.size:
+                lo, hi = min(lo, float(values.min())), max(hi, float(values.max()))
+        if np.isfinite(lo):
+            ax.set_ylim(*_margin(lo, hi, zero=False))
+        if log_x:
+            ax.set_xscale("log")
+        ax.set_xlabel(x_label)
+        ax.set_ylabel(y_label)
+        ax.set_title(f"{title}" if col == 0 and title else "")
+        ax.legend(fontsize=8, loc="upper left" if legend_left else "best")
+    return fig
+
+
+def plot_curves(x, panels: dict[str, dict[str, np.ndarray]], path, x_label: str,
+                title: str = "", log_x: bool = False, legend_left: bool = False) -> Path | None:
+    """:func:`curves_chart` written to ``path`` (rank 0)."""
+    if not _rank0():
+        return None
+    return save(curves_chart(x, panels, x_label, title, log_x, legend_left), path)
+
+
+#: the results a sweep's charts can show: key (dotted, as in table.csv) -> (what it is,
+#: factor to the shown unit, the unit)
+CHARTABLE: dict[str, tuple[str, float, str]] = {
+    "w0": ("centre settlement w0", 1e3, "mm"),
+    "w_edge": ("edge settlement w_edge", 1e3, "mm"),
+    "wd": ("differential settlement wd", 1e3, "mm"),
+    "w_mean": ("mean settlement", 1e3, "mm"),
+    "M0": ("centre moment M0", 1e-3, "kN m/m"),
+    "junction.M_wall": ("wall base moment", 1e-3, "kN m/m"),
+    "junction.M_plate": ("plate moment at the joint", 1e-3, "kN m/m"),
+    "bearing_pressure.mean": ("mean bearing pressure", 1e-3, "kPa"),
+    "bearing_pressure.largest": ("largest bearing pressure", 1e-3, "kPa"),
+    "nondim.w0": ("w0_bar = w0 E_s / (p a)", 1.0, ""),
+    "nondim.wd": ("wd_bar = wd E_s / (p a)", 1.0, ""),
+    "nondim.M0": ("M0_bar = M0 / (p a^2)", 1.0, ""),
+    "nondim.Kp": ("Kp", 1.0, ""),
+    "nondim.Kt": ("Kt", 1.0, ""),
+    "overturning.tilt": ("tilt", 1e3, "mm/m"),
+    "overturning.rocking_stiffness": ("rocking stiffness", 1e-9, "GN m/rad"),
+    "consolidation.degree": ("degree of consolidation", 1.0, ""),
+    "consolidation.undrained.w0": ("undrained w0", 1e3, "mm"),
+    "consolidation.drained.w0": ("drained w0", 1e3, "mm"),
+}
+#: the charts of a sweep without a [charts] table: dimensional
+DEFAULT_CHARTS = ("w0", "wd", "M0")
+#: a scene key's unit and the multiples it is shown in
+_MULTIPLES = {"Pa": ((1e9, "GPa"), (1e6, "MPa"), (1e3, "kPa")), "N": ((1e6, "MN"), (1e3, "kN")),
+              "N m": ((1e6, "MN m"), (1e3, "kN m")), "N/m^3": ((1e3, "kN/m^3"),)}
+
+
+def axis_scale(values, unit: str) -> tuple[float, str]:
+    """The factor and unit a scene key's values are shown in (Pa in MPa for moduli)."""
+    largest = max((abs(float(v)) for v in values), default=0.0)
+    for factor, name in _MULTIPLES.get(unit, ()):
+        if largest >= factor:
+            return 1.0 / factor, name
+    return 1.0, "" if unit in ("", "-") else unit
+
+
+def sweep_chart(rows: list[dict], axes: dict, x_key: str, y_keys, x_unit: str = "",
+                title: str = "") -> Figure:
+    """The results ``y_keys`` against the sweep's axis ``x_key`` (in its unit, scaled to a
+    readable multiple; logarithmic over two decades or more), one curve per value of the
+    other axes, every point inside its axes."""
+    others = [k for k in axes if k != x_key]
+    groups: dict[tuple, list[dict]] = {}
+    for row in rows:
+        if row.get("converged"):
+            groups.setdefault(tuple(row[k] for k in others), []).append(row)
+    values = np.asarray(axes[x_key], dtype=float)
+    use_log = bool(np.all(values > 0) and values.max() / values.min() >= 100)
+    factor, unit = axis_scale(values, x_unit)
+    fig, panels = figure(len(y_keys))
+    for col, (ax, key) in enumerate(zip(panels, y_keys)):
+        what, y_factor, y_unit = CHARTABLE[key]
+        lo, hi = np.inf, -np.inf
+        for g, (group, members) in enumerate(sorted(groups.items(), key=lambda kv: str(kv[0]))):
+            members = sorted((m for m in members if m.get(key) is not None),
+                             key=lambda m: m[x_key])
+            if not members:
+                continue
+            x = np.array([m[x_key] for m in members], dtype=float) * factor
+            y = np.array([m[key] for m in members], dtype=float) * y_factor
+            name = ", ".join(f"{k} = {v}" for k, v in zip(others, group)) or None
+            ax.plot(x, y, color=COLORS[g % len(COLORS)], lw=2, marker="o", ms=5, label=name)
+            lo, hi = min(lo, float(y.min())), max(hi, float(y.max()))
+        if np.isfinite(lo):
+            ax.set_ylim(*_margin(lo, hi, zero=False))
+        if use_log:
+            ax.set_xscale("log")
+            ax.set_xlim(values.min() * factor / 1.3, values.max() * factor * 1.3)
+        else:
+            ax.set_xlim(*_margin(values.min() * factor, values.max() * factor, zero=False))
+        ax.set_xlabel(f"{x_key}" + (f" [{unit}]" if unit else ""))
+        ax.set_ylabel(what + (f" [{y_unit}]" if y_unit else ""))
+        if col == 0 and title:
+            ax.set_title(title)
+        if others:
+            ax.legend(fontsize=8)
+    return fig
+
+
+def plot_sweep(rows: list[dict], axes: dict, path, title: str = "", x_key: str | None = None,
+               y_keys=None, x_unit: str = "") -> Path | None:
+    """The sweep's chart (rank 0): ``y_keys`` (default DEFAULT_CHARTS, and the tilt where
+    the cases overturn) against ``x_key`` (default the first numeric axis); None when no
+    axis is numeric."""
+    if not _rank0() or not rows:
+        return None
+    numeric = [k for k, v in axes.items() if all(isinstance(x, (int, float))
+                                                  and not isinstance(x, bool) for x in v)]
+    x_key = x_key or (numeric[0] if numeric else None)
+    if x_key is None:
+        return None
+    if y_keys is None:
+        y_keys = list(DEFAULT_CHARTS)
+        if any(row.get("M0") is None for row in rows if row.get("converged")):
+            y_keys.remove("M0")
+        if any(row.get("overturning.tilt") is not None for row in rows):
+            y_keys.append("overturning.tilt")
+    return save(sweep_chart(rows, axes, x_key, y_keys, x_unit, title), path)
