@@ -56,8 +56,8 @@ def figure(panels: int = 1, rows: int = 1, sharey: bool = False,
         ax.set_visible(False)
     for ax in axes[:panels]:
         ax.grid(True, color="0.9")
-        ax.xaxis.set_major_locator(MaxNLocator(7))
-        ax.yaxis.set_major_locator(MaxNLocator(7))
+        ax.xaxis.set_major_locator(MaxNLocator(6))
+        ax.yaxis.set_major_locator(MaxNLocator(6))
     return fig, axes[:panels]
 
 

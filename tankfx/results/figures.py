@@ -281,14 +281,13 @@ def _member_diagram(pv, base, direction, normal, s, values, scale, color_pos, co
     """Filled diagram of ``values`` along a member: base + s*direction, offset along normal."""
     pts_base = base[None, :] + s[:, None] * direction[None, :]
     pts_top = pts_base + (scale * values)[:, None] * normal[None, :]
-    meshes = []
-    for i in range(len(s) - 1):
-        quad = np.array([pts_base[i], pts_base[i + 1], pts_top[i + 1], pts_top[i]])
-        quad3 = np.column_stack([quad, np.zeros(4)])
-        poly = pv.PolyData(quad3, faces=[4, 0, 1, 2, 3])
-        poly.cell_data["sign"] = [1.0 if values[i] + values[i + 1] >= 0 else -1.0]
-        meshes.append(poly)
-    diagram = meshes[0].merge(meshes[1:]) if len(meshes) > 1 else meshes[0]
+    # one quad per segment, all in one mesh: base points 0..n-1, top points n..2n-1
+    n = len(s)
+    points = np.column_stack([np.concatenate([pts_base, pts_top]), np.zeros(2 * n)])
+    i = np.arange(n - 1)
+    faces = np.column_stack([np.full(n - 1, 4), i, i + 1, n + i + 1, n + i]).ravel()
+    diagram = pv.PolyData(points, faces=faces)
+    diagram.cell_data["sign"] = np.where(values[:-1] + values[1:] >= 0, 1.0, -1.0)
     outline = pv.lines_from_points(np.column_stack([pts_top, np.zeros(len(s))]))
     return diagram, outline
 
