@@ -33,7 +33,7 @@ from .laws.biot import stratum_coefficients
 from .mesh import build_domain, estimate, geometry_of, resource_problem
 from .model.build import build_model
 from .results.fields import FIELD_FILES, PROFILE_FILES, write_fields, write_profiles
-from .results.figures import FIGURES, write_figures
+from .results.figures import FIGURES, SECTION_QUANTITIES, section_problem, write_figures
 from .results.html import write_report_html
 from .results.io import write_json
 from .results.report import summary_table, write_report
@@ -120,6 +120,8 @@ def cmd_run(args) -> int:
         return _fail(f"{args.scene}: {e}", EXIT_BAD_INPUT)
     if args.coarse:
         scene = scene.with_coarse_mesh()
+    if args.figures and (problem := section_problem(scene, args.section)):
+        return _fail(f"{args.scene}: {problem}", EXIT_BAD_INPUT)
     if not args.allow_large:
         # (rank 0's answer for all, as analyse's)
         problem = comm.bcast(resource_problem(scene, comm.size) if comm.rank == 0 else None)
@@ -172,7 +174,7 @@ def cmd_run(args) -> int:
                  ", ".join(map(str, write_fields(solution, out / FIELDS))))
     figures = []
     if args.figures:
-        figures = write_figures(solution, out)
+        figures = write_figures(solution, out, args.section)
         log.info("figures: %s", ", ".join(map(str, figures)))
     if comm.rank == 0:
         write_json(target, r)
@@ -373,6 +375,9 @@ def main(argv: list[str] | None = None) -> int:
                      help="do not draw the figures (PNG)")
     run.add_argument("--no-fields", dest="fields", action="store_false",
                      help="do not write the fields for ParaView (DIR/fields/)")
+    run.add_argument("--section", default="sigma_zz", choices=list(SECTION_QUANTITIES),
+                     help="what section.png shows (default sigma_zz; stress_level for a "
+                     "nonlinear soil, pore_pressure with a consolidation)")
     run.add_argument("--allow-large", action="store_true",
                      help="run a scene whose estimated memory exceeds what this machine has "
                      "free (refused otherwise, before meshing)")

@@ -148,3 +148,20 @@ def test_the_figures_of_a_tank_are_written(steel, tmp_path):
                                          "profiles.png", "contact.png"]
     assert all(p.stat().st_size > 20_000 for p in written)
     assert not math.isnan(steel.results["bearing_pressure"]["largest"])
+
+
+def test_the_section_shows_the_quantity_asked(tmp_path):
+    """`tankfx run --section deviator` draws it; a quantity the scene has not (a stress
+    level of a linear soil) is refused before any work."""
+    import subprocess
+    import sys
+
+    scene = ROOT / "demos" / "scenes" / "flexible_load.toml"
+    run = [sys.executable, "-m", "tankfx", "run", str(scene), "--coarse", "--no-fields"]
+    ok = subprocess.run([*run, "--out", str(tmp_path / "a"), "--section", "deviator"],
+                        capture_output=True, text=True, timeout=300)
+    assert ok.returncode == 0 and (tmp_path / "a" / "section.png").exists()
+    bad = subprocess.run([*run, "--out", str(tmp_path / "b"), "--section", "stress_level"],
+                         capture_output=True, text=True, timeout=300)
+    assert bad.returncode == 2 and "a stress level is a nonlinear soil's" in bad.stderr
+    assert not (tmp_path / "b").exists()

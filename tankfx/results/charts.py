@@ -49,7 +49,9 @@ def figure(panels: int = 1, rows: int = 1, sharey: bool = False,
            size=PANEL) -> tuple[Figure, list]:
     """A figure of ``panels`` axes side by side (``rows`` rows of them)."""
     cols = int(np.ceil(panels / rows))
-    fig = Figure(figsize=(size[0] * cols, size[1] * rows), dpi=DPI, layout="constrained")
+    # (at least 8 inches wide: a figure of one column reads as well as one of several)
+    fig = Figure(figsize=(max(size[0] * cols, 8.0), size[1] * rows), dpi=DPI,
+                 layout="constrained")
     FigureCanvasAgg(fig)
     axes = fig.subplots(rows, cols, sharey=sharey, squeeze=False).ravel().tolist()
     for ax in axes[panels:]:

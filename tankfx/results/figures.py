@@ -196,7 +196,8 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
     p.add_mesh(near, scalars=label, cmap="viridis", show_edges=mesh_lines, edge_color="grey",
                line_width=0.3, clim=clim, n_colors=COLOUR_BANDS, above_color="magenta",
                below_color="cyan",
-               scalar_bar_args={"title": label, "vertical": True, "fmt": "%.3g"})
+               scalar_bar_args={"title": label, "vertical": True, "fmt": "%.3g",
+                                "title_font_size": 16, "label_font_size": 14})
     points = [near.points[:, :2]]
     for line in members:
         # the plate and wall, displaced with the same scale (within a window: its part)
@@ -221,7 +222,10 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
 def save_section(plotter, path, xy: np.ndarray) -> Path:
     """Write a section view (r, z) that shows every point ``xy`` drawn, between round
     numbers on both axes, at equal scales."""
-    x0, x1, nx = nice_ticks(float(xy[:, 0].min()), float(xy[:, 0].max()))
+    # (r >= 0: a point a hair left of the axis is the axis's)
+    span = float(np.ptp(xy[:, 0])) or 1.0
+    x_min = float(xy[:, 0].min())
+    x0, x1, nx = nice_ticks(0.0 if x_min > -1e-3 * span else x_min, float(xy[:, 0].max()))
     y0, y1, ny = nice_ticks(float(xy[:, 1].min()), float(xy[:, 1].max()))
     bounds = (x0, x1, y0, y1, 0.0, 0.0)
     plotter.view_xy()
@@ -512,13 +516,45 @@ def plot_tilt(results: dict, path: str | Path, title: str = "",
     return save_figure(p, path)
 
 
-def write_figures(solution, directory: str | Path) -> list[Path]:
-    """A solved scene's figures in ``directory``: the deformed section coloured by sigma_zz
-    (and, for a hyperbolic soil, by Kondner's stress level: how near each cell is to the
-    ultimate deviator); with a plate, the moment diagrams, the plate (and wall) profiles and
-    the contact stresses; without, the surface settlement. Collective; returns the paths
-    written (on rank 0; an empty list elsewhere). A figure rank 0 cannot render (no EGL or
-    display) is left out with a warning, and the others are still drawn: the other ranks
+#: the quantities section.png can show: name -> (its label, the factor to its unit)
+SECTION_QUANTITIES = {"sigma_zz": ("sigma_zz [kPa]", 1e-3),
+                      "deviator": ("s1 - s3 [kPa]", 1e-3),
+                      "stress_level": ("q / q_ult", 1.0),
+                      "pore_pressure": ("excess p [kPa]", 1e-3)}
+
+
+def section_problem(scene, quantity: str) -> str | None:
+    """Why section.png cannot show ``quantity`` for this scene (None if it can)."""
+    if quantity not in SECTION_QUANTITIES:
+        return (f"--section {quantity}: one of {', '.join(SECTION_QUANTITIES)}")
+    if quantity == "stress_level" and not scene.soil.nonlinear:
+        return ("--section stress_level: a stress level is a nonlinear soil's (soil.model = "
+                "\"hyperbolic\" or \"duncan_chang\"); choose sigma_zz or deviator")
+    if quantity == "pore_pressure" and scene.consolidation is None:
+        return ("--section pore_pressure: an excess pore pressure needs a [consolidation]; "
+                "choose sigma_zz or deviator")
+    return None
+
+
+def section_field(solution, quantity: str):
+    """The field section.png shows (tankfx.results.fields for the cell fields)."""
+    if quantity == "sigma_zz":
+        return solution.sigma_zz
+    if quantity == "pore_pressure":
+        return solution.model.soil.pore_pressure
+    return soil_cell_fields(solution.model)[quantity]
+
+
+def write_figures(solution, directory: str | Path, section_quantity: str = "sigma_zz"
+                  ) -> list[Path]:
+    """A solved scene's figures in ``directory``: the deformed section coloured by
+    ``section_quantity`` (SECTION_QUANTITIES; sigma_zz by default) and, for a nonlinear soil,
+    by Kondner's stress level (how near each cell is to the ultimate deviator); the
+    settlement profile; with a plate, the moment diagram, the plate's (and wall's) forces
+    and the contact stresses; the load path's, consolidation's and overturning's charts
+    where the scene has them. Collective; returns the paths written (on rank 0; an empty
+    list elsewhere). A figure rank 0 cannot render (no EGL or display) is left out with a
+    warning, and the others are still drawn: the other ranks
     take part in every section's gathering whatever rank 0's renderer does."""
 
     directory = Path(directory)
@@ -529,8 +565,10 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
                "soil_cells": solution.domain.cells("soil"), "structure": r,
                "layer_depths": [layer.depth for layer in scene.soil.layers],
                "outlines": ringwall_outline(scene)}
-    figures = [(plot_section, (solution.u, solution.sigma_zz, directory / "section.png"),
-                section)]
+    label, factor = SECTION_QUANTITIES[section_quantity]
+    figures = [(plot_section, (solution.u, section_field(solution, section_quantity),
+                               directory / "section.png"),
+                section | {"label": label, "scalar_scale": factor})]
     ring = scene.ringwall
     if ring is not None:
         # the ringwall is small beside the tank: a window around it too
@@ -540,7 +578,7 @@ def write_figures(solution, directory: str | Path) -> list[Path]:
                                        directory / "ringwall_section.png"),
                         {**section, "r_min": max(centre - half, 0.0), "extent": centre + half,
                          "title": f"{title}: the ringwall"}))
-    if scene.soil.nonlinear:
+    if scene.soil.nonlinear and section_quantity != "stress_level":
         level = soil_cell_fields(solution.model)["stress_level"]
         figures.append((plot_section, (solution.u, level, directory / "stress_level.png"),
                         {**section, "label": "q / q_ult", "scalar_scale": 1.0}))
