@@ -35,6 +35,12 @@ def clay_path():
     return analyse(scene.with_changes(stages=stages))
 
 
+@pytest.fixture(scope="module")
+def clay():
+    """The tank on soft clay consolidating (coarse)."""
+    return analyse(load_scene(ROOT / "demos" / "scenes" / "tank_on_clay.toml").with_coarse_mesh())
+
+
 def _inside(fig) -> None:
     """Every point of every line of every axes lies within the axes' limits, and every axis
     of a visible panel has a label with a unit (or is a pure number)."""
@@ -84,16 +90,26 @@ def test_the_section_colours_are_not_set_by_the_edge_peak(steel):
     assert lo >= np.percentile(values, 1) - 1e-9 * abs(values).max()
 
 
-def test_no_plotted_point_falls_outside_its_axes(steel, clay_path):
+def test_no_plotted_point_falls_outside_its_axes(steel, clay_path, clay):
     """The settlement profile (with the plate and the wall's foot, a curve per stage along a
-    load path), the contact stresses, the members' forces and the load path's curves."""
-    for r in (steel.results, clay_path.results):
+    load path, per reported time of a consolidation: its heave beside the tank too), the
+    contact stresses, the members' forces, and a consolidation's curves in time."""
+    for r in (steel.results, clay_path.results, clay.results):
         for chart in (charts.settlement_chart, charts.contact_chart, charts.structure_chart):
             _inside(chart(r, "t"))
     fig = charts.settlement_chart(clay_path.results)
     labels = [line.get_label() for line in fig.axes[0].get_lines()]
     assert {"stage 1", "stage 2", "plate"} <= set(labels)
     assert any(label.startswith("wall's foot") for label in labels)
+    labels = [line.get_label() for line in charts.settlement_chart(clay.results).axes[0]
+              .get_lines()]
+    assert {"t = 0 days", "t = 365 days", "drained limit"} <= set(labels)
+    c = clay.results["consolidation"]
+    steps = c["history"][1:]
+    _inside(charts.curves_chart([s["t_days"] for s in steps],
+                                {"settlement [mm]": {"w0": [1e3 * s["w0"] for s in steps],
+                                                     "drained": [1e3 * c["drained"]["w0"]]}},
+                                "time [days]", log_x=True))
 
 
 def test_each_member_force_has_axes_of_its_own(steel):

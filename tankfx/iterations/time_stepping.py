@@ -11,7 +11,7 @@ from dataclasses import replace
 import numpy as np
 from mpi4py import MPI
 
-from ..fem.evaluate import evaluate_at
+from ..fem.evaluate import evaluate_at, nodal_values_on_facets
 from ..fem.solvers import SolveError
 from ..laws.biot import stratum_coefficients
 from .active_set import solve
@@ -143,6 +143,14 @@ class TimeStepping:
         return evaluate_at(self.soil.pore_pressure, np.column_stack([np.zeros_like(z), -z]),
                            cells=self.model.domain.cells("soil"))[:, 0].tolist()
 
+    def _surface(self) -> dict:
+        """The ground surface's settlement now (the foundation level under the foundation),
+        out to 5 radii: for the settlement figure's curve per reported time."""
+        domain, a = self.model.domain, self.model.scene.foundation_radius
+        x, vals = nodal_values_on_facets(self.soil.u, domain.facets("contact", "surface"))
+        keep = x[:, 0] <= 5.0 * a + 1e-12
+        return {"r": x[keep, 0].tolist(), "w": (-vals[keep, 1]).tolist()}
+
     def _state(self, t: float) -> dict:
         found = self.model.foundation_results()
         p = self.soil.pore_pressure
@@ -192,7 +200,7 @@ class TimeStepping:
         soil.step_weights.set(1.0, 0.0, False)
         self._solve(DRAINED_STEP * self.slowest_time_scale)
         # (t = infinity: null in results.json, which takes no infinities)
-        drained = self._state(0.0) | {"t": None, "t_days": None}
+        drained = self._state(0.0) | {"t": None, "t_days": None, "surface": self._surface()}
         log.info("consolidation: drained limit w0 = %.4g m (c_v = %.3g m^2/s, a^2 / c_v = "
                  "%.3g days)", drained["w0"], self.c_v, self.time_scale / DAY)
         for f in (soil.u, soil.u_n, soil.u_nn):
@@ -218,6 +226,8 @@ class TimeStepping:
             history.append(state)
             last_at_t = k + 1 == len(steps) or steps[k + 1][0] != t
             if last_at_t and (t in reported or t == 0.0):
+                # (the reported states also carry the surface's profile; the history not)
+                state = state | {"surface": self._surface()}
                 at_times.append(state)
                 isochrones.append(self._isochrone())
                 log.info("consolidation: t = %.4g days, w0 = %.4g m, excess pore pressure "
@@ -230,7 +240,7 @@ class TimeStepping:
         def degree(state):
             return (state["w0"] - w_u) / (w_d - w_u) if w_d != w_u else 1.0
 
-        for state in history:
+        for state in history + at_times:      # (the reported states are copies)
             state["degree"] = degree(state)
             state["Tv"] = state["t"] / self.time_scale
         drained["degree"], drained["Tv"] = 1.0, None

@@ -112,33 +112,46 @@ def _margin(lo: float, hi: float, zero: bool = True) -> tuple[float, float]:
 def settlement_chart(results: dict, title: str = "") -> Figure:
     """The settlement profile w(r) (mm) along the foundation and the ground beyond it out to
     5 radii, the undeformed line, the plate (where there is one) and the wall's foot; for a
-    load path, one curve per stage."""
+    load path, one curve per stage; for a consolidation, one per reported time and the
+    drained limit."""
     fig, (ax,) = figure(1, size=(8.0, 4.6))
     sc = results["scene"]
     surf = results["profiles"]["surface"]
     r, w = np.asarray(surf["r"]), 1e3 * np.asarray(surf["w"])
     ax.axhline(0.0, color="0.4", lw=1, ls="--", label="undeformed ground")
+    drawn = [w]
+
+    def curve(profile, label, **style):
+        values = 1e3 * np.asarray(profile["w"])
+        ax.plot(profile["r"], values, label=label, **style)
+        drawn.append(values)
+
     stages = results.get("stages") or []
     for k, st in enumerate(stages[:-1]):
         if "surface" in st:
-            ax.plot(st["surface"]["r"], 1e3 * np.asarray(st["surface"]["w"]),
-                    color=COLORS[k % len(COLORS)], lw=1.2, alpha=0.8,
-                    label=f"stage {st['stage']}")
-    ax.plot(r, w, color="black", lw=2,
-            label="ground surface" + (f" (stage {stages[-1]['stage']})" if stages else ""))
-    lo, hi = float(w.min()), float(w.max())
+            curve(st["surface"], f"stage {st['stage']}", color=COLORS[k % len(COLORS)],
+                  lw=1.2, alpha=0.8)
+    c = results.get("consolidation")
+    if c:
+        # a consolidation: the surface at each reported time, and the drained limit
+        for k, state in enumerate(c["at_times"][:-1]):
+            if "surface" in state:
+                curve(state["surface"], f"t = {state['t_days']:.3g} days",
+                      color=COLORS[k % len(COLORS)], lw=1.2)
+        if "surface" in c["drained"]:
+            curve(c["drained"]["surface"], "drained limit", color="0.3", lw=1.2, ls=":")
+    last = (f" (stage {stages[-1]['stage']})" if stages else
+            f" (t = {c['at_times'][-1]['t_days']:.4g} days)" if c else "")
+    ax.plot(r, w, color="black", lw=2, label="ground surface" + last)
     if "plate" in results["profiles"]:
-        pl = results["profiles"]["plate"]
-        wp = 1e3 * np.asarray(pl["w"])
-        ax.plot(pl["r"], wp, color="tab:blue", lw=3, alpha=0.6, label="plate")
-        lo, hi = min(lo, wp.min()), max(hi, wp.max())
+        curve(results["profiles"]["plate"], "plate", color="tab:blue", lw=3, alpha=0.6)
     if "wall" in sc:
         at = sc["wall"]["radius"]
         foot = float(np.interp(at, r, w))
         ax.plot([at], [foot], marker="s", color="tab:red", ms=8, ls="none",
                 label=f"wall's foot, {foot:.1f} mm")
-    ax.invert_yaxis()                # settlement downward
-    ax.set_ylim(*_margin(lo, hi)[::-1])
+    values = np.concatenate(drawn)
+    ax.set_ylim(*_margin(float(values.min()), float(values.max()))[::-1])   # down is down
     ax.set_xlim(0.0, float(r.max()))
     ax.set_xlabel("r [m]")
     ax.set_ylabel("settlement w [mm] (down)")
