@@ -339,8 +339,10 @@ def test_a_sweep_over_the_overturning_moment_tabulates_the_tilt(tmp_path):
     # its chart has the tilt's panel (four panels: wider than the three of w0, wd, M0)
     import pyvista
 
+    from tankfx.results.charts import DPI, PANEL
+
     chart = pyvista.read(tmp_path / "out" / "charts.png")
-    assert chart.dimensions[0] == 2400
+    assert chart.dimensions[0] == round(4 * PANEL[0] * DPI)
 
 
 def _steel_on_ringwall():
