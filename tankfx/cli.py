@@ -359,7 +359,12 @@ def cmd_sweep(args) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="tankfx", description="Axisymmetric tank-foundation-"
-                                     "soil analysis (Zaman & Mahmood's method on FEniCSx).")
+                                     "soil analysis (Zaman & Mahmood's method on FEniCSx).",
+                                     epilog="exit codes: 0 the results are valid; 2 refused "
+                                     "before any work (nothing written); 3 the analysis "
+                                     "failed (results.json says what and where); 4 it ran, "
+                                     "but a part of the results lies outside its model's "
+                                     "range (results.json's validity)")
 
     parser.add_argument("--version", action="version", version=f"tankfx {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)

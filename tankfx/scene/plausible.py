@@ -12,13 +12,13 @@ molasses and liquid sulphur (about 18 kN/m^3), of structural materials 5-80 kN/m
 """
 from __future__ import annotations
 
-import math
 import re
 
 from .keys import Limit
 
 __all__ = ["PLAUSIBLE", "implausible", "WALL_THIN", "WALL_THICKEST", "PLATE_THIN",
-           "PLATE_THICKEST", "DOMAIN_WIDEST", "accept_problems"]
+           "PLATE_THICKEST", "DOMAIN_WIDEST", "accept_problems", "ratio_problem",
+           "geometry_warnings"]
 
 _SOIL_E = (Limit(1e5, 1e11, low_open=False), "soil moduli span peat (about 0.1 MPa) to rock "
                                              "(up to about 100 GPa)")
@@ -179,10 +179,6 @@ def ratio_problem(where: str, t: float, radius: float, thin: float, thickest: fl
             f"{thickest:g}, where no {member} theory applies (thin theory holds to about "
             f"{thin:g}); {slip}If you mean it, add \"{where}\" to the scene's top-level "
             f"accept = [...]")
-
-
-def is_finite_number(v) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
 
 
 def geometry_warnings(scene) -> list[str]:
