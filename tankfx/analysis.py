@@ -104,7 +104,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     log.info("estimate: %s", est.text())
     if not allow_large:
         # (rank 0's answer for all: the memory free may differ between the ranks' nodes)
-        problem = comm.bcast(resource_problem(scene, comm.size) if comm.rank == 0 else None)
+        problem = comm.bcast(resource_problem(scene, est) if comm.rank == 0 else None)
         if problem:
             raise SceneError([problem])
     t_start = time.perf_counter()

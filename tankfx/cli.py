@@ -124,7 +124,8 @@ def cmd_run(args) -> int:
         return _fail(f"{args.scene}: {problem}", EXIT_BAD_INPUT)
     if not args.allow_large:
         # (rank 0's answer for all, as analyse's)
-        problem = comm.bcast(resource_problem(scene, comm.size) if comm.rank == 0 else None)
+        problem = comm.bcast(resource_problem(scene, estimate(scene, comm.size))
+                             if comm.rank == 0 else None)
         if problem:
             return _fail(f"{args.scene}: {problem}", EXIT_BAD_INPUT)
     target = out / "results.json"
@@ -150,9 +151,8 @@ def cmd_run(args) -> int:
 
 
     try:
-        solution = analyse(scene, comm, allow_large=args.allow_large)
-    except SceneError as e:                   # too large for this machine: before meshing
-        return _fail(f"{args.scene}: {e}", EXIT_BAD_INPUT)
+        # (the machine's memory was checked above, before --out was made)
+        solution = analyse(scene, comm, allow_large=True)
     except SolveError as e:
         if comm.rank == 0:
             write_json(target, failure_record(scene, e))
@@ -316,7 +316,7 @@ def cmd_check(args) -> int:
         say(line)
     est = estimate(scene, comm.size)
     say(f"  estimate: {est.text()} (a direct solve on {comm.size} rank(s))")
-    problem = resource_problem(scene, comm.size)
+    problem = resource_problem(scene, est)
     if problem:
         say(f"  refused by tankfx run (unless --allow-large): {problem}")
     if args.mesh:

@@ -254,10 +254,9 @@ def available_memory() -> float:
 MEMORY_FRACTION = 0.8
 
 
-def resource_problem(scene: Scene, ranks: int = 1) -> str | None:
-    """Why a scene is too large for this machine (its estimate against the memory free),
-    or None."""
-    est = estimate(scene, ranks)
+def resource_problem(scene: Scene, est: Estimate) -> str | None:
+    """Why a scene is too large for this machine (its estimate ``est`` against the memory
+    free), or None."""
     limit = MEMORY_FRACTION * available_memory()
     if est.memory <= limit:
         return None

@@ -27,6 +27,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from ..laws.interface import mohr_coulomb_limit
+from .report import MULTIPLES
 
 #: the charts' size per panel, inches, and resolution
 PANEL = (6.0, 4.2)
@@ -354,15 +355,16 @@ CHARTABLE: dict[str, tuple[str, float, str]] = {
 }
 #: the charts of a sweep without a [charts] table: dimensional
 DEFAULT_CHARTS = ("w0", "wd", "M0")
-#: a scene key's unit and the multiples it is shown in
-_MULTIPLES = {"Pa": ((1e9, "GPa"), (1e6, "MPa"), (1e3, "kPa")), "N": ((1e6, "MN"), (1e3, "kN")),
-              "N m": ((1e6, "MN m"), (1e3, "kN m")), "N/m^3": ((1e3, "kN/m^3"),)}
+def numeric_axes(axes: dict) -> list[str]:
+    """A sweep's axes whose values are all numbers (the ones a chart can plot against)."""
+    return [k for k, v in axes.items() if isinstance(v, list) and v and all(
+        isinstance(e, (int, float)) and not isinstance(e, bool) for e in v)]
 
 
 def axis_scale(values, unit: str) -> tuple[float, str]:
     """The factor and unit a scene key's values are shown in (Pa in MPa for moduli)."""
     largest = max((abs(float(v)) for v in values), default=0.0)
-    for factor, name in _MULTIPLES.get(unit, ()):
+    for factor, name in MULTIPLES.get(unit, ()):
         if largest >= factor:
             return 1.0 / factor, name
     return 1.0, "" if unit in ("", "-") else unit
@@ -418,8 +420,7 @@ def plot_sweep(rows: list[dict], axes: dict, path, title: str = "", x_key: str |
     axis is numeric."""
     if not _rank0() or not rows:
         return None
-    numeric = [k for k, v in axes.items() if all(isinstance(x, (int, float))
-                                                  and not isinstance(x, bool) for x in v)]
+    numeric = numeric_axes(axes)
     x_key = x_key or (numeric[0] if numeric else None)
     if x_key is None:
         return None

@@ -249,6 +249,11 @@ def summary_table(results: dict) -> str:
     return "\n".join(lines)
 
 
+#: an SI unit's multiples the results are shown in, largest first
+MULTIPLES = {"Pa": ((1e9, "GPa"), (1e6, "MPa"), (1e3, "kPa")), "N": ((1e6, "MN"), (1e3, "kN")),
+             "N m": ((1e6, "MN m"), (1e3, "kN m")), "N/m^3": ((1e3, "kN/m^3"),)}
+
+
 def quantity(value, unit: str) -> str:
     """A scene value with its unit, in the multiple that reads best (GPa for a concrete's
     modulus, kPa for a pressure, kN/m^3 for a unit weight, MN for a load)."""
@@ -258,10 +263,7 @@ def quantity(value, unit: str) -> str:
         return value
     if not isinstance(value, (int, float)):
         return str(value)
-    scaled = {"Pa": ((1e9, "GPa"), (1e6, "MPa"), (1e3, "kPa")),
-              "N": ((1e6, "MN"), (1e3, "kN")), "N m": ((1e6, "MN m"), (1e3, "kN m")),
-              "N/m^3": ((1e3, "kN/m^3"),)}.get(unit, ())
-    for factor, name in scaled:
+    for factor, name in MULTIPLES.get(unit, ()):
         if abs(value) >= factor:
             return f"{value / factor:.4g} {name}"
     return f"{value:.4g}" + (f" {unit}" if unit and unit != "-" else "")

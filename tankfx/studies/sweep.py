@@ -36,7 +36,7 @@ from mpi4py import MPI
 
 from ..analysis import analyse
 from ..fem.solvers import SolveError
-from ..results.charts import CHARTABLE
+from ..results.charts import CHARTABLE, numeric_axes
 from ..results.figures import plot_sweep
 from ..results.io import write_json
 from ..scene.scene import Scene, load_scene, read_toml
@@ -71,8 +71,7 @@ def _charts(table, axes: dict) -> tuple[list[str], str | None, tuple[str, ...] |
         return ["[charts]: a table with x (an axis) and y (a list of results)"], None, None
     problems = [f"charts.{k}: unknown key (valid: x, y)" for k in table if k not in ("x", "y")]
     x, y = table.get("x"), table.get("y")
-    numeric = [k for k, v in axes.items() if isinstance(v, list) and v and all(
-        isinstance(e, (int, float)) and not isinstance(e, bool) for e in v)]
+    numeric = numeric_axes(axes)
     if x is not None and x not in numeric:
         problems.append(f"charts.x = {x!r}: must be a numeric axis of the sweep "
                         f"({', '.join(numeric) or 'none'})")
@@ -294,8 +293,7 @@ def run_sweep(sweep: Sweep, out: Path, comm: MPI.Comm = MPI.COMM_WORLD) -> list[
         writer.writeheader()
         writer.writerows(rows)
 
-    x_key = sweep.chart_x or next((k for k, v in sweep.axes.items() if all(
-        isinstance(e, (int, float)) and not isinstance(e, bool) for e in v)), None)
+    x_key = sweep.chart_x or next(iter(numeric_axes(sweep.axes)), None)
     chart = plot_sweep(rows, sweep.axes, out / "charts.png", title=sweep.base.title,
                        x_key=x_key, y_keys=list(sweep.chart_y) if sweep.chart_y else None,
                        x_unit=key_unit(x_key) if x_key else "")
