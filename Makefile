@@ -7,7 +7,7 @@ MPIEXEC := $(VENV)/bin/mpiexec
 NP      ?= 2
 STAMP   := $(VENV)/.tankfx-installed
 
-.PHONY: demo test lint test-serial test-mpi benchmark venv clean gallery
+.PHONY: demo test lint docs test-serial test-mpi benchmark venv clean gallery verification
 
 venv: $(STAMP)
 
@@ -23,7 +23,7 @@ $(STAMP): pyproject.toml
 	  $$py -m venv $(VENV) || exit 1; \
 	fi
 	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q -e ".[test]"
+	$(PY) -m pip install -q -e ".[test,docs]"
 	@touch $(STAMP)
 
 demo: $(STAMP)
@@ -33,7 +33,17 @@ demo: $(STAMP)
 gallery: $(STAMP)
 	$(PY) docs/gallery.py
 
-test: lint test-serial test-mpi
+test: lint docs test-serial test-mpi
+
+# The documentation site, warnings as errors: open docs/_build/html/index.html. The
+# tutorials (from the demos) and the command line's help are generated as it builds.
+docs: $(STAMP)
+	$(VENV)/bin/sphinx-build -q -W --keep-going -b html docs docs/_build/html
+	@echo "docs: open docs/_build/html/index.html"
+
+# The verification table of the site (docs/verification.md) from fresh verification runs
+verification: $(STAMP)
+	$(PY) docs/verification.py
 
 # The package's layers and no import cycle (import-linter's contracts in pyproject.toml;
 # docs/architecture.md says what each layer holds).
@@ -57,4 +67,4 @@ benchmark: $(STAMP)
 	$(PY) benchmarks/flexible_load.py
 
 clean:
-	rm -rf $(VENV) results .pytest_cache
+	rm -rf $(VENV) results .pytest_cache docs/_build docs/_generated

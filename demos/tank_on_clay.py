@@ -1,3 +1,4 @@
+# %% [markdown]
 # # A tank on soft clay: settlement now, and over the months after the hydrotest
 #
 # A tank on saturated clay settles twice. When it is filled the water in the clay's pores
@@ -18,7 +19,7 @@
 # Run: `python demos/tank_on_clay.py` (or under `mpiexec -n 2`); `--coarse` for a quick
 # run. Results and figures go to `results/tank_on_clay/`.
 
-# +
+# %%
 import sys
 from pathlib import Path
 
@@ -34,13 +35,14 @@ say = print if comm.rank == 0 else (lambda *a, **k: None)
 out = Path("results") / "tank_on_clay"
 if comm.rank == 0:
     out.mkdir(parents=True, exist_ok=True)
-# -
 
+# %% [markdown]
 # ## The tank and the clay
 # `demos/scenes/tank_on_clay.toml`: a 30 m concrete tank filled with 10 m of water, on
 # 10 m of soft clay (drained E' = 5 MPa, nu' = 0.3, k = 1e-9 m/s) over sand, which drains
 # it from below as the ground surface does from above.
 
+# %%
 scene = load_scene(Path(__file__).resolve().parent / "scenes" / "tank_on_clay.toml")
 if "--coarse" in sys.argv:
     # a quick look: the coarse mesh and half the time steps (5 a decade)
@@ -51,6 +53,7 @@ r = solution.results
 cons = r["consolidation"]
 DAY = 86400.0
 
+# %% [markdown]
 # ## Settlement against time
 # The clay's coefficient of consolidation c_v = k E_oed / gamma_w sets the pace. Terzaghi's
 # one-dimensional theory gives the classical estimates, and here two bounds: the concrete
@@ -59,6 +62,7 @@ DAY = 86400.0
 # consolidation (its settlement's progress from the undrained start to the drained limit)
 # lies between the two: the pore water under the plate also leaves sideways.
 
+# %%
 H = scene.domain.depth
 say(f"{scene.title}: c_v = {cons['c_v']:.3g} m^2/s; undrained w0 = "
     f"{1e3 * cons['undrained']['w0']:.1f} mm, drained limit "
@@ -81,6 +85,7 @@ say(f"(u_e: the excess pore pressure on the axis, {cons['axis_depth']:.3g} m bel
 # under the plate's middle against its edge, where the wall's weight and the water's
 # thrust meet), sagging as the clay under the middle consolidates.
 
+# %% [markdown]
 # ## Figures
 # The settlements, the plate's centre moment and the largest excess pore pressure against
 # time (log scale), between the undrained start and the drained limit; the isochrones (the
@@ -88,6 +93,7 @@ say(f"(u_e: the excess pore pressure on the axis, {cons['axis_depth']:.3g} m bel
 # 10 m as well as upwards); and the section at the last reported time, coloured by the
 # excess pore pressure that is still to drain.
 
+# %%
 if comm.rank == 0:
     write_json(out / "results.json", r)
     write_profiles(r, out)
@@ -99,6 +105,7 @@ plot_section(solution.u, pore, out / "pore_pressure.png", extent=1.6 * scene.pla
              structure=r, title=f"{scene.title}: t = {c.times[-1] / DAY:.4g} days")
 say(f"figures and results.json in {out}/")
 
+# %% [markdown]
 # ## The hydrotest: filled over ten days, held, emptied
 # A tank is not filled at once: a hydrotest fills it at about a metre a day, holds it full
 # while the settlement is watched, and empties it. As a load path in time, each stage the
@@ -108,6 +115,7 @@ say(f"figures and results.json in {out}/")
 # the full tank; emptied, the clay swells back only as its pore water returns: the
 # settlement recovered at once is the undrained response, the rest comes over years.
 
+# %%
 day = 86400.0
 hydrotest = scene.with_changes(
     stages=[{"liquid_height": 10.0, "time": 10 * day},
@@ -127,11 +135,13 @@ say(f"held full 50 days: w0 {1e3 * hc['at_stages'][0]['w0']:.1f} -> {1e3 * full[
     f"after three years")
 plot_consolidation(path, out / "hydrotest.png", title=f"{scene.title}: hydrotest")
 
+# %% [markdown]
 # ## Checks
 # The drained limit settles more than the undrained start, the consolidation rises
 # monotonically towards it between Terzaghi's two bounds, the excess pore pressure falls,
 # and the tank balances its load.
 
+# %%
 U = [s["degree"] for s in cons["at_times"]]
 assert cons["drained"]["w0"] > cons["undrained"]["w0"] > 0
 assert all(b > a for a, b in zip(U, U[1:])) and U[-1] < 1.0
@@ -149,3 +159,25 @@ assert cons["undrained"]["w0"] < w10 < min(w for t, w in at_once.items() if t >=
 assert full["w0"] > w10 and emptied["w0"] < full["w0"]
 assert 0 < hc["at_times"][-1]["w0"] < emptied["w0"] and abs(hc["drained"]["w0"]) < 1e-12
 assert path["equilibrium"]["relative_error"] < 1e-8
+
+# %% [markdown]
+# ## What it shows
+#
+# On soft clay (`demos/tank_on_clay.py`: a 30 m tank, 10 m of water, 10 m of clay with E' =
+# 5 MPa, nu' = 0.3, k = 1e-9 m/s, c_v = 6.9e-7 m^2/s, on sand) the tank settles 45.5 mm at
+# once, 31 % of its drained 149.1 mm, and the rest over years: 65 mm after a month, 116 mm
+# after a year, 145 mm after three. Its degree of consolidation lies between Terzaghi's for
+# the whole layer drained downwards (the impervious plate) and for both faces (beyond it):
+# 0.68 after a year against 0.52 and 0.90. The raft's centre moment changes sign, -6 kN m/m
+# (hogging) at once to +187 kN m/m in the drained limit: the consolidating clay under its
+# middle lets it sag. (Default mesh, 19.6k dofs, 56 solves: 3.9 s.) In a hydrotest, filled at
+# a metre a day, the tank has settled 53 mm by day 10 (the full tank at once: 45 mm, then
+# 57 mm after ten days) and 72 mm after fifty days held full; emptied in five days, it
+# keeps 22 mm, which the elastic skeleton gives back over years as the clay swells (a real
+# clay would keep most of it).
+#
+# ![settlements, excess pore pressure and centre moment against time](../docs/figures/clay_consolidation.png)
+#
+# ![isochrones down the axis](../docs/figures/clay_isochrones.png)
+#
+# ![the hydrotest](../docs/figures/clay_hydrotest.png)

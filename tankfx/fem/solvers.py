@@ -71,7 +71,7 @@ def _ordering(u, one_shot: bool) -> dict:
     by the size. One factorisation (a linear scene) of fewer than AMD_LIMIT unknowns: AMD,
     whose analysis is cheap (measured at 274k dofs: analysis 0.4 s against METIS's 2.1 s,
     numeric factorisation 2.4 s against 1.5 s on one rank; whole process times in
-    docs/performance.md). Several (a nonlinear or staged scene, each iteration a
+    docs/development/performance-record.md). Several (a nonlinear or staged scene, each iteration a
     numeric factorisation on the same analysis): METIS, whose sparser factors pay back, with
     its analysis on one rank whatever the number of ranks: PT-SCOTCH's parallel analysis is
     faster (on 2 ranks, 274k / 755k dofs: 1.7 / 4.9 s against 2.1 / 6.5 s) but its ordering
@@ -170,7 +170,7 @@ class DirectSolver(_LinearSolver):
         # scaling: it is recomputed at every numeric factorisation and does not scale over
         # ranks (nonlinear tank, 274k dofs, its 13 numeric factorisations: 17.2-18.6 ->
         # 15.2-16.7 s on one rank, 12.1-12.2 -> 8.8-11.2 s on two, over two batches;
-        # docs/performance.md), while the two refinement steps bring the residual to the
+        # docs/development/performance-record.md), while the two refinement steps bring the residual to the
         # same floor (2.6e-8 against 2.2-2.7e-8; w0 to 1e-9). A factorisation that fails
         # unscaled (a saddle-point system of a nearly incompressible soil) is redone
         # scaled, and the solver stays scaled (see _rescale). A single factorisation keeps
