@@ -140,7 +140,9 @@ assert sn.min() >= 0.0 and mc_excess <= 1e-9 * np.abs(sn).max()
 # %% [markdown]
 # ## What it shows
 #
-# The figures of this tank (the deformed section in vertical stress, the moment diagrams on the plate and wall, the soil's stress level q / q_ult, a 3D cut-away, the contact stresses against the Mohr-Coulomb limit, and the members' profiles):
+# The figures of this tank (the deformed section in vertical stress, the moment diagrams on
+# the plate and wall, the soil's stress level q / q_ult, a 3D cut-away, the contact stresses
+# against the Mohr-Coulomb limit, and the members' profiles):
 #
 # ![deformed section, vertical stress](../docs/figures/embedded_section.png)
 #

@@ -148,7 +148,8 @@ assert all(r["equilibrium"]["relative_error"] < 1e-8 for r in path + elastic)
 # near its ultimate deviator, its secant modulus a fraction of E_ur), where the paper's law
 # gives it all back. The emptied plate lifts off the soil at its edge, over its outer 0.76 m
 # (the soil kept most settlement there, where it was strained most), the wall's weight
-# hanging from it, and hogs (M0 -264 against -36 kN m/m full); filled again, the tank is back at 379.13
+# hanging from it, and hogs (M0 -264 against -36 kN m/m full); filled again, the tank is back
+# at 379.13
 # mm (7e-8 from the first filling), its elements reported rebonded. While it fills, up to
 # 212 of the soil's 13.7k cells already unload (where the load spreads differently as it
 # grows): the two laws part by 0.1 % before the tank is emptied.

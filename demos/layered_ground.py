@@ -155,4 +155,5 @@ for res in [sand_only, *(r for v in results.values() for r in [v["limit"], *v["l
 # volume, and squeezing it out from under a raft eight times wider than it is thick takes
 # much force; drained, the same layer more than doubles the settlement (73 mm).
 #
-# ![settlement, differential settlement and centre moment against the clay's thickness](../docs/figures/layered_clay_thickness.png)
+# ![settlement, differential settlement and centre moment against the clay's
+# thickness](../docs/figures/layered_clay_thickness.png)

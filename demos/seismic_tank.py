@@ -209,7 +209,8 @@ assert tilt > 0 and not u["lifts"] and u["zone"][1] == scene.plate.radius
 # surface modulus. The shell's bottom course is compressed 4.4 MPa at the toe, as Annex E's
 # rigid-base formula has it (w_t + 1.273 M_rw / D^2) / t. The corner bends on: the annular
 # plate's elastic bending stress at the joint goes from 225 MPa (the full tank) to 166 at the
-# toe and 283 at the heel, the bottom course's from 220 to 233 and 206 MPa. The heel's weak spot is the shell's
+# toe and 283 at the heel, the bottom course's from 220 to 233 and 206 MPa. The heel's weak
+# spot is the shell's
 # foot: the floor just inside it already bends up off the sand under the water (a separated
 # band), which leaves the lip under the shell and the annular plate's projection as a contact
 # zone of its own; on the heel side it lifts as a whole at 1.43 x this earthquake (default

@@ -176,7 +176,8 @@ assert path["equilibrium"]["relative_error"] < 1e-8
 # keeps 22 mm, which the elastic skeleton gives back over years as the clay swells (a real
 # clay would keep most of it).
 #
-# ![settlements, excess pore pressure and centre moment against time](../docs/figures/clay_consolidation.png)
+# ![settlements, excess pore pressure and centre moment against
+# time](../docs/figures/clay_consolidation.png)
 #
 # ![isochrones down the axis](../docs/figures/clay_isochrones.png)
 #

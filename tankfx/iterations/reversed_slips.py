@@ -66,7 +66,8 @@ class ReversedSlips:
         is above 2 L, the stiffness drops a hundredfold; otherwise the plain secant k = L /
         |j|. The fit is not made across a solve where another carrier changed state (the
         rest was another system then: on the demo tank at tan phi = 0.1, node states, such
-        a fit took 7 solves instead of 5). Measured (docs/development/performance-record.md, 2026-11-25): the
+        a fit took 7 solves instead of 5). Measured
+        (docs/development/performance-record.md, 2026-11-25): the
         small tank at tan phi = 0.01 / 0.02 / 0.03 from rest, two coupled reversed
         elements, 10 / 13 / 10 solves, where a secant root of the misfit k |j| - L took
         14 / 23 / 39 (its updates crawled down from k_s while the misfit stayed flat)."""
