@@ -172,9 +172,9 @@ class DirectSolver(_LinearSolver):
         # 15.2-16.7 s on one rank, 12.1-12.2 -> 8.8-11.2 s on two, over two batches;
         # docs/development/performance-record.md), while the two refinement steps bring
         # the residual to the same floor (2.6e-8 against 2.2-2.7e-8; w0 to 1e-9). A
-        # factorisation that fails unscaled (a saddle-point system of a nearly incompressible soil) is redone
-        # scaled, and the solver stays scaled (see _rescale). A single factorisation keeps
-        # the scaling: it is paid once there.
+        # factorisation that fails unscaled (a saddle-point system of a nearly
+        # incompressible soil) is redone scaled, and the solver stays scaled (see
+        # _rescale). A single factorisation keeps the scaling: it is paid once there.
         self.scaling = NO_SCALING if unscaled else AUTOMATIC_SCALING
         # (fixed, varying): block forms that sum to ``a``, of which only ``varying`` changes
         # between solves; the fixed part is then assembled once and copied
