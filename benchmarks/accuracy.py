@@ -144,7 +144,11 @@ def errors(case: str, r: dict, reference: dict | None) -> dict:
     return {k: r[k] / reference[k] - 1 for k in ("w0", "wd", "M0")}
 
 
-def run_case(scene: dict, workdir: Path, name: str) -> dict:
+def run_case(scene: dict, workdir: Path, name: str, exits: tuple = (0, 4)) -> dict:
+    """One case as a fresh `tankfx run`: its results.json with the whole process's time
+    ("process_s") and its exit code ("exit"). Exit 4 (it ran, but a part lies outside its
+    model's range) is accepted by default: the rocking disc's nominal 1 Pa lets its heel
+    lift, which does not touch the first harmonic it is measured on."""
     from tankfx import Scene
 
     path = workdir / f"{name}.toml"
@@ -156,10 +160,10 @@ def run_case(scene: dict, workdir: Path, name: str) -> dict:
                            "--force", "--no-figures", "--no-fields"], capture_output=True,
                           text=True)
     wall = time.perf_counter() - t
-    if proc.returncode != 0:
-        raise RuntimeError(f"{name}: {proc.stderr[-2000:]}")
+    if proc.returncode not in exits:
+        raise RuntimeError(f"{name}: exit {proc.returncode}: {proc.stderr[-2000:]}")
     r = json.loads((out / "results.json").read_text())
-    r["process_s"] = wall
+    r["process_s"], r["exit"] = wall, proc.returncode
     return r
 
 
