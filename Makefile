@@ -7,7 +7,7 @@ MPIEXEC := $(VENV)/bin/mpiexec
 NP      ?= 2
 STAMP   := $(VENV)/.tankfx-installed
 
-.PHONY: demo test lint docs test-serial test-mpi benchmark venv clean gallery verification
+.PHONY: demo test lint docs test-serial test-mpi benchmark venv clean gallery verification figures
 
 venv: $(STAMP)
 
@@ -40,6 +40,10 @@ test: lint docs test-serial test-mpi
 docs: $(STAMP)
 	$(VENV)/bin/sphinx-build -q -W --keep-going -b html docs docs/_build/html
 	@echo "docs: open docs/_build/html/index.html"
+
+# The figures of the tutorials (docs/figures/), drawn by the demos on their default meshes
+figures: $(STAMP)
+	$(PY) docs/figures.py
 
 # The verification table of the site (docs/verification.md) from fresh verification runs
 verification: $(STAMP)

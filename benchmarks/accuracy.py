@@ -167,8 +167,9 @@ def run_case(scene: dict, workdir: Path, name: str, exits: tuple = (0, 4)) -> di
     return r
 
 
-#: Whole-process times on the project machine repeat within about +-10 % (README, "Where the
-#: time goes"): a difference below that is not a measured difference.
+#: Whole-process times on the project machine repeat within about +-10 %
+#: (docs/performance.md, "Where the time goes"): a difference below that is not a measured
+#: difference.
 TIME_NOISE = 0.1
 
 

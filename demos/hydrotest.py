@@ -10,7 +10,7 @@
 # The paper's secant law is nonlinear elastic: its soil would unload along its loading
 # curve and give everything back. With `[soil] unloading_modulus_ratio` (E_ur over the
 # initial modulus 1/a) each soil cell of Kondner's law remembers its most loaded state along
-# a load path and below it follows the unloading line through that state (README, "Method";
+# a load path and below it follows the unloading line through that state (docs/theory/method.md;
 # verified in tests/test_unloading.py: a confined layer against the closed form, the
 # rebound of a flexible load against the linear soil of E_ur).
 #

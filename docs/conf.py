@@ -40,6 +40,8 @@ autodoc_typehints = "description"
 autodoc_default_options = {"members": True, "show-inheritance": False}
 napoleon_google_docstring = False
 napoleon_numpy_docstring = True
+# the Attributes sections as fields of their class: dataclass fields are not described twice
+napoleon_use_ivar = True
 nitpicky = False
 suppress_warnings = ["myst.header"]
 

@@ -1,6 +1,6 @@
 """From a validated scene to results: mesh, forms, solve, post-processing.
 
-The result keys (``results.json``) are a public contract; see README "Results".
+The result keys (``results.json``) are a public contract; see docs/guide/outputs.md.
 Sign conventions: settlements ``w`` positive downward; ``u_r`` positive outward; the axis
 ``z`` is the depth below the ground surface (positive downward); ``sigma_zz`` is positive in
 compression (the paper's and geotechnical convention).
@@ -45,7 +45,26 @@ log = logging.getLogger("tankfx")
 
 @dataclass
 class Solution:
-    """A solved scene: the FE fields (for further post-processing) and the results dict."""
+    """A solved scene: the finite element fields and the results.
+
+    Attributes
+    ----------
+    scene : Scene
+        The scene solved.
+    domain : Domain
+        The distributed mesh with its named tags.
+    u : dolfinx.fem.Function
+        The soil's displacement (u_r, u_z), m.
+    sigma_zz : dolfinx.fem.Function
+        The vertical stress, projected onto the displacement's space, Pa (compression
+        positive).
+    results : dict
+        Everything written to results.json (docs/guide/outputs.md).
+    model : object
+        The assembled model (soil, interface and structure blocks), or None.
+    harmonic : object
+        The overturning's first harmonic, where the load has one, or None.
+    """
 
     scene: Scene
     domain: Domain
@@ -81,24 +100,67 @@ def mesh_grading_warning(scene: Scene) -> str | None:
 
 def analyse(scene: Scene, comm: MPI.Comm = MPI.COMM_WORLD, nested: bool = False,
             allow_large: bool = False) -> Solution:
-    """Mesh, solve and post-process a scene; returns the solution and its results dict (of
-    the last stage of the scene's load path, with every stage's key numbers under
-    ``stages``, when it has one). ``nested`` (with a hyperbolic soil and a Mohr-Coulomb
-    interface): converge the interface inside every soil iteration, or (default) update both
-    once per iteration, which took fewer solves on the embedded demo tank (21 against 26,
-    README). A scene whose estimated memory exceeds what the machine has free is refused
-    (SceneError, before meshing) unless ``allow_large``."""
+    """Mesh, solve and post-process a scene.
+
+    Parameters
+    ----------
+    scene : Scene
+        The validated scene (:func:`load_scene`, :meth:`Scene.from_dict`).
+    comm : mpi4py.MPI.Comm, optional
+        The ranks that share the analysis (default ``MPI.COMM_WORLD``). The mesh is made on
+        rank 0 and distributed; every rank returns the same results.
+    nested : bool, optional
+        With a hyperbolic soil and a Mohr-Coulomb interface: converge the interface inside
+        every soil iteration. The default updates both once per iteration, which took fewer
+        solves on the embedded demo tank (21 against 26, docs/theory/method.md).
+    allow_large : bool, optional
+        Run a scene whose estimated memory exceeds what the machine has free (refused
+        otherwise, before meshing).
+
+    Returns
+    -------
+    Solution
+        The solved fields and ``results``, the dictionary written to results.json. With a
+        load path (``[[stages]]``), those of its last stage, with every stage's key numbers
+        under ``results["stages"]``.
+
+    Raises
+    ------
+    SceneError
+        The scene is too large for the machine (before any meshing).
+    SoilFailure
+        The soil cannot carry the load: ``results`` says where and what was carried.
+    SolveError
+        An iteration or a linear solve failed; the message says what, in physical terms,
+        and the exception carries the history.
+    """
     return analyse_path(scene, list(scene.stages) or [scene.load], comm, nested,
                         allow_large)[-1]
 
 
 def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                  nested: bool = False, allow_large: bool = False) -> list[Solution]:
-    """Solve a scene under a sequence of total loads (``Load`` objects or ``[load]`` dicts),
-    on one mesh, carrying the interface's element states from each stage to the next: an
-    element separated at one stage and in contact at the next is reported ``rebonded``.
-    (Each stage is the response to its total load, as in the paper; slip is not
-    accumulated along the path.) Returns one solution per stage."""
+    """Solve a scene under a sequence of total loads, on one mesh.
+
+    The interface's element states (and, with an unloading modulus, the soil's memory) are
+    carried from each stage to the next: an element separated at one stage and in contact
+    at the next is reported ``rebonded``. Each stage is the response to its total load, as
+    in the paper; slip is not accumulated along the path.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene whose geometry, soil and structure every stage shares.
+    loads : list of Load or dict
+        The stages' total loads: ``Load`` objects or ``[load]`` tables as dicts.
+    comm, nested, allow_large
+        As for :func:`analyse`.
+
+    Returns
+    -------
+    list of Solution
+        One solution per stage, in order.
+    """
     stages = _load_stages(scene, loads)
     est = estimate(scene, comm.size)
     log.info("estimate: %s", est.text())

@@ -38,7 +38,7 @@ NEAR_RADIUS = 6.0
 
 #: A soil whose modulus doubles within a depth 1/lambda shorter than the near field's
 #: elements gets elements of SURFACE_GRADING x (1/lambda + h) at depth h, out to
-#: SURFACE_GRADING_RADIUS foundation radii (README "Mesh defaults").
+#: SURFACE_GRADING_RADIUS foundation radii (docs/theory/method.md, "Mesh").
 SURFACE_GRADING = 0.25
 
 

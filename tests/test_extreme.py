@@ -1,5 +1,6 @@
 """Stiff and extreme cases: what the solver does at the ends of every parameter's range
-(the table "Stiff and extreme cases" of the README has one row per test here).
+(the table "Stiff and extreme cases" of docs/development/2026-11-26-error-against-time.md
+has one row per test here).
 
 Meshes are coarse (edge 0.01 a): the cases test behaviour at the extremes (limits,
 monotonicity, residuals, refusals), not the last digit; the fine-mesh accuracy of the same

@@ -87,7 +87,8 @@ def test_nonlinear_settlement_exceeds_linear_for_the_papers_constants():
     """A bonded plate 0.3 a below ground under 40 kPa: the paper reports 17 % more
     settlement than linear at Kp = 0.01 and 7 % at Kp = 10; tankfx gives 18 % and 19 %
     (15 % at Kp = 1). The first-order excess of the linear fields has the same minimum:
-    14.6/11.6/14.3 % at Kp = 0.01/1/10, a third of it at the rigid plate's edge (README)."""
+    14.6/11.6/14.3 % at Kp = 0.01/1/10, a third of it at the rigid plate's edge
+    (docs/theory/paper-and-tankfx.md)."""
     excess = {}
     for Kp in (0.01, 10.0):
         scene = Scene.from_dict({

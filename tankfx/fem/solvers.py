@@ -93,8 +93,14 @@ def _ordering(u, one_shot: bool) -> dict:
 
 
 class SolveError(RuntimeError):
-    """A solve that did not converge; its numbers must not be reported as results. ``history``
-    holds the iteration history of a nonlinear solve, when there is one."""
+    """A solve that did not converge: its numbers must not be reported as results.
+
+    Attributes
+    ----------
+    history : list
+        The iteration history of a nonlinear solve up to the failure (empty when there is
+        none).
+    """
 
     def __init__(self, message: str, history: list | None = None):
         super().__init__(message)
@@ -442,7 +448,8 @@ class IterativeSolver(_LinearSolver):
     as a PETSc nest and solved by GMRES, right-preconditioned by :class:`StructureSchur` (the
     structure condensed exactly, GAMG on the soil's Schur complement). Each solve must
     reach ``rtol`` within ``max_iterations``; the true residual is then checked as for a
-    direct solve. Measured: README, "Iterative against direct"."""
+    direct solve. Measured: docs/performance.md,
+    "Direct and iterative solvers"."""
 
     assembly = WHOLE_ASSEMBLY
 

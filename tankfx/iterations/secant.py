@@ -48,7 +48,9 @@ DUNCAN_CHANG_ANDERSON_DEPTH = 10
 
 
 class SoilFailure(SolveError):
-    """The soil cannot carry the load: the iteration reached cells at the ultimate deviator."""
+    """The soil cannot carry the load: its iteration reached cells at the ultimate deviator
+    (Kondner's 1/b) or at Duncan & Chang's strength. The message says where and under what
+    load; a :class:`SolveError` with its ``history``."""
 
 
 class HyperbolicIteration:

@@ -1,6 +1,6 @@
 """The results.json contract: the keys a solved stage reports, their conventions, the
 non-dimensional set of Eq. 23, the load path's stage table, and the versions of the software.
-The result keys are public; see the README, "Results".
+The result keys are public; see docs/guide/outputs.md.
 """
 from __future__ import annotations
 

@@ -395,7 +395,7 @@ def check_top(rd: Reader, data: dict) -> None:
                    f"{suggest(key, [*SPEC, *TOP, 'stages'])}")
     for name in REQUIRED_SECTIONS:
         if name not in data:
-            rd.bad(f"[{name}]: missing section; add a '[{name}]' table (see README)")
+            rd.bad(f"[{name}]: missing section; add a '[{name}]' table (see docs/scene-keys.md)")
 
 
 def check_plate(rd: Reader, plate: dict | None, wall: dict | None) -> None:
@@ -551,7 +551,7 @@ def check_discretisation(rd: Reader, mesh: dict, solver: dict, soil: dict,
     (the mixed form) needs degree 2 or 3 and the direct solver. Returns (degree, method),
     as given or defaulted."""
     # a flexible load (no plate) defaults to P3 on a mesh twice as coarse: the soil alone
-    # decides its error, and there that is on the efficient front (README "Every case")
+    # decides its error, and there that is on the efficient front (docs/performance.md)
     deg = mesh.get("degree", FLEXIBLE_DEGREE if flexible else 2)
     if deg not in KEYS["mesh"]["degree"].choices:
         rd.bad(f"mesh.degree = {deg!r}: must be 1, 2 or 3 (the default: 2 under a plate, 3 "

@@ -1,6 +1,6 @@
 """The scene: one validated description of a tank-foundation-soil problem.
 
-A scene is read from a TOML file (see ``README.md`` for every key) into frozen dataclasses.
+A scene is read from a TOML file (every key: ``docs/scene-keys.md``) into frozen dataclasses.
 All checks happen here, before any mesh is built, and all problems found are reported in one
 :class:`SceneError` whose message names each offending key and how to fix it.
 
@@ -59,6 +59,36 @@ from .sections import (
 
 @dataclass(frozen=True)
 class Scene:
+    """A validated scene: one tank, its foundation, the soil and the loads, in SI units.
+
+    Frozen: a changed scene is a new one (:meth:`with_changes`), validated again. Read one
+    with :func:`load_scene` or :meth:`from_dict`; every key, its unit, default and range is
+    in docs/scene-keys.md.
+
+    Attributes
+    ----------
+    soil : Soil
+        The ground: its law (linear, hyperbolic, Duncan & Chang), moduli and layers.
+    load : Load
+        The loads: pressure, liquid, gas, roof, self-weight, overturning moment and shear.
+    domain : DomainSize
+        The soil domain's radius and depth, and its far side's and base's conditions.
+    mesh : MeshOptions
+        Element degree and sizes (defaults from the foundation's radius).
+    plate, wall : Plate, Wall or None
+        The foundation plate and the tank wall (None: a flexible load, or no wall).
+    interface : Interface
+        Bonded, smooth or Mohr-Coulomb contact between structure and soil.
+    ringwall : Ringwall or None
+        A concrete ringwall under the wall.
+    solver : SolverOptions
+        Direct (MUMPS) or iterative solver.
+    consolidation : Consolidation or None
+        A saturated soil's settlement in time (None: the soil answers at once).
+    title : str
+        The scene's name, in the log and the report.
+    """
+
     soil: Soil
     load: Load
     domain: DomainSize
@@ -125,10 +155,26 @@ class Scene:
                                        "growth": 0.3})
 
     def with_changes(self, **sections: dict[str, Any]) -> "Scene":
-        """A new scene with some keys of some sections changed, e.g.
-        ``scene.with_changes(mesh={"degree": 1})``; a key changed to None is removed (back
-        to its default, e.g. ``plate={"annular_width": None, "annular_thickness": None}``);
-        the result is validated again."""
+        """A new scene with some keys of some sections changed, validated again.
+
+        Parameters
+        ----------
+        **sections : dict
+            Per section, the keys to change: ``scene.with_changes(soil={"E": 80e6},
+            mesh={"degree": 3})``. A key changed to None is removed, back to its default
+            (``plate={"annular_width": None, "annular_thickness": None}``). A plate or wall
+            given by Kp or Kt keeps that rigidity when the soil changes; a ``thickness``
+            replaces it.
+
+        Returns
+        -------
+        Scene
+
+        Raises
+        ------
+        SceneError
+            The changed scene has problems (every one listed).
+        """
         d = self.to_dict()
         for sec, changes in sections.items():
             if isinstance(changes, dict):
@@ -379,7 +425,24 @@ def _is_text(raw: bytes, encoding: str) -> bool:
 
 
 def load_scene(path: str | Path) -> Scene:
-    """Read and validate a TOML scene file (UTF-8)."""
+    """Read and validate a TOML scene file.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The scene file, TOML in UTF-8 (a byte-order mark is skipped).
+
+    Returns
+    -------
+    Scene
+        The validated scene.
+
+    Raises
+    ------
+    SceneError
+        The file cannot be read, or the scene has problems: every one of them is listed,
+        each with its key, its value and the fix, before any mesh is built.
+    """
     return _parse_scene(read_toml(path))
 
 

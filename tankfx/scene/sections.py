@@ -15,15 +15,16 @@ from .keys import NON_NEGATIVE, POSITIVE, Key, Limit, key
 
 #: Default domain size, in multiples of the foundation radius. The truncation error of the
 #: centre settlement falls like 1/R (measured, homogeneous half-space with a fixed far
-#: boundary: -0.74 % at 100 a, -0.074 % at 1000 a, -0.0074 % at 10000 a; README "Truncation
-#: of the half-space"). The graded mesh makes the size almost free: going from 1000 a to
-#: 10000 a adds 1.5 % to the dofs.
+#: boundary: -0.74 % at 100 a, -0.074 % at 1000 a, -0.0074 % at 10000 a;
+#: docs/development/2026-11-26-error-against-time.md, "Truncation of the half-space"). The
+#: graded mesh makes the size almost free: going from 1000 a to 10000 a adds 1.5 % to the
+#: dofs.
 DEFAULT_DOMAIN_FACTOR = 10000.0
 
 
 #: Default element sizes, in multiples of the foundation radius: at the foundation edge (the
 #: stress singularity) and the cap over the near field (6 radii around the centre). Measured
-#: on the flexible load (README "Mesh defaults"): with P2 these keep the centre and edge
+#: on the flexible load (docs/performance.md): with P2 these keep the centre and edge
 #: settlements within 0.1 % and sigma_zz on the axis within 1 % up to nu = 0.45.
 DEFAULT_EDGE_SIZE = 0.002
 
@@ -33,7 +34,7 @@ DEFAULT_NEAR_SIZE = 0.1
 
 #: A flexible load (no plate: the soil alone decides the error) defaults to P3 on a mesh
 #: FLEXIBLE_COARSENING times coarser: measured, largest error 1.5e-3 -> 1.9e-4 (sigma_zz on
-#: the axis) at the same whole-process time (README "Every case").
+#: the axis) at the same whole-process time (docs/performance.md).
 FLEXIBLE_DEGREE = 3
 
 
@@ -74,7 +75,13 @@ RF_WHY = "R_f, typically 0.7-0.9"
 
 
 class SceneError(ValueError):
-    """A scene that cannot be run; the message lists every problem and its fix."""
+    """A scene that cannot be run, found before any work.
+
+    Attributes
+    ----------
+    problems : list of str
+        Every problem, each naming the key, the value and the fix; the message lists them.
+    """
 
     def __init__(self, problems: list[str]):
         self.problems = list(problems)

@@ -54,6 +54,22 @@ COLUMNS = ("converged", "validity.valid", "w0", "wd", "M0", "nondim.w0", "nondim
 
 @dataclass(frozen=True)
 class Sweep:
+    """A parametric study: a base scene and the values of the keys it varies.
+
+    Attributes
+    ----------
+    base : Scene
+        The scene every case starts from.
+    axes : dict of str to list
+        Each varied scene key (``"plate.Kp"``, ``"soil.layers[1].depth"``) and its values.
+    cases : list of dict
+        One dict of axis values per case (a grid of the axes, or their zipped lists).
+    scenes : list of Scene
+        The validated scene of each case.
+    chart_x, chart_y : str, tuple of str or None
+        What ``charts.png`` shows (the ``[charts]`` table; None: the defaults).
+    """
+
     base: Scene
     axes: dict[str, list]
     cases: list[dict]          # one dict of axis values per case
@@ -114,7 +130,22 @@ def scene_with(scene: Scene, values: dict) -> Scene:
 
 
 def load_sweep(path: str | Path) -> Sweep:
-    """Read and validate a sweep file and every case it makes (SceneError if any is bad)."""
+    """Read and validate a sweep file and every case it makes.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The sweep file (TOML): ``base``, ``mode``, ``[axes]`` and ``[charts]``.
+
+    Returns
+    -------
+    Sweep
+
+    Raises
+    ------
+    SceneError
+        A bad key, axis or value, naming the case and the key, before any case runs.
+    """
     p = Path(path)
     data = read_toml(p, "sweep")
     problems = [f"{k}: unknown sweep key (valid: base, mode, axes, charts)" for k in data
@@ -234,9 +265,31 @@ def finished_cases(sweep: Sweep, out: Path) -> list[int]:
 
 
 def run_sweep(sweep: Sweep, out: Path, comm: MPI.Comm = MPI.COMM_WORLD) -> list[dict] | None:
-    """Run the cases not yet written in ``out/cases``, spread over the ranks of ``comm``;
-    returns the table rows on rank 0 (None elsewhere). Raises SceneError (on every rank,
-    before any case runs) if ``out/cases`` holds cases of another study."""
+    """Run the cases not yet written in ``out/cases``, spread over the ranks of ``comm``.
+
+    Each case runs on one rank and is written atomically to ``out/cases/NNNN.json`` as it
+    finishes, so that a sweep started again resumes. The end: ``out/table.csv`` and
+    ``out/charts.png``.
+
+    Parameters
+    ----------
+    sweep : Sweep
+        The study (:func:`load_sweep`).
+    out : pathlib.Path
+        The output directory.
+    comm : mpi4py.MPI.Comm, optional
+        The ranks the cases are dealt out over (default ``MPI.COMM_WORLD``).
+
+    Returns
+    -------
+    list of dict or None
+        The table's rows on rank 0; None on the other ranks.
+
+    Raises
+    ------
+    SceneError
+        On every rank, before any case runs, if ``out/cases`` holds cases of another study.
+    """
 
     cases_dir = out / "cases"
     error = None
