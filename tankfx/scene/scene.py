@@ -75,8 +75,10 @@ class Scene:
         The soil domain's radius and depth, and its far side's and base's conditions.
     mesh : MeshOptions
         Element degree and sizes (defaults from the foundation's radius).
-    plate, wall : Plate, Wall or None
-        The foundation plate and the tank wall (None: a flexible load, or no wall).
+    plate : Plate or None
+        The foundation plate (None: a flexible load).
+    wall : Wall or None
+        The tank wall (None: a plate alone).
     interface : Interface
         Bonded, smooth or Mohr-Coulomb contact between structure and soil.
     ringwall : Ringwall or None
@@ -87,6 +89,14 @@ class Scene:
         A saturated soil's settlement in time (None: the soil answers at once).
     title : str
         The scene's name, in the log and the report.
+    stages : tuple of Load
+        A load path's total loads (``[[stages]]``), solved in order; empty for one load.
+    stage_times : tuple of float
+        With a consolidation, when each stage's load is reached, s.
+    accept : tuple of str
+        The keys whose values outside their plausible range the scene means.
+    accepted : tuple of str
+        What each accepted value is, in words (recorded in the results).
     """
 
     soil: Soil

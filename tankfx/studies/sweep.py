@@ -66,8 +66,10 @@ class Sweep:
         One dict of axis values per case (a grid of the axes, or their zipped lists).
     scenes : list of Scene
         The validated scene of each case.
-    chart_x, chart_y : str, tuple of str or None
-        What ``charts.png`` shows (the ``[charts]`` table; None: the defaults).
+    chart_x : str or None
+        The chart's horizontal axis (``[charts] x``; None: the first numeric axis).
+    chart_y : tuple of str or None
+        The results charted (``[charts] y``; None: w0, wd and M0).
     """
 
     base: Scene
