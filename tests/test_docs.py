@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import os
 import re
-import shutil
 import subprocess
 import sys
 from html.parser import HTMLParser
@@ -14,15 +13,11 @@ from pathlib import Path
 from urllib.parse import unquote, urlparse
 
 import pytest
+from browser import rendered_dom
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text()
 BIN = Path(sys.executable).parent
-CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
-                  "--no-first-run", "--disable-background-networking",
-                  "--disable-component-update", "--disable-sync"]
-
-
 def blocks(text: str, language: str) -> list[str]:
     """The fenced code blocks of one language in a Markdown text."""
     return re.findall(rf"^```{language}\n(.*?)^```", text, flags=re.M | re.S)
@@ -98,20 +93,9 @@ def test_the_site_has_every_part_the_readme_points_to(site):
 
 
 def test_the_index_page_renders_in_chromium(site, tmp_path):
-    """Chromium shows the index page, its figure decoded and its table of contents in place
-    (a probe script, added to a copy of the page beside it, counts the images loaded)."""
-    chromium = shutil.which("chromium")
-    assert chromium, ("headless Chromium is needed: install Debian's chromium (apt-get "
-                      "install chromium), as .ci/run does")
-    page = (site / "index.html").read_text()
-    probe = ("<script>window.addEventListener('load', () => document.body.setAttribute("
-             "'data-images', [...document.images].filter(i => i.complete && "
-             "i.naturalWidth > 0).length));</script></body>")
-    copy = site / "probe.html"
-    copy.write_text(page.replace("</body>", probe))
-    dom = subprocess.run([chromium, *CHROMIUM_FLAGS, f"--user-data-dir={tmp_path / 'p'}",
-                          "--virtual-time-budget=10000", "--dump-dom", copy.as_uri()],
-                         capture_output=True, text=True, timeout=120).stdout
+    """Chromium shows the index page, its figure decoded and its table of contents in
+    place."""
+    dom = rendered_dom(site / "index.html", tmp_path / "profile")
     assert 'data-images="1"' in dom
     for title in ("Getting started", "Tutorials", "User guide", "Verification",
                   "Performance", "Limitations", "Python API", "Development"):

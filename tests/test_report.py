@@ -6,19 +6,16 @@ from __future__ import annotations
 
 import json
 import math
-import shutil
 import subprocess
 import sys
 from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
+from browser import chromium, rendered_dom
 
 ROOT = Path(__file__).resolve().parents[1]
 #: the flags a headless Chromium needs on a closed machine, as root
-CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
-                  "--no-first-run", "--disable-background-networking",
-                  "--disable-component-update", "--disable-sync"]
 VOID = {"meta", "img", "br", "hr", "link", "input"}
 
 
@@ -52,13 +49,6 @@ class _Checker(HTMLParser):
             self.stack.pop()
 
 
-def _chromium() -> str:
-    path = shutil.which("chromium")
-    assert path, ("headless Chromium is needed: install Debian's chromium (apt-get install "
-                  "chromium), as .ci/run does")
-    return path
-
-
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
     """The steel tank (coarse): a Mohr-Coulomb interface, courses, a roof, self-weight."""
@@ -89,22 +79,15 @@ def test_report_html_renders_in_chromium_and_prints(run, tmp_path):
     """Chromium shows the summary and decodes every figure (a probe script, added to a copy
     of the page, counts the images loaded); the page prints to a PDF."""
     out, r = run
-    page = (out / "report.html").read_text()
-    probe = ("<script>window.addEventListener('load', () => document.body.setAttribute("
-             "'data-images', [...document.images].filter(i => i.complete && "
-             "i.naturalWidth > 0).length));</script></body>")
-    copy = tmp_path / "probe.html"
-    copy.write_text(page.replace("</body>", probe))
-    flags = [_chromium(), *CHROMIUM_FLAGS, f"--user-data-dir={tmp_path / 'profile'}"]
-    dom = subprocess.run([*flags, "--virtual-time-budget=10000", "--dump-dom",
-                          copy.as_uri()], capture_output=True, text=True, timeout=120).stdout
+    dom = rendered_dom(out / "report.html", tmp_path / "profile")
     n = len(list(out.glob("*.png")))
     assert f'data-images="{n}"' in dom
     assert f"<td>centre settlement w0</td><td class=\"value\">{1e3 * r['w0']:.2f} mm</td>" \
         in dom
     pdf = tmp_path / "report.pdf"
-    subprocess.run([*flags, "--no-pdf-header-footer", f"--print-to-pdf={pdf}",
-                    (out / "report.html").as_uri()], capture_output=True, timeout=120)
+    subprocess.run([*chromium(tmp_path / "profile"), "--no-pdf-header-footer",
+                    f"--print-to-pdf={pdf}", (out / "report.html").as_uri()],
+                   capture_output=True, timeout=120)
     assert pdf.read_bytes()[:5] == b"%PDF-" and pdf.stat().st_size > 50_000
 
 

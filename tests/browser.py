@@ -1,0 +1,32 @@
+"""Headless Chromium for the tests that render a page (the report, the documentation site):
+Debian's chromium, which .ci/run installs."""
+from __future__ import annotations
+
+import shutil
+import subprocess
+from pathlib import Path
+
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+#: added to a copy of a page: on load, the body records how many images were decoded
+PROBE = ("<script>window.addEventListener('load', () => document.body.setAttribute("
+         "'data-images', [...document.images].filter(i => i.complete && "
+         "i.naturalWidth > 0).length));</script></body>")
+
+
+def chromium(profile: Path) -> list[str]:
+    """The command line that starts headless Chromium with a profile of its own."""
+    path = shutil.which("chromium")
+    assert path, ("headless Chromium is needed: install Debian's chromium (apt-get install "
+                  "chromium), as .ci/run does")
+    return [path, *FLAGS, f"--user-data-dir={profile}"]
+
+
+def rendered_dom(page: Path, profile: Path) -> str:
+    """The DOM Chromium builds of ``page`` once loaded, from a copy beside it with the probe
+    (so that its relative links resolve): ``data-images`` on the body counts the images
+    decoded."""
+    copy = page.with_name(f"probe-{page.name}")
+    copy.write_text(page.read_text().replace("</body>", PROBE))
+    return subprocess.run([*chromium(profile), "--virtual-time-budget=10000", "--dump-dom",
+                           copy.as_uri()], capture_output=True, text=True, timeout=120).stdout
