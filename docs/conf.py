@@ -9,7 +9,6 @@ verification table (`python docs/verification.py`, checked by a test).
 from __future__ import annotations
 
 import os
-import subprocess
 import sys
 from pathlib import Path
 
@@ -77,13 +76,20 @@ def demo_page(name: str) -> str:
 
 
 def cli_help() -> None:
-    """The help of `tankfx` and of each command, as the command line prints it."""
-    env = dict(os.environ, COLUMNS="92")
+    """The help of `tankfx` and of each command, as the command line prints it (at a width
+    of 92 columns, whatever the terminal building the site)."""
+    import contextlib
+    import io
+
+    from tankfx.cli import build_parser
+
+    os.environ["COLUMNS"] = "92"
     for name, args in {"tankfx": [], "run": ["run"], "check": ["check"],
                        "sweep": ["sweep"]}.items():
-        text = subprocess.run([sys.executable, "-m", "tankfx", *args, "--help"], env=env,
-                              capture_output=True, text=True, check=True).stdout
-        (GENERATED / f"cli-{name}.txt").write_text(text)
+        text = io.StringIO()
+        with contextlib.redirect_stdout(text), contextlib.suppress(SystemExit):
+            build_parser().parse_args([*args, "--help"])
+        (GENERATED / f"cli-{name}.txt").write_text(text.getvalue())
 
 
 def generate(app) -> None:

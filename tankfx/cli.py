@@ -357,7 +357,9 @@ def cmd_sweep(args) -> int:
     return 0
 
 
-def main(argv: list[str] | None = None) -> int:
+def build_parser() -> argparse.ArgumentParser:
+    """The command line: `tankfx run`, `tankfx check`, `tankfx sweep` (and the site's help
+    pages, docs/guide/cli.md, generated from it)."""
     parser = argparse.ArgumentParser(prog="tankfx", description="Axisymmetric tank-foundation-"
                                      "soil analysis (Zaman & Mahmood's method on FEniCSx).",
                                      epilog="exit codes: 0 the results are valid; 2 refused "
@@ -397,7 +399,11 @@ def main(argv: list[str] | None = None) -> int:
                        help="print the scene with every default written out")
     check.add_argument("--mesh", action="store_true",
                        help="also mesh the scene and count its unknowns")
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
     return {"run": cmd_run, "sweep": cmd_sweep, "check": cmd_check}[args.command](args)
 
 
