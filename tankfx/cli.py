@@ -33,7 +33,7 @@ from .laws.biot import stratum_coefficients
 from .mesh import build_domain, estimate, geometry_of, resource_problem
 from .model.build import build_model
 from .results.fields import FIELD_FILES, PROFILE_FILES, write_fields, write_profiles
-from .results.figures import FIGURES, SECTION_QUANTITIES, section_problem, write_figures
+from .results.figure_choices import FIGURES, SECTION_QUANTITIES, section_problem
 from .results.html import write_report_html
 from .results.io import write_json
 from .results.report import summary_table, write_report
@@ -174,6 +174,10 @@ def cmd_run(args) -> int:
                  ", ".join(map(str, write_fields(solution, out / FIELDS))))
     figures = []
     if args.figures:
+        # (PyVista and matplotlib are imported here, where figures are drawn: a run with
+        # --no-figures never loads them)
+        from .results.figures import write_figures
+
         figures = write_figures(solution, out, args.section)
         log.info("figures: %s", ", ".join(map(str, figures)))
     if comm.rank == 0:
@@ -316,9 +320,14 @@ def cmd_check(args) -> int:
         say(line)
     est = estimate(scene, comm.size)
     say(f"  estimate: {est.text()} (a direct solve on {comm.size} rank(s))")
-    problem = resource_problem(scene, est)
+    # (rank 0's answer for all, as run's)
+    problem = comm.bcast(resource_problem(scene, est) if comm.rank == 0 else None)
+    if problem and not args.allow_large:
+        # a script that checks its scenes before a batch must not be told "valid" for one
+        # that `tankfx run` refuses: the same refusal, the same exit code
+        return _fail(f"{args.file}: refused by tankfx run: {problem}", EXIT_BAD_INPUT)
     if problem:
-        say(f"  refused by tankfx run (unless --allow-large): {problem}")
+        say(f"  beyond this machine's free memory, run with --allow-large: {problem}")
     if args.mesh:
         domain = build_domain(scene, comm)
         dofs = build_model(scene, domain).dofs()
@@ -399,6 +408,9 @@ def build_parser() -> argparse.ArgumentParser:
                        help="print the scene with every default written out")
     check.add_argument("--mesh", action="store_true",
                        help="also mesh the scene and count its unknowns")
+    check.add_argument("--allow-large", action="store_true",
+                       help="check as `tankfx run --allow-large` would: a scene beyond this "
+                       "machine's free memory is reported, not refused (exit 2 otherwise)")
     return parser
 
 

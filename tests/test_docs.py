@@ -164,7 +164,7 @@ def test_the_readme_python_prints_what_its_comments_say(workdir):
 def test_the_tutorials_are_the_demos_and_each_is_run_by_the_suite():
     """Every demo is a tutorial, in jupytext's percent format, whose figures exist; the
     command each tutorial shows (`python demos/<name>.py`) is what tests/test_demos.py runs
-    (on the coarse mesh, serially and on 2 ranks)."""
+    (on the coarse mesh)."""
     import jupytext
 
     sys.path.insert(0, str(ROOT / "docs"))
@@ -188,7 +188,7 @@ def test_the_tutorials_are_the_demos_and_each_is_run_by_the_suite():
         assert f"demos/{name}.py" in page
         for command in re.findall(r"`((?:\.venv/bin/)?python demos/[\w.]+)`", page):
             assert command.split("/")[-1] == f"{name}.py", (name, command)
-    assert 'sorted((ROOT / "demos").glob("*.py"))' in tested   # every demo, both ways
+    assert 'sorted((ROOT / "demos").glob("*.py"))' in tested   # every demo
 
 
 def test_no_tracked_file_keeps_a_working_diary():

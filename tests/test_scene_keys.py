@@ -77,3 +77,36 @@ def test_within_the_limits_the_full_scene_reads():
     ok = {sec: dict(t) for sec, t in FULL.items() if sec != "consolidation"}
     scene = Scene.from_dict(ok)
     assert scene.interface.tan_phi == 0.5 and scene.ringwall.nu == 0.2
+
+
+#: the columns of the reference's tables
+HEAD_COLUMNS = ("key", "type", "unit", "default", "allowed", "plausible", "meaning")
+
+
+def _reference_meanings() -> dict[str, list[str]]:
+    """Meaning -> the keys (``section.key``) whose row in the generated reference gives it,
+    over every table: the top level, each section, [[soil.layers]]."""
+    meanings: dict[str, list[str]] = {}
+    section = None
+    for line in markdown().splitlines():
+        if line.startswith("## "):
+            section = line[3:].strip("[]")
+        elif line.startswith("| `"):
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            assert len(cells) == len(HEAD_COLUMNS), f"{section}: a row of {len(cells)} " \
+                f"columns (a '|' in a cell?): {line}"
+            meanings.setdefault(cells[-1], []).append(f"{section}.{cells[0].strip('`')}")
+    return meanings
+
+
+def test_every_key_has_a_meaning_of_its_own():
+    """No two keys of the reference share a meaning: each says what it itself is (keys that
+    belong together name their partner), and none is empty."""
+    meanings = _reference_meanings()
+    keys = [k for ks in meanings.values() for k in ks]
+    assert len(keys) > 80, f"only {len(keys)} rows found: the parse missed tables"
+    empty = [k for m, ks in meanings.items() if m in ("", "-") for k in ks]
+    assert not empty, f"keys without a meaning: {empty}"
+    shared = {m: ks for m, ks in meanings.items() if len(ks) > 1}
+    assert not shared, "keys sharing a meaning:\n" + "\n".join(
+        f"  {', '.join(ks)}: {m[:70]!r}" for m, ks in shared.items())

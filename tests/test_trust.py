@@ -226,7 +226,8 @@ def test_the_estimate_is_within_a_factor_2_of_the_mesh():
 def test_an_enormous_mesh_is_refused_at_once(tmp_path):
     """1 mm elements over the near field (7e9 cells): refused before meshing, within 20 s
     and 1.5 GB (the process's peak), with the estimate and the fix; `check` prints the
-    estimate and says that a run would be refused."""
+    estimate and refuses it as a run would (exit 2, the estimate and the fix), and with
+    --allow-large reports it and exits 0."""
     scene = tmp_path / "huge.toml"
     scene.write_text(_toml(_with(mesh={"edge_size": 1e-6, "near_size": 1e-3})))
     probe = ("import resource, subprocess, sys, time; t = time.perf_counter(); "
@@ -242,8 +243,11 @@ def test_an_enormous_mesh_is_refused_at_once(tmp_path):
     assert "the mesh would have about" in proc.stderr and "--allow-large" in proc.stderr
     assert not (tmp_path / "out").exists()
     check = _run("check", scene)
-    assert check.returncode == 0 and "refused by tankfx run (unless --allow-large)" in \
-        check.stdout
+    assert check.returncode == 2 and "estimate: about" in check.stdout, check.stdout
+    assert "refused by tankfx run: the mesh would have about" in check.stderr
+    assert "--allow-large" in check.stderr and "Traceback" not in check.stderr
+    allowed = _run("check", scene, "--allow-large")
+    assert allowed.returncode == 0 and "run with --allow-large" in allowed.stdout
 
 
 HYPERBOLIC = {"model": "hyperbolic", "hyperbolic_a": 2.1e-7, "hyperbolic_b": 1e-5, "nu": 0.3}

@@ -27,6 +27,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from ..laws.interface import mohr_coulomb_limit
+from .figure_choices import CHARTABLE, DEFAULT_CHARTS, numeric_axes
 from .report import MULTIPLES
 
 #: the charts' size per panel, inches, and resolution
@@ -328,37 +329,6 @@ def plot_curves(x, panels: dict[str, dict[str, np.ndarray]], path, x_label: str,
     if not _rank0():
         return None
     return save(curves_chart(x, panels, x_label, title, log_x, legend_left), path)
-
-
-#: the results a sweep's charts can show: key (dotted, as in table.csv) -> (what it is,
-#: factor to the shown unit, the unit)
-CHARTABLE: dict[str, tuple[str, float, str]] = {
-    "w0": ("centre settlement w0", 1e3, "mm"),
-    "w_edge": ("edge settlement w_edge", 1e3, "mm"),
-    "wd": ("differential settlement wd", 1e3, "mm"),
-    "w_mean": ("mean settlement", 1e3, "mm"),
-    "M0": ("centre moment M0", 1e-3, "kN m/m"),
-    "junction.M_wall": ("wall base moment", 1e-3, "kN m/m"),
-    "junction.M_plate": ("plate moment at the joint", 1e-3, "kN m/m"),
-    "bearing_pressure.mean": ("mean bearing pressure", 1e-3, "kPa"),
-    "bearing_pressure.largest": ("largest bearing pressure", 1e-3, "kPa"),
-    "nondim.w0": ("w0_bar = w0 E_s / (p a)", 1.0, ""),
-    "nondim.wd": ("wd_bar = wd E_s / (p a)", 1.0, ""),
-    "nondim.M0": ("M0_bar = M0 / (p a^2)", 1.0, ""),
-    "nondim.Kp": ("Kp", 1.0, ""),
-    "nondim.Kt": ("Kt", 1.0, ""),
-    "overturning.tilt": ("tilt", 1e3, "mm/m"),
-    "overturning.rocking_stiffness": ("rocking stiffness", 1e-9, "GN m/rad"),
-    "consolidation.degree": ("degree of consolidation", 1.0, ""),
-    "consolidation.undrained.w0": ("undrained w0", 1e3, "mm"),
-    "consolidation.drained.w0": ("drained w0", 1e3, "mm"),
-}
-#: the charts of a sweep without a [charts] table: dimensional
-DEFAULT_CHARTS = ("w0", "wd", "M0")
-def numeric_axes(axes: dict) -> list[str]:
-    """A sweep's axes whose values are all numbers (the ones a chart can plot against)."""
-    return [k for k, v in axes.items() if isinstance(v, list) and v and all(
-        isinstance(e, (int, float)) and not isinstance(e, bool) for e in v)]
 
 
 def axis_scale(values, unit: str) -> tuple[float, str]:

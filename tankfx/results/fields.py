@@ -222,14 +222,45 @@ def write_fields(solution, directory) -> list[Path]:
 
 
 def _write_member(path: Path, x, y, values: dict, ux, uy) -> None:
-    import pyvista
-
-    points = np.column_stack([x, y, np.zeros(len(x))])
-    line = pyvista.lines_from_points(points)
-    line.point_data["u"] = np.column_stack([ux, uy, np.zeros(len(x))])
+    """A member's profile as a VTK XML polyline file (.vtp: its points in the (r, z) plane,
+    a segment between each pair of neighbours, its values at the points), written here in a
+    few lines rather than through PyVista, whose import (VTK) a run without figures does
+    not otherwise pay."""
+    n = len(x)
+    arrays = {"u": np.column_stack([ux, uy, np.zeros(n)])}
     for key, v in values.items():
         if key == "contact_status":
-            line.point_data[key] = np.array([STATUS_CODES[c] for c in v], dtype=np.int8)
+            arrays[key] = np.array([STATUS_CODES[c] for c in v], dtype=np.int8)
         elif key not in ("r", "z"):
-            line.point_data[key] = np.asarray(v, dtype=float)
-    line.save(path)
+            arrays[key] = np.asarray(v, dtype=float)
+    points = np.column_stack([x, y, np.zeros(n)])
+    segments = np.column_stack([np.arange(n - 1), np.arange(1, n)])
+    lines = ['<?xml version="1.0"?>',
+             '<VTKFile type="PolyData" version="1.0" byte_order="LittleEndian">',
+             "<PolyData>",
+             f'<Piece NumberOfPoints="{n}" NumberOfVerts="0" NumberOfLines="{n - 1}" '
+             'NumberOfStrips="0" NumberOfPolys="0">',
+             "<PointData>",
+             *(_data_array(values_, name) for name, values_ in arrays.items()),
+             "</PointData>",
+             "<Points>", _data_array(points), "</Points>",
+             "<Lines>", _data_array(segments.ravel().astype(np.int64), "connectivity"),
+             _data_array(2 * np.arange(1, n, dtype=np.int64), "offsets"), "</Lines>",
+             "</Piece>", "</PolyData>", "</VTKFile>"]
+    path.write_text("\n".join(lines) + "\n")
+
+
+#: numpy's kinds as VTK names them
+_VTK_TYPES = {np.dtype(np.float64): "Float64", np.dtype(np.int64): "Int64",
+              np.dtype(np.int8): "Int8"}
+
+
+def _data_array(values: np.ndarray, name: str | None = None) -> str:
+    """One VTK XML DataArray, in ASCII (a profile has at most a few thousand numbers; floats
+    to 17 digits: read back exactly)."""
+    components = 1 if values.ndim == 1 else values.shape[1]
+    text = " ".join(f"{v:.17g}" if values.dtype.kind == "f" else str(v)
+                    for v in values.ravel())
+    label = f' Name="{name}"' if name else ""
+    return (f'<DataArray type="{_VTK_TYPES[values.dtype]}"{label} '
+            f'NumberOfComponents="{components}" format="ascii">{text}</DataArray>')

@@ -23,12 +23,7 @@ from .charts import (  # noqa: F401  (the line charts, re-exported: one place to
     plot_sweep,
 )
 from .fields import soil_cell_fields
-
-#: The figures ``write_figures`` may write (which ones depends on the scene).
-FIGURES = ("section.png", "stress_level.png", "settlement.png", "moments.png", "profiles.png",
-           "contact.png", "load_path.png", "overturning.png", "overturning_wall.png",
-           "tilt.png", "consolidation.png", "isochrones.png")
-
+from .figure_choices import FIGURES, SECTION_QUANTITIES, section_problem  # noqa: F401
 
 if not os.environ.get("DISPLAY"):
     # no X server: render through EGL rather than let VTK try (and warn about) X first
@@ -514,26 +509,6 @@ def plot_tilt(results: dict, path: str | Path, title: str = "",
     p.camera_position = [(0.0, -3.0 * a, 2.2 * a), (0.0, 0.0, 0.0), (0.0, 0.0, 1.0)]
     p.reset_camera()
     return save_figure(p, path)
-
-
-#: the quantities section.png can show: name -> (its label, the factor to its unit)
-SECTION_QUANTITIES = {"sigma_zz": ("sigma_zz [kPa]", 1e-3),
-                      "deviator": ("s1 - s3 [kPa]", 1e-3),
-                      "stress_level": ("q / q_ult", 1.0),
-                      "pore_pressure": ("excess p [kPa]", 1e-3)}
-
-
-def section_problem(scene, quantity: str) -> str | None:
-    """Why section.png cannot show ``quantity`` for this scene (None if it can)."""
-    if quantity not in SECTION_QUANTITIES:
-        return (f"--section {quantity}: one of {', '.join(SECTION_QUANTITIES)}")
-    if quantity == "stress_level" and not scene.soil.nonlinear:
-        return ("--section stress_level: a stress level is a nonlinear soil's (soil.model = "
-                "\"hyperbolic\" or \"duncan_chang\"); choose sigma_zz or deviator")
-    if quantity == "pore_pressure" and scene.consolidation is None:
-        return ("--section pore_pressure: an excess pore pressure needs a [consolidation]; "
-                "choose sigma_zz or deviator")
-    return None
 
 
 def section_field(solution, quantity: str):

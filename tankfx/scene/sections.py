@@ -90,37 +90,58 @@ class SceneError(ValueError):
 
 
 #: Duncan & Chang's constants, declared once for [soil] and each [[soil.layers]] table
-#: (a layer's p_a is the soil's): their keys' units, limits, defaults and meanings
-_KN = ("Duncan & Chang's K and n: the initial modulus K p_a (sigma_3 / p_a)^n, sigma_3 each "
-       "cell's minor principal compression (geostatic plus the tank's; at least 0.01 p_a); E "
-       "is then K p_a (the E_s of Eqs. 21-23) and may be left out; the soil is solved in the "
-       "mixed form (nu > 0; mesh degree 2 or 3; direct solver)")
-_STRENGTH = ("the Mohr-Coulomb strength q_f = (2 c cos phi + 2 sigma_3 sin phi) / (1 - sin phi) "
-             "and R_f: the ultimate deviator 1/b = q_f / R_f; c or phi must be > 0")
-_GEOSTATIC = "the geostatic stress gamma h (vertical) and K0 gamma h (horizontal), and p_a"
+#: (a layer's p_a is the soil's): their keys' units, limits, defaults and meanings, where
+#: "{its}" is the soil's or the layer's
+_DC = 'for model = "duncan_chang"'
 _DUNCAN_CHANG_KEYS: dict[str, Key] = {
-    "modulus_number": Key(unit="-", limit=POSITIVE, meaning=_KN),
-    "modulus_exponent": Key(unit="-", limit=Limit(0.0, 1.0, False), why=EXPONENT_WHY,
-                            meaning=_KN),
-    "failure_ratio": Key(unit="-", limit=Limit(0.0, 1.0), why=RF_WHY, default_doc="0.9",
-                         meaning=_STRENGTH),
-    "cohesion": Key(unit="Pa", limit=NON_NEGATIVE, default_doc="0", meaning=_STRENGTH),
-    "friction_angle": Key(unit="deg", limit=ANGLE, why="degrees", default_doc="0",
-                          meaning=_STRENGTH),
-    "unit_weight": Key(unit="N/m^3", limit=POSITIVE, meaning=_GEOSTATIC),
-    "K0": Key(unit="-", limit=POSITIVE, default_doc="1 - sin(phi)", meaning=_GEOSTATIC),
+    "modulus_number": Key(
+        unit="-", limit=POSITIVE,
+        meaning=f"{{its}} modulus number K, {_DC} (required): a cell's initial tangent modulus "
+                "is K p_a (sigma_3 / p_a)^n, n the `modulus_exponent` and sigma_3 the cell's "
+                "minor principal compression (geostatic plus the tank's, at least 0.01 p_a); "
+                "K p_a is {its} E, which may then be left out"),
+    "modulus_exponent": Key(
+        unit="-", limit=Limit(0.0, 1.0, False), why=EXPONENT_WHY,
+        meaning=f"{{its}} modulus exponent n, {_DC} (required): the power of the confinement "
+                "in the initial modulus K p_a (sigma_3 / p_a)^n, K the `modulus_number`; 0: a "
+                "modulus independent of the confinement, 1: proportional to it (about 0.5 is "
+                "usual)"),
+    "failure_ratio": Key(
+        unit="-", limit=Limit(0.0, 1.0), why=RF_WHY, default_doc="0.9",
+        meaning=f"{{its}} failure ratio R_f, {_DC}: Kondner's ultimate deviator 1/b is q_f / "
+                "R_f, q_f the Mohr-Coulomb strength of `cohesion` and `friction_angle`; a cell "
+                "past q_f is perfectly plastic (R_f typically 0.7-0.9)"),
+    "cohesion": Key(
+        unit="Pa", limit=NON_NEGATIVE, default_doc="0",
+        meaning=f"{{its}} cohesion c, {_DC}: with `friction_angle` phi it makes a cell's "
+                "Mohr-Coulomb strength q_f = (2 c cos phi + 2 sigma_3 sin phi) / (1 - sin phi) "
+                "at confinement sigma_3; c or phi must be > 0"),
+    "friction_angle": Key(
+        unit="deg", limit=ANGLE, why="degrees", default_doc="0",
+        meaning=f"{{its}} friction angle phi (degrees), {_DC}: with `cohesion` c it makes the "
+                "strength q_f, which grows with the confinement as 2 sigma_3 sin phi / (1 - sin "
+                "phi); c or phi must be > 0; `K0` defaults to 1 - sin phi"),
+    "unit_weight": Key(
+        unit="N/m^3", limit=POSITIVE,
+        meaning=f"{{its}} unit weight gamma, {_DC} (required): the geostatic vertical stress "
+                "at a depth is the weight of the strata above it (less the pore pressure "
+                "below the soil's `water_table`, where gamma is the saturated unit weight), "
+                "the horizontal `K0` times it"),
+    "K0": Key(
+        unit="-", limit=POSITIVE, default_doc="1 - sin(phi)",
+        meaning=f"{{its}} coefficient of earth pressure at rest K0, {_DC}: the geostatic "
+                "horizontal stress is K0 times the vertical one (from `unit_weight`); by "
+                "default Jaky's 1 - sin phi of {its} `friction_angle`"),
 }
-#: a layer's Duncan & Chang constants, in words
-LAYER_DUNCAN_CHANG = ("Duncan & Chang's constants of the layer (E is K p_a, p_a the soil's); "
-                      "the geostatic stress sums the weights of the strata above")
 
 
 def duncan_chang_key(name: str, layer: bool = False) -> Any:
     """The field of one of Duncan & Chang's constants (None unless given), as declared in
-    _DUNCAN_CHANG_KEYS (a layer's with the layer's meaning)."""
+    _DUNCAN_CHANG_KEYS, its meaning the layer's or the soil's."""
     spec = _DUNCAN_CHANG_KEYS[name]
     values = {f.name: getattr(spec, f.name) for f in fields(spec)}
-    return key(None, **(values | ({"meaning": LAYER_DUNCAN_CHANG} if layer else {})))
+    its = "the layer's" if layer else "the soil's"
+    return key(None, **(values | {"meaning": spec.meaning.format(its=its)}))
 
 
 @dataclass(frozen=True)
@@ -133,26 +154,28 @@ class Layer:
                                "above, on or below an embedded plate's underside; each deeper than "
                                "the last, above `domain.depth`); the tops are lines of the mesh")
     E: float = key(unit="Pa", limit=POSITIVE, default_doc="required (linear soil)",
-                   meaning="the layer's modulus at its top, Poisson's ratio (up to 0.5: a layer "
-                           "above 0.45 is solved in the mixed form with a pressure of its own, the "
-                           "others in the displacement form), and its growth within the layer, E (1"
-                           " + E_gradient (h - depth))")
+                   meaning="the layer's Young's modulus at its top, growing below it as E (1 + "
+                           "`E_gradient` (h - depth)); a hyperbolic soil's layer has 1/"
+                           "`hyperbolic_a` there, Duncan & Chang's K p_a, and may leave it out")
     nu: float = key(unit="-", required=True, limit=SOIL_POISSON, why=SOIL_POISSON_WHY,
-                    meaning="the layer's modulus at its top, Poisson's ratio (up to 0.5: a layer "
-                            "above 0.45 is solved in the mixed form with a pressure of its own, the"
-                            " others in the displacement form), and its growth within the layer, E "
-                            "(1 + E_gradient (h - depth))")
+                    meaning="the layer's Poisson's ratio, up to 0.5: a layer above 0.45 is solved "
+                            "in the mixed form with a pressure of its own, the others in the "
+                            "displacement form (Duncan & Chang's soil: every layer mixed, nu > 0); "
+                            "with a `[consolidation]`, its drained nu' <= 0.45")
     E_gradient: float = key(0.0, unit="1/m", limit=NON_NEGATIVE,
-                            meaning="the layer's modulus at its top, Poisson's ratio (up to 0.5: a "
-                                    "layer above 0.45 is solved in the mixed form with a pressure "
-                                    "of its own, the others in the displacement form), and its "
-                                    "growth within the layer, E (1 + E_gradient (h - depth))")
+                            meaning="the layer's lambda: its modulus grows from `E` at its top as "
+                                    "E (1 + E_gradient (h - depth)), h the depth below the ground "
+                                    "(a hyperbolic layer's 1/a too); not with model = "
+                                    "\"duncan_chang\"")
     hyperbolic_a: float | None = key(None, unit="1/Pa", limit=POSITIVE,
-                                     meaning="Kondner's a and b of the layer (then E is 1/a and may"
-                                             " be left out)")
+                                     meaning="the layer's Kondner a, for model = \"hyperbolic\" "
+                                             "(required, with `hyperbolic_b`): 1/a is its initial "
+                                             "tangent modulus at its top (its `E`, which may then "
+                                             "be left out), growing with `E_gradient`")
     hyperbolic_b: float | None = key(None, unit="1/Pa", limit=POSITIVE,
-                                     meaning="Kondner's a and b of the layer (then E is 1/a and may"
-                                             " be left out)")
+                                     meaning="the layer's Kondner b, for model = \"hyperbolic\" "
+                                             "(required, with `hyperbolic_a`): 1/b is its ultimate "
+                                             "deviator stress, the same at every depth in it")
     # Duncan & Chang's constants of the layer (model = "duncan_chang"; p_a is the soil's)
     modulus_number: float | None = duncan_chang_key("modulus_number", layer=True)
     modulus_exponent: float | None = duncan_chang_key("modulus_exponent", layer=True)
@@ -163,11 +186,10 @@ class Layer:
     K0: float | None = duncan_chang_key("K0", layer=True)
     permeability: float | None = key(None, unit="m/s", limit=POSITIVE,
                                      default_doc="[consolidation] permeability",
-                                     meaning="a layer's own Darcy k in a consolidation (e.g. a sand"
-                                             " layer that drains a clay: a large k); the pore "
-                                             "pressure is one field, continuous across the layers' "
-                                             "boundaries, and so is its flux; each layer's drained "
-                                             "nu <= 0.45")
+                                     meaning="the layer's own Darcy k in a `[consolidation]` (e.g. "
+                                             "a sand layer that drains a clay: a large k); the pore"
+                                             " pressure and its flux are continuous across the "
+                                             "layers' tops")
 
 
 #: The [soil] (or layer) keys that set its E (1/a, K p_a): a change of one of them drops
@@ -182,42 +204,55 @@ STRATUM_DUNCAN_CHANG = ("modulus_number", "modulus_exponent", "failure_ratio", "
 
 @dataclass(frozen=True)
 class Soil:
+    """The ground: the surface soil, from the ground surface down to the first
+    ``[[soil.layers]]`` table's top (the whole ground without layers), its model, which its
+    layers share, and the model's settings."""
+
     E: float = key(unit="Pa", limit=POSITIVE, default_doc="required (linear soil)",
-                   meaning="Young's modulus at the ground surface, E_s; for a hyperbolic soil it is"
-                           " 1/a and may be left out")
+                   meaning="E_s, the soil's Young's modulus at the ground surface (the E_s of Eqs. "
+                           "21-23); a hyperbolic soil's is 1/`hyperbolic_a`, Duncan & Chang's "
+                           "`modulus_number` x `atmospheric_pressure`, and may be left out")
     nu: float = key(unit="-", required=True, limit=SOIL_POISSON, why=SOIL_POISSON_WHY,
-                    meaning="Poisson's ratio, -1 < nu <= 0.5; above 0.45 the soil is solved in the "
-                            "mixed displacement-pressure form (chosen automatically), 0.5 is an "
-                            "incompressible (undrained) soil")
+                    meaning="nu_s, the soil's Poisson's ratio: above 0.45 the soil is solved in "
+                            "the mixed displacement-pressure form (chosen automatically), 0.5 is "
+                            "incompressible (undrained); Duncan & Chang's soil is always mixed "
+                            "(nu > 0); with a `[consolidation]`, the drained nu' <= 0.45")
     E_gradient: float = key(0.0, unit="1/m", limit=NON_NEGATIVE,
-                            meaning="lambda: E(h) = E_s (1 + lambda h), h = depth below the "
-                                    "surface")
+                            meaning="lambda, the soil's growth of modulus with depth: E(h) = E_s "
+                                    "(1 + lambda h), h the depth below the ground surface (a "
+                                    "hyperbolic soil's 1/a too); not with model = "
+                                    "\"duncan_chang\"")
     model: str = key("linear", choices=("linear", "hyperbolic", "duncan_chang"),
-                     meaning="\"linear\", \"hyperbolic\" (Kondner, Eqs. 17-20) or \"duncan_chang\" "
-                             "(Kondner's law with the constants of each cell's confinement, below)")
+                     meaning="the soil's stress-strain law: \"linear\" elastic, \"hyperbolic\" "
+                             "(Kondner's, Eqs. 17-20: `hyperbolic_a`, `hyperbolic_b`) or "
+                             "\"duncan_chang\" (Kondner's law with constants that follow each "
+                             "cell's confinement: `modulus_number` to `K0`)")
     hyperbolic_a: float | None = key(None, unit="1/Pa", limit=POSITIVE,
-                                     meaning="1/a = initial tangent modulus at the surface (scaled "
-                                             "by 1 + lambda h with depth), 1/b = ultimate deviator "
-                                             "stress; the paper's a = 0.00021, b = 0.01 read in kPa"
-                                             " are 2.1e-7 and 1e-5 1/Pa")
+                                     meaning="Kondner's a, for model = \"hyperbolic\" (required, "
+                                             "with `hyperbolic_b`): 1/a is the initial tangent "
+                                             "modulus at the surface (E_s), scaled by 1 + lambda h "
+                                             "with depth; the paper's a = 0.00021 1/kPa is 2.1e-7 "
+                                             "1/Pa")
     hyperbolic_b: float | None = key(None, unit="1/Pa", limit=POSITIVE,
-                                     meaning="1/a = initial tangent modulus at the surface (scaled "
-                                             "by 1 + lambda h with depth), 1/b = ultimate deviator "
-                                             "stress; the paper's a = 0.00021, b = 0.01 read in kPa"
-                                             " are 2.1e-7 and 1e-5 1/Pa")
+                                     meaning="Kondner's b, for model = \"hyperbolic\" (required, "
+                                             "with `hyperbolic_a`): 1/b is the ultimate deviator "
+                                             "stress, the same at every depth; the paper's b = 0.01"
+                                             " 1/kPa is 1e-5 1/Pa")
     tolerance: float | None = key(None, unit="-", limit=Limit(0.0, 1.0, high_open=True),
                                   why="the relative deviator misfit of Eq. 18; the paper's "
                                       "0.05 is the default",
                                   default_doc=f"{DEFAULT_TOLERANCE:g} (nonlinear soil)",
-                                  meaning="Eq. 18's relative deviator misfit, and the Picard "
-                                          "iterations allowed (Duncan & Chang's failed zones settle"
-                                          " slowly: 10-64 measured)")
+                                  meaning="a nonlinear soil's Eq. 18 tolerance: the secant "
+                                          "iteration ends when no cell's relative deviator misfit "
+                                          "exceeds it and the displacement update is small; at "
+                                          "most `max_iterations` iterations")
     max_iterations: int | None = key(None, unit="-", limit=Limit(1, low_open=False),
                                      default_doc=", ".join(f"{n} ({m})" for m, n in
                                                            MAX_ITERATIONS.items()),
-                                     meaning="Eq. 18's relative deviator misfit, and the Picard "
-                                             "iterations allowed (Duncan & Chang's failed zones "
-                                             "settle slowly: 10-64 measured)")
+                                     meaning="a nonlinear soil's secant (Picard) iterations at "
+                                             "most, to reach the `tolerance`; not converged by then"
+                                             " is an error (Duncan & Chang's failed zones settle "
+                                             "slowly: 10-64 iterations measured)")
     # Duncan & Chang's soil (model = "duncan_chang"): Kondner's law with the initial modulus
     # K p_a (sigma_3 / p_a)^n and the ultimate deviator (Mohr-Coulomb strength) / R_f of
     # each cell's confining stress: geostatic (unit weight, K0) plus the tank's
@@ -230,25 +265,27 @@ class Soil:
     K0: float | None = duncan_chang_key("K0")
     atmospheric_pressure: float | None = key(None, unit="Pa", limit=POSITIVE,
                                              default_doc=f"{ATMOSPHERIC_PRESSURE:g}",
-                                             meaning="the geostatic stress gamma h (vertical) and "
-                                                     "K0 gamma h (horizontal), and p_a")
+                                             meaning=f"p_a, {_DC}: the reference pressure of the"
+                                                     " initial modulus K p_a (sigma_3 / p_a)^n "
+                                                     "and of the least confinement, 0.01 p_a "
+                                                     "(E = K p_a); one for the soil and all its "
+                                                     "layers")
     #: the confinement is effective below it: the geostatic stress less the hydrostatic
     #: pore pressure
     water_table: float | None = key(None, unit="m", limit=NON_NEGATIVE,
                                     default_doc="below everything",
-                                    meaning="(\"duncan_chang\") the water table's depth: below it "
-                                            "the confinement is effective, the geostatic stress "
-                                            "less gamma_w (h - water_table) (give the strata there "
-                                            "their saturated unit weights, which must exceed "
-                                            "gamma_w)")
+                                    meaning="the water table's depth below the ground surface, "
+                                            f"{_DC}: below it the confinement is effective, the "
+                                            "geostatic stress less the pore pressure gamma_w (h - "
+                                            "water_table), gamma_w the `water_unit_weight`; the "
+                                            "strata there take their saturated unit weights")
     water_unit_weight: float | None = key(None, unit="N/m^3", limit=POSITIVE,
                                           default_doc=f"{WATER_UNIT_WEIGHT:g} (with a "
                                                       f"water_table)",
-                                          meaning="(\"duncan_chang\") the water table's depth: "
-                                                  "below it the confinement is effective, the "
-                                                  "geostatic stress less gamma_w (h - water_table) "
-                                                  "(give the strata there their saturated unit "
-                                                  "weights, which must exceed gamma_w)")
+                                          meaning=f"gamma_w, the pore water's unit weight, {_DC} "
+                                                  "with a `water_table`: the pore pressure below "
+                                                  "the table is gamma_w (h - water_table); each "
+                                                  "stratum's unit weight there must exceed it")
     #: the strata below the surface soil (which the keys above describe, from the surface
     #: down to the first layer's top), top down
     layers: tuple[Layer, ...] = ()
@@ -260,13 +297,13 @@ class Soil:
     unloading_modulus_ratio: float | None = key(
         None, unit="-", limit=Limit(1.0, low_open=False), custom=True,
         default_doc="none: unloads along the loading curve",
-        meaning="(\"hyperbolic\" or \"duncan_chang\", along `[[stages]]` of two or more) E_ur / "
-                "E_i: below its most loaded state so far each cell unloads and reloads along a line"
-                " of E_ur = this times its initial modulus (Duncan & Chang's: K_ur = this x K, at "
-                "the cell's current confinement), keeping its permanent strain (K_ur / K: 1.2-3 in "
-                "Duncan & Chang's tables; 1 is Masing's rule); >= 1; every stratum, any nu; a stage"
-                " may then have no load at all (the load taken off entirely; equilibrium errors "
-                "relative to the path's largest load); refused with a `[consolidation]`")
+        meaning="E_ur / E_i of a nonlinear soil (\"hyperbolic\" or \"duncan_chang\") along "
+                "`[[stages]]`: below its most loaded state so far each cell unloads and reloads "
+                "along a line of E_ur = this times its initial modulus (Duncan & Chang's K_ur = "
+                "this x K, at its current confinement), keeping its permanent strain; 1 is "
+                "Masing's rule, K_ur / K is 1.2-3 in Duncan & Chang's tables. It holds for every "
+                "stratum, lets a stage take the load off entirely, and is refused with a "
+                "`[consolidation]`")
 
     @property
     def strata(self) -> tuple[Layer, ...]:
@@ -319,41 +356,48 @@ class Soil:
 
 @dataclass(frozen=True)
 class Plate:
-    radius: float = key(unit="m", required=True, limit=POSITIVE, meaning="a_p")
+    radius: float = key(unit="m", required=True, limit=POSITIVE,
+                        meaning="a_p, the plate's radius: the foundation's radius a, in which the "
+                                "domain's and the mesh's defaults are given")
     thickness: float = key(unit="m", limit=POSITIVE, default_doc="from Kp (Eq. 21)",
-                           meaning="t_p, or the relative rigidity Kp = (1 - nu_s^2)(E_p / E_s)(t_p "
-                                   "/ a_p)^3 (Eq. 21, E_s and nu_s at the surface)")
-    E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="plate material")
+                           meaning="t_p, the plate's thickness (with an annular ring, the floor's"
+                                   " inside it), above its flat underside; give it or `Kp`, not "
+                                   "both")
+    E: float = key(unit="Pa", required=True, limit=POSITIVE,
+                   meaning="E_p, the plate's Young's modulus: the plate is a thin elastic shell "
+                           "(Kirchhoff), rigidly joined to a wall; with its `nu`")
     nu: float = key(unit="-", required=True, limit=SHELL_POISSON, why=SHELL_POISSON_WHY,
-                    meaning="plate material")
+                    meaning="the plate's Poisson's ratio, below 0.5 (thin-shell theory); with its "
+                            "`E`")
     #: Eq. 21's relative rigidity where the scene gives it instead of the thickness: held
     #: (the thickness follows) when the soil changes (Scene.with_changes, a sweep's case)
     Kp: float | None = key(None, unit="-", limit=POSITIVE, default_doc="-",
-                           meaning="t_p, or the relative rigidity Kp = (1 - nu_s^2)(E_p / E_s)(t_p "
-                                   "/ a_p)^3 (Eq. 21, E_s and nu_s at the surface)")
+                           meaning="the plate's relative rigidity Kp = (1 - nu_s^2)(E_p / E_s)(t_p "
+                                   "/ a_p)^3 (Eq. 21, E_s and nu_s the soil's at the surface), "
+                                   "given instead of `thickness`, which then follows from it (and "
+                                   "changes with the soil, Kp held)")
     embedment: float = key(0.0, unit="m", limit=NON_NEGATIVE,
-                           meaning="depth of the plate's underside below the ground; the soil above"
-                                   " it, inside r <= a_p, is excavated")
+                           meaning="depth of the plate's underside (and the wall's foot) below the "
+                                   "ground; the soil above it, inside r <= a_p, is excavated; 0: a "
+                                   "tank on the surface")
     unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
-                             meaning="used only with `load.self_weight = true`")
+                             meaning="the plate's unit weight (steel's is about 77e3): with `load."
+                                     "self_weight = true` its weight, unit_weight x thickness per "
+                                     "unit area, loads the plate")
     #: a ring of another thickness along the edge, under the wall (an API 650 tank's
     #: annular bottom plate, or a thickened edge). The underside stays flat; Kp is the
     #: floor's.
     annular_width: float = key(0.0, unit="m", limit=POSITIVE, default_doc="0: none",
-                               meaning="a ring of another thickness along the plate's edge, under "
-                                       "the wall (an API 650 tank's annular bottom plate, or a "
-                                       "thickened edge): its width inward from the edge and its "
-                                       "thickness; both or neither; the ring must reach the wall "
-                                       "(it is what the wall stands on); the underside stays flat; "
-                                       "`thickness` (and Kp) are then the floor's")
+                               meaning="the width, inward from the plate's edge, of a ring of "
+                                       "another thickness under the wall (an API 650 tank's "
+                                       "annular bottom plate, or a thickened edge), given with "
+                                       "`annular_thickness`; the ring must reach inside the "
+                                       "wall's radius a_t, so that the wall stands on it")
     annular_thickness: float | None = key(None, unit="m", limit=POSITIVE,
-                                          meaning="a ring of another thickness along the plate's "
-                                                  "edge, under the wall (an API 650 tank's annular "
-                                                  "bottom plate, or a thickened edge): its width "
-                                                  "inward from the edge and its thickness; both or "
-                                                  "neither; the ring must reach the wall (it is "
-                                                  "what the wall stands on); the underside stays "
-                                                  "flat; `thickness` (and Kp) are then the floor's")
+                                          meaning="the thickness of the annular ring of "
+                                                  "`annular_width`, given with it; the underside "
+                                                  "stays flat, and `thickness` (and Kp) are then "
+                                                  "the floor's inside the ring")
 
     @property
     def ring_inner_radius(self) -> float:
@@ -378,37 +422,40 @@ class Plate:
 @dataclass(frozen=True)
 class Wall:
     radius: float = key(unit="m", required=True, limit=POSITIVE,
-                        meaning="a_t <= a_p (a wall inside the plate edge makes a T-joint)")
+                        meaning="a_t, the radius of the wall's outer face (its mid-surface lies "
+                                "half a thickness inside), at most a_p: at the plate's edge, or "
+                                "inside it (a T-joint)")
     thickness: float = key(unit="m", limit=POSITIVE, default_doc="from Kt (Eq. 22) or courses",
-                           meaning="t_t, or Kt = (1 - nu_s^2)(E_t / E_s)(t_t / a_t)^3 (Eq. 22), or "
-                                   "a wall whose thickness steps: `courses = [{height = 2.4, "
-                                   "thickness = 0.013}, ...]` from the bottom up (m), their outer "
-                                   "faces flush; `height` may then be left out (it is their sum; "
-                                   "given, it must equal it), and Kt is the bottom course's")
+                           meaning="t_t, the wall's thickness, the same over its height; give it, "
+                                   "`Kt` or `courses`, one of them")
     height: float = key(unit="m", limit=POSITIVE, default_doc="the courses' sum",
-                        meaning="H is measured from the plate's underside")
-    E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="H is measured from the "
-                                                                     "plate's underside")
+                        meaning="H, the wall's height from the plate's underside (the wall's foot) "
+                                "to its top edge, which carries the roof")
+    E: float = key(unit="Pa", required=True, limit=POSITIVE,
+                   meaning="E_t, the wall's Young's modulus: a thin elastic shell, rigidly joined "
+                           "to the plate; with its `nu`")
     nu: float = key(unit="-", required=True, limit=SHELL_POISSON, why=SHELL_POISSON_WHY,
-                    meaning="H is measured from the plate's underside")
+                    meaning="the wall's Poisson's ratio, below 0.5 (thin-shell theory); with its "
+                            "`E`")
     #: Eq. 22's relative rigidity where the scene gives it instead of the thickness: held
     #: (the thickness follows) when the soil changes
     Kt: float | None = key(None, unit="-", limit=POSITIVE, default_doc="-",
-                           meaning="t_t, or Kt = (1 - nu_s^2)(E_t / E_s)(t_t / a_t)^3 (Eq. 22), or "
-                                   "a wall whose thickness steps: `courses = [{height = 2.4, "
-                                   "thickness = 0.013}, ...]` from the bottom up (m), their outer "
-                                   "faces flush; `height` may then be left out (it is their sum; "
-                                   "given, it must equal it), and Kt is the bottom course's")
+                           meaning="the wall's relative rigidity Kt = (1 - nu_s^2)(E_t / E_s)(t_t "
+                                   "/ a_t)^3 (Eq. 22, E_s and nu_s the soil's at the surface), "
+                                   "given instead of `thickness`, which then follows from it (and "
+                                   "changes with the soil, Kt held); not with `courses`")
     unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
-                             meaning="H is measured from the plate's underside")
+                             meaning="the wall's unit weight (steel's is about 77e3): with `load."
+                                     "self_weight = true` its weight, unit_weight x thickness per "
+                                     "unit area, course by course, loads the wall")
     #: the courses of a wall whose thickness steps, (height, thickness) in m from the bottom
     #: up, their outer faces flush (empty: one course of ``thickness``, the paper's wall)
     courses: tuple[tuple[float, float], ...] = key(
         (), unit="m", kind=list, custom=True,
-        meaning="t_t, or Kt = (1 - nu_s^2)(E_t / E_s)(t_t / a_t)^3 (Eq. 22), or a wall whose "
-                "thickness steps: `courses = [{height = 2.4, thickness = 0.013}, ...]` from the "
-                "bottom up (m), their outer faces flush; `height` may then be left out (it is their"
-                " sum; given, it must equal it), and Kt is the bottom course's")
+        meaning="a wall whose thickness steps, instead of `thickness` and `Kt`: `courses = "
+                "[{height = 2.4, thickness = 0.013}, ...]` from the bottom course up, their outer "
+                "faces flush; `height` may then be left out (it is their sum; given, it must "
+                "equal it)")
 
     @property
     def course_table(self) -> list[tuple[float, float, float]]:
@@ -443,54 +490,40 @@ class Ringwall:
     interface."""
 
     inner_radius: float = key(unit="m", required=True, limit=NON_NEGATIVE,
-                              meaning="a concrete ringwall (ring beam) under the wall: an annulus "
-                                      "of its own material in the ground, from the plate's "
-                                      "underside down `depth`, between the radii (inner < a_t <= "
-                                      "outer: the wall stands on it; outer within half the domain),"
-                                      " bonded to the soil around it; the plate rests on it and on "
-                                      "the soil (or fill) inside through the same interface; on any"
-                                      " soil model (a nonlinear soil's secant iteration leaves its "
-                                      "cells at their own modulus)")
+                              meaning="the ringwall's inner radius, less than the wall's a_t "
+                                      "(inner_radius < a_t <= `outer_radius`: the wall stands on "
+                                      "the ring); 0: a solid disc, with no inside for a fill")
     outer_radius: float = key(unit="m", required=True, limit=POSITIVE,
-                              meaning="a concrete ringwall (ring beam) under the wall: an annulus "
-                                      "of its own material in the ground, from the plate's "
-                                      "underside down `depth`, between the radii (inner < a_t <= "
-                                      "outer: the wall stands on it; outer within half the domain),"
-                                      " bonded to the soil around it; the plate rests on it and on "
-                                      "the soil (or fill) inside through the same interface; on any"
-                                      " soil model (a nonlinear soil's secant iteration leaves its "
-                                      "cells at their own modulus)")
+                              meaning="the ringwall's outer radius, at or beyond the wall's a_t "
+                                      "and within half the domain's radius; with `inner_radius`, "
+                                      "the ring's width")
     depth: float = key(unit="m", required=True, limit=POSITIVE,
-                       meaning="a concrete ringwall (ring beam) under the wall: an annulus of its "
-                               "own material in the ground, from the plate's underside down "
-                               "`depth`, between the radii (inner < a_t <= outer: the wall stands "
-                               "on it; outer within half the domain), bonded to the soil around it;"
-                               " the plate rests on it and on the soil (or fill) inside through the"
-                               " same interface; on any soil model (a nonlinear soil's secant "
-                               "iteration leaves its cells at their own modulus)")
-    E: float = key(unit="Pa", required=True, limit=POSITIVE, meaning="its material, linear elastic "
-                                                                     "(nu <= 0.45: the displacement"
-                                                                     " form, also in a mixed soil)")
+                       meaning="the ringwall's depth below the plate's underside (it must end "
+                               "above the rigid base); a fill inside it reaches as deep")
+    E: float = key(unit="Pa", required=True, limit=POSITIVE,
+                   meaning="the ringwall's Young's modulus (concrete's about 30e9), linear elastic "
+                           "on any soil model (a nonlinear soil's iteration leaves it at this "
+                           "modulus); with its `nu`")
     nu: float = key(0.2, unit="-", limit=RING_POISSON, why="concrete's is about 0.2",
-                    meaning="its material, linear elastic (nu <= 0.45: the displacement form, also "
-                            "in a mixed soil)")
+                    meaning="the ringwall's Poisson's ratio, at most 0.45: it is solved in the "
+                            "displacement form, also in a mixed soil; with its `E`")
     #: its weight in excess of the soil it replaces (the soil's own weight is the ground's
     #: initial state, not a load here)
     unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
-                             meaning="with `load.self_weight = true`, its weight in excess of the "
-                                     "soil it replaces (the soil's own weight is the ground's "
-                                     "initial state, not a load): e.g. 24e3 - 18e3 = 6e3; it loads "
-                                     "the ground, not the interface")
+                             meaning="with `load.self_weight = true`, the ringwall's unit weight "
+                                     "in excess of the soil it replaces (the soil's own weight is "
+                                     "the ground's initial state, not a load): e.g. 24e3 - 18e3 = "
+                                     "6e3; it loads the ground, not the interface")
     #: a compacted fill inside the ring, from the plate's underside to the ring's depth
     #: (linear elastic)
     fill_E: float | None = key(None, unit="Pa", limit=POSITIVE, default_doc="none: the soil",
-                               meaning="a compacted fill inside the ring, from the plate's "
-                                       "underside to the ring's depth, linear elastic (nu <= 0.45);"
-                                       " needs inner_radius > 0")
+                               meaning="the Young's modulus of a compacted fill inside the ring, "
+                                       "from the plate's underside to the ring's `depth`, linear "
+                                       "elastic in place of the soil there; with `fill_nu`; needs "
+                                       "inner_radius > 0")
     fill_nu: float = key(0.3, unit="-", limit=RING_POISSON, why="e.g. 0.3",
-                         meaning="a compacted fill inside the ring, from the plate's underside to "
-                                 "the ring's depth, linear elastic (nu <= 0.45); needs inner_radius"
-                                 " > 0")
+                         meaning="the Poisson's ratio of the fill of `fill_E`, at most 0.45 (the "
+                                 "displacement form); only with `fill_E`")
 
     @property
     def volume(self) -> float:
@@ -519,22 +552,37 @@ class Ringwall:
 
 @dataclass(frozen=True)
 class Interface:
+    """The contact between the structure (the plate's underside, and an embedded wall's
+    outer face) and the soil (or a ringwall): a zero-thickness penalty layer."""
+
     condition: str = key("bonded", choices=("bonded", "smooth", "mohr_coulomb"),
-                         meaning="\"bonded\" (no slip, takes tension), \"smooth\" (no shear, takes "
-                                 "tension), \"mohr_coulomb\" (Eqs. 6-16)")
+                         meaning="the interface's law: \"bonded\" (no slip, takes tension), "
+                                 "\"smooth\" (no shear, takes tension) or \"mohr_coulomb\" (Eqs. "
+                                 "6-16: stick, slip at c + sigma_n tan phi, separate, rebond)")
     cohesion: float = key(0.0, unit="Pa", limit=NON_NEGATIVE,
-                          meaning="c, \"mohr_coulomb\" only")
+                          meaning="c, the interface's cohesion (adhesion) in Eq. 13's shear "
+                                  "strength c + sigma_n tan phi, with `tan_phi`; \"mohr_coulomb\" "
+                                  "only")
     tan_phi: float | None = key(None, unit="-", limit=NON_NEGATIVE,
-                                meaning="the interface friction; the paper's limits are tan_phi = "
-                                        "10 (bonded) and 0.001 (smooth)")
+                                meaning="tan phi, the interface's friction coefficient in Eq. 13's"
+                                        " shear strength c + sigma_n tan phi, with `cohesion`; "
+                                        "\"mohr_coulomb\" only, and required there (or "
+                                        "`friction_angle`); the paper's limits are tan phi = 10 "
+                                        "(bonded) and 0.001 (smooth)")
     normal_stiffness: float | None = key(None, unit="Pa/m", limit=POSITIVE,
                                          default_doc="1e3 E / h",
-                                         meaning="the penalty stiffnesses (h: the element length)")
+                                         meaning="E_nn of Eq. 5, the interface's normal penalty "
+                                                 "stiffness: normal stress per metre of the "
+                                                 "soil-structure gap; by default 1e3 times the "
+                                                 "soil's (or ringwall's) modulus at the facet "
+                                                 "over the element length h, whose compliance is "
+                                                 "then h / (1000 a) of the foundation's")
     shear_stiffness: float | None = key(None, unit="Pa/m", limit=POSITIVE,
-                                        default_doc="normal_stiffness", meaning="the penalty "
-                                                                                "stiffnesses (h: "
-                                                                                "the element "
-                                                                                "length)")
+                                        default_doc="normal_stiffness",
+                                        meaning="E_ss of Eq. 5, the interface's shear penalty "
+                                                "stiffness while it sticks: shear stress per metre "
+                                                "of slip; by default the `normal_stiffness`; a "
+                                                "smooth interface has none")
     #: what a cycling Mohr-Coulomb active set gets: "hold" its alternating elements in the
     #: weaker state and go on (reported), or "stop" with the history
     on_cycle: str = key("hold", choices=("hold", "stop"),
@@ -556,29 +604,37 @@ class Interface:
 #: The keys a scene file may give instead of a field: a friction angle for tan phi
 ALTERNATIVE_KEYS: dict[str, dict[str, Key]] = {
     "interface": {"friction_angle": Key(unit="deg", limit=ANGLE, why="degrees", default_doc="-",
-                                        meaning="the interface friction; the paper's limits are "
-                                                "tan_phi = 10 (bonded) and 0.001 (smooth)")},
+                                        meaning="phi, the interface's friction angle in "
+                                                "degrees, given instead of `tan_phi` (which is "
+                                                "then tan phi); \"mohr_coulomb\" only")},
 }
 
 
 @dataclass(frozen=True)
 class Load:
-    pressure: float = key(0.0, unit="Pa", meaning="uniform downward pressure: on the whole plate, "
-                                                  "or without a plate on r <= `load_radius` (>= 0);"
-                                                  " negative (uplift) only on a bonded or smooth "
-                                                  "plate")
+    pressure: float = key(0.0, unit="Pa",
+                          meaning="p, a uniform downward pressure (Eq. 23's p): on the whole plate,"
+                                  " or without a plate on r <= `load_radius` (there >= 0); "
+                                  "negative (upward) only on a plate, and a Mohr-Coulomb "
+                                  "interface refuses a net upward load")
     load_radius: float | None = key(None, unit="m", limit=POSITIVE,
                                     default_doc="the plate's radius",
-                                    meaning="radius of the flexible load (with a plate: the plate "
-                                            "radius)")
+                                    meaning="a, the radius of a flexible load (no `[plate]`): the "
+                                            "`pressure` acts on r <= load_radius; required without "
+                                            "a plate; with one, it is the plate's radius")
     liquid_unit_weight: float = key(0.0, unit="N/m^3", limit=NON_NEGATIVE,
-                                    meaning="liquid inside the wall: gamma h on the floor (r < "
-                                            "a_t), gamma (h - z) outward on the wall")
+                                    meaning="gamma, the unit weight of the liquid in the tank "
+                                            "(water's 9810), filled to `liquid_height` h: gamma h "
+                                            "on the floor inside the wall (r < a_t), gamma (h - z) "
+                                            "outward on the wall, z the height above its foot")
     liquid_height: float = key(0.0, unit="m", limit=NON_NEGATIVE,
-                               meaning="liquid inside the wall: gamma h on the floor (r < a_t), "
-                                       "gamma (h - z) outward on the wall")
-    self_weight: bool = key(False, meaning="adds the plate's and wall's weight (their `unit_weight`"
-                                           " x thickness, course by course and ring by ring)")
+                               meaning="h, the liquid's height above the plate's underside (the "
+                                       "wall's foot), at most the wall's height; its unit weight is"
+                                       " `liquid_unit_weight`; needs a wall")
+    self_weight: bool = key(False, meaning="whether the structure's own weight is a load: the "
+                                           "plate's and the wall's `unit_weight` x thickness "
+                                           "(course by course and ring by ring), and a ringwall's "
+                                           "excess weight; false: weightless")
     #: N: the roof's weight and what it carries (snow, equipment), borne by the wall's top
     #: edge (a ring load of roof_weight / (2 pi a_t) N/m)
     roof_weight: float = key(0.0, unit="N", limit=NON_NEGATIVE,
@@ -600,23 +656,24 @@ class Load:
     #: the wall's foot (API 650 Annex E's ringwall moment). Solved as the first Fourier
     #: harmonic about the axisymmetric state (tankfx.model.overturning)
     overturning_moment: float = key(0.0, unit="N m",
-                                    meaning="an overturning moment (wind, earthquake: API 650 Annex"
-                                            " E's ringwall moment M_rw) about the plate's underside"
-                                            " at the axis, pressing the side theta = 0 down: with a"
-                                            " wall it reaches the foundation through the wall's "
-                                            "foot (the wall's top edge carries the shear, as a thin"
-                                            " tube's shear flow -V sin theta / (pi a_t), and a "
-                                            "couple, so that its foot carries exactly V and M); "
-                                            "without one, a pressure 4 M r cos theta / (pi a^4) on "
-                                            "the plate. Solved as the first Fourier harmonic about "
-                                            "the stage's converged state and superposed "
-                                            "(`overturning` in the results); needs a plate")
+                                    meaning="M, an overturning moment (wind, earthquake: API 650 "
+                                            "Annex E's ringwall moment M_rw) about the plate's "
+                                            "underside at the axis, pressing the side theta = 0 "
+                                            "down, with its `base_shear` V: a wall takes both at "
+                                            "its top edge and passes exactly V and M to the "
+                                            "foundation at its foot; without a wall M is a pressure"
+                                            " 4 M r cos theta / (pi a^4) on the plate. Solved as "
+                                            "the first Fourier harmonic about the stage's converged"
+                                            " state and superposed (`overturning` in the results); "
+                                            "needs a plate")
     #: N: the horizontal force that comes with it (towards theta = 0), carried by the wall
     #: (or the plate) to the interface
-    base_shear: float = key(0.0, unit="N", meaning="the horizontal force that comes with it, "
-                                                   "towards theta = 0 (on the wall's top edge, or "
-                                                   "as a uniform traction on a plate without a "
-                                                   "wall)")
+    base_shear: float = key(0.0, unit="N",
+                            meaning="V, the horizontal force that comes with the "
+                                    "`overturning_moment`, towards theta = 0: on the wall's top "
+                                    "edge as a thin tube's shear flow -V sin theta / (pi a_t), or "
+                                    "without a wall as a uniform traction on the plate; needs a "
+                                    "plate")
 
     @property
     def overturning(self) -> bool:
@@ -631,21 +688,19 @@ class Consolidation:
     drains; the soil's E and nu are then its drained (effective) constants."""
 
     permeability: float = key(unit="m/s", required=True, limit=POSITIVE,
-                              meaning="Darcy's k of a saturated soil: with a `[consolidation]` "
-                                      "table the soil consolidates in time (Biot's equations; "
-                                      "`[soil] E`, `nu` are then its drained constants E', nu' <= "
-                                      "0.45); the `[load]` is applied at t = 0 (undrained) and "
-                                      "held")
+                              meaning="k, Darcy's hydraulic conductivity of the saturated soil "
+                                      "(and of each layer that gives none of its own): the pore "
+                                      "water flows at (k / gamma_w) grad p, gamma_w the "
+                                      "`water_unit_weight`")
     times: tuple[float, ...] = key(unit="s", required=True, kind=list, custom=True,
-                                   meaning="the times after loading at which results are reported "
-                                           "(positive, increasing); t = 0 (undrained) and the "
-                                           "drained limit are always reported; the results' top "
-                                           "level is the last time's")
+                                   meaning="the times after the load starts (t = 0) at which "
+                                           "results are reported (positive, increasing); t = 0 "
+                                           "(undrained) and the drained limit are always reported;"
+                                           " the results' top level is the last time's")
     water_unit_weight: float = key(WATER_UNIT_WEIGHT, unit="N/m^3", limit=POSITIVE,
-                                   meaning="gamma_w; the time steps per decade of time "
-                                           "(variable-step BDF2 from a hundredth of the first time:"
-                                           " 10 keep Terzaghi's settlement within 0.6 % of its "
-                                           "final value, 20 within 0.2 %)")
+                                   meaning="gamma_w, the pore water's unit weight in Darcy's flow "
+                                           "(k / gamma_w) grad p: with `permeability` k it sets "
+                                           "the pace of consolidation, c_v = k E_oed / gamma_w")
     #: the foundation, the pit's sides and the far side are impervious
     drainage: str = key("top", choices=("top", "top_and_bottom"),
                         meaning="the drained boundaries: \"top\" (the ground surface around the "
@@ -655,23 +710,25 @@ class Consolidation:
                                 "side are impervious")
     steps_per_decade: int = key(10, unit="-", limit=Limit(2, low_open=False),
                                 why="10 keep Terzaghi's settlement within 0.6 %; 20 within "
-                                    "0.2 %", meaning="gamma_w; the time steps per decade of time "
-                                                     "(variable-step BDF2 from a hundredth of the "
-                                                     "first time: 10 keep Terzaghi's settlement "
-                                                     "within 0.6 % of its final value, 20 within "
-                                                     "0.2 %)")
+                                    "0.2 %",
+                                meaning="the time steps per decade of time: variable-step BDF2, "
+                                        "growing geometrically from a hundredth of the first "
+                                        "reported time (restarted at each breakpoint of a load "
+                                        "path); 10 keep Terzaghi's settlement within 0.6 % of its "
+                                        "final value, 20 within 0.2 %")
 
 
 @dataclass(frozen=True)
 class DomainSize:
     radius: float = key(unit="m", limit=POSITIVE, default_doc="10000 a",
-                        meaning="extent of the soil; `depth` is the depth of a rigid base "
-                                "(rough or smooth: `base`), anywhere below the foundation (e.g. "
-                                "rock under a thin layer)")
+                        meaning="the soil's radius, from the axis to its far side (held as `side` "
+                                "says); the default 10000 a leaves a truncation error of the "
+                                "centre settlement below 0.01 % (homogeneous soil)")
     depth: float = key(unit="m", limit=POSITIVE, default_doc="10000 a",
-                       meaning="extent of the soil; `depth` is the depth of a rigid base "
-                               "(rough or smooth: `base`), anywhere below the foundation (e.g. "
-                               "rock under a thin layer)")
+                       meaning="the depth of the rigid base below the ground surface (held as "
+                               "`base` says), anywhere below the foundation and the layers' tops "
+                               "(e.g. rock under a thin layer); the default 10000 a is a "
+                               "half-space")
     #: the far side's support: "fixed" (both displacements) or "roller" (u_r = 0, free
     #: to settle: PLAXIS's standard vertical rollers)
     side: str = key("fixed", choices=("fixed", "roller"),
@@ -688,19 +745,24 @@ class DomainSize:
 class MeshOptions:
     degree: int = key(2, unit="-", choices=(1, 2, 3), custom=True,
                       default_doc="2 (3 for a flexible load)",
-                      meaning="Lagrange degree of the soil displacement (1, 2 or 3); the structure "
-                              "is always cubic")
+                      meaning="the Lagrange degree of the soil's displacement (1, 2 or 3; 2 or 3 "
+                              "for a mixed soil or a consolidation); the structure is always "
+                              "cubic")
     edge_size: float = key(0.0, unit="m", limit=POSITIVE,
                            default_doc="0.002 a (0.004 a for a flexible load)",
-                           meaning="element size at the foundation edge (the stress singularity)")
+                           meaning="the element size at the foundation's edge, where the soil's "
+                                   "stress is singular (and at the other such corners: an "
+                                   "embedded pit's rim, the wall's foot, a ringwall's corners)")
     growth: float = key(0.2, unit="-", limit=Limit(0.0, 1.0),
                         why="element size grows by this fraction of the distance from the "
                             "foundation edge",
-                        meaning="element size grows as edge_size + growth x distance from the edge")
+                        meaning="how fast the elements grow away from the edge: their size is "
+                                "`edge_size` + growth x the distance from it (and likewise beyond "
+                                "the `near_size` zone)")
     near_size: float = key(0.0, unit="m", limit=POSITIVE,
                            default_doc="0.1 a (0.2 a for a flexible load)",
-                           meaning="element size cap within 6 a of the centre, where soil stresses "
-                                   "are reported")
+                           meaning="the largest element size within 6 a of the centre, where the "
+                                   "soil's stresses are reported")
 
 
 @dataclass(frozen=True)
@@ -710,16 +772,17 @@ class SolverOptions:
                               "\"iterative\": CG + GAMG for the soil alone, GMRES with the "
                               "structure condensed and GAMG on the soil's Schur complement with a "
                               "structure (faster than MUMPS beyond about a million dofs, leaner "
-                              "from 150k); not with nu_s > 0.45 (see \"Iterative solver\")")
+                              "from 150k); not with nu_s > 0.45, Duncan & Chang's soil or a "
+                              "`[consolidation]` (see \"Iterative solver\")")
     rtol: float = key(1e-10, unit="-", limit=Limit(0.0, 1e-4),
                       why="the results are checked to 1e-6 of the load",
-                      meaning="the iterative solve's relative residual and iteration bound (a solve"
-                              " that does not reach it is an error, with its residual)")
+                      meaning="the relative residual each iterative solve (`method = "
+                              "\"iterative\"`) must reach within `max_iterations`, else an error "
+                              "with its residual; unused by the direct solver")
     max_iterations: int = key(1000, unit="-", limit=Limit(1, low_open=False),
-                              meaning="the iterative solve's relative residual and iteration bound "
-                                      "(a solve that does not reach it is an error, with its "
-                                      "residual)")
-
+                              meaning="the Krylov iterations an iterative solve may take to reach "
+                                      "`rtol`; unused by the direct solver (a nonlinear soil's "
+                                      "iterations are `[soil] max_iterations`)")
 
 def load_breakdown(load: Load, plate: Plate | None, wall: Wall | None,
                    ringwall: "Ringwall | None" = None) -> dict[str, float]:

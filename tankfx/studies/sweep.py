@@ -19,7 +19,7 @@ writes ``DIR/table.csv`` (one row a case: its axis values and the results) and
 
     [charts]
     x = "soil.E"                            # an axis of the sweep
-    y = ["w0", "wd", "nondim.w0"]           # results (tankfx.results.charts.CHARTABLE)
+    y = ["w0", "wd", "nondim.w0"]           # results (tankfx.results.figure_choices.CHARTABLE)
 """
 from __future__ import annotations
 
@@ -36,8 +36,7 @@ from mpi4py import MPI
 
 from ..analysis import analyse
 from ..fem.solvers import SolveError
-from ..results.charts import CHARTABLE, numeric_axes
-from ..results.figures import plot_sweep
+from ..results.figure_choices import CHARTABLE, numeric_axes
 from ..results.io import write_json
 from ..scene.scene import Scene, load_scene, read_toml
 from ..scene.reader import KEYS, LAYER_KEYS, suggest
@@ -347,6 +346,9 @@ def run_sweep(sweep: Sweep, out: Path, comm: MPI.Comm = MPI.COMM_WORLD) -> list[
                                                                   for k in row)))
         writer.writeheader()
         writer.writerows(rows)
+
+    # (matplotlib is imported here, where the chart is drawn: not by `import tankfx`)
+    from ..results.charts import plot_sweep
 
     x_key = sweep.chart_x or next(iter(numeric_axes(sweep.axes)), None)
     chart = plot_sweep(rows, sweep.axes, out / "charts.png", title=sweep.base.title,
