@@ -41,7 +41,7 @@ from .scene.plausible import geometry_warnings
 from .scene.scene import load_scene, read_toml
 from .scene.sections import SceneError
 from .scene.text import member_text, ringwall_text, stratum_constants
-from .studies.sweep import load_sweep, run_sweep
+from .studies.sweep import case_text, load_sweep, run_sweep
 
 #: the exit codes of ``tankfx run`` (and ``check``, ``sweep``): 0 the results are valid; 2
 #: the input is refused (nothing is written); 3 the analysis failed (results.json says what
@@ -305,6 +305,7 @@ def cmd_check(args) -> int:
 
     comm = MPI.COMM_WORLD
     say = print if comm.rank == 0 else (lambda *a, **k: None)
+    sweep = None
     try:
         if "axes" in read_toml(args.file):
             sweep = load_sweep(args.file)
@@ -320,14 +321,25 @@ def cmd_check(args) -> int:
         say(line)
     est = estimate(scene, comm.size)
     say(f"  estimate: {est.text()} (a direct solve on {comm.size} rank(s))")
-    # (rank 0's answer for all, as run's)
-    problem = comm.bcast(resource_problem(scene, est) if comm.rank == 0 else None)
-    if problem and not args.allow_large:
-        # a script that checks its scenes before a batch must not be told "valid" for one
-        # that `tankfx run` refuses: the same refusal, the same exit code
-        return _fail(f"{args.file}: refused by tankfx run: {problem}", EXIT_BAD_INPUT)
-    if problem:
-        say(f"  beyond this machine's free memory, run with --allow-large: {problem}")
+    # what `tankfx run` refuses as too large for this machine: rank 0's answer for all, as
+    # run's. A sweep runs each case on one rank, and fails one too large (it has no
+    # --allow-large): each case is estimated.
+    if sweep is None:
+        problem = comm.bcast(resource_problem(scene, est) if comm.rank == 0 else None)
+        if problem and not args.allow_large:
+            # a script that checks its scenes before a batch must not be told "valid" for one
+            # that `tankfx run` refuses: the same refusal, the same exit code
+            return _fail(f"{args.file}: refused by tankfx run: {problem}", EXIT_BAD_INPUT)
+        if problem:
+            say(f"  beyond this machine's free memory, run with --allow-large: {problem}")
+    else:
+        large = [f"case {k + 1} ({case_text(case)}): {why}"
+                 for k, (case, s) in enumerate(zip(sweep.cases, sweep.scenes))
+                 if (why := resource_problem(s, estimate(s), override=None))] \
+            if comm.rank == 0 else None
+        if large := comm.bcast(large):
+            return _fail(f"{args.file}: {len(large)} case(s) too large for this machine, which "
+                         f"tankfx sweep would fail: {large[0]}", EXIT_BAD_INPUT)
     if args.mesh:
         domain = build_domain(scene, comm)
         dofs = build_model(scene, domain).dofs()
@@ -409,8 +421,8 @@ def build_parser() -> argparse.ArgumentParser:
     check.add_argument("--mesh", action="store_true",
                        help="also mesh the scene and count its unknowns")
     check.add_argument("--allow-large", action="store_true",
-                       help="check as `tankfx run --allow-large` would: a scene beyond this "
-                       "machine's free memory is reported, not refused (exit 2 otherwise)")
+                       help="check a scene as `tankfx run --allow-large` would: one beyond "
+                       "this machine's free memory is reported, not refused (exit 2 otherwise)")
     return parser
 
 

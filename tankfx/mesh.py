@@ -254,9 +254,10 @@ def available_memory() -> float:
 MEMORY_FRACTION = 0.8
 
 
-def resource_problem(scene: Scene, est: Estimate) -> str | None:
+def resource_problem(scene: Scene, est: Estimate,
+                     override: str | None = "tankfx run --allow-large") -> str | None:
     """Why a scene is too large for this machine (its estimate ``est`` against the memory
-    free), or None."""
+    free), or None; the fix names ``override`` where the caller has one."""
     limit = MEMORY_FRACTION * available_memory()
     if est.memory <= limit:
         return None
@@ -264,8 +265,8 @@ def resource_problem(scene: Scene, est: Estimate) -> str | None:
     return (f"the mesh would have {est.text()}, beyond the {limit / 1e9:.3g} GB this machine "
             f"has free ({MEMORY_FRACTION:.0%} of what is available): mesh.edge_size = "
             f"{scene.mesh.edge_size:.3g} m ({scene.mesh.edge_size / a:.2g} a) and mesh.near_size "
-            f"= {scene.mesh.near_size:.3g} m; coarsen them (the defaults are 0.002 a and 0.1 a), "
-            f"or ask for it anyway (tankfx run --allow-large)")
+            f"= {scene.mesh.near_size:.3g} m; coarsen them (the defaults are 0.002 a and 0.1 a)"
+            + (f", or ask for it anyway ({override})" if override else ""))
 
 
 def estimate(scene: Scene, ranks: int = 1) -> Estimate:

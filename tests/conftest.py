@@ -67,6 +67,24 @@ def assemble_whole_system(monkeypatch) -> None:
     monkeypatch.setattr(DirectSolver, "_assemble_split", whole)
 
 
+@pytest.fixture(scope="module")
+def solved():
+    """``solved(scene)``: ``analyse(scene).results``, solved once per scene for the test
+    module, so that tests reading the same scene share one solve (a test that changes how a
+    scene is solved, with a monkeypatch, calls ``analyse`` itself). Read, never change, what
+    it returns."""
+    from tankfx import analyse
+
+    cache: dict[str, dict] = {}
+
+    def results(scene) -> dict:
+        key = scene.to_toml()
+        if key not in cache:
+            cache[key] = analyse(scene).results
+        return cache[key]
+    return results
+
+
 @pytest.fixture(autouse=True)
 def _collect_and_barrier():
     """PETSc objects are freed collectively: collect garbage on all ranks together."""

@@ -204,24 +204,24 @@ def test_geostatic_stress_over_layers():
     np.testing.assert_allclose(sigma_h, [0.0, 9e3, 0.4 * 36e3, 0.4 * 96e3])
 
 
-def test_alike_layers_are_the_one_duncan_chang_soil():
+def test_alike_layers_are_the_one_duncan_chang_soil(solved):
     """Layers of the soil's own Duncan-Chang constants: the 1 m tank's nonlinear settlement
     within 3e-3 of the one soil's (measured -1.3e-3: the layer's line changes the mesh, and
     w0 of these per-cell moduli moves by 1e-3 from one mesh to the next: -0.8e-3 and +0.6e-3
     on meshes twice and four times as fine); a weaker layer below settles it more."""
     def w0(soil):
-        return analyse(Scene.from_dict(small_tank(soil=soil, load={"pressure": 50e3})))
+        return solved(Scene.from_dict(small_tank(soil=soil, load={"pressure": 50e3})))
 
-    plain = w0(SAND).results
+    plain = w0(SAND)
     alike = w0(SAND | {"layers": [{k: v for k, v in SAND.items() if k != "model"} |
-                                  {"depth": 0.9}]}).results
+                                  {"depth": 0.9}]})
     assert alike["w0"] == pytest.approx(plain["w0"], rel=3e-3)
     weaker = w0(SAND | {"layers": [{k: v for k, v in SAND.items() if k != "model"} |
-                                   {"depth": 0.9, "modulus_number": 100.0}]}).results
+                                   {"depth": 0.9, "modulus_number": 100.0}]})
     assert weaker["w0"] > 1.05 * plain["w0"]
 
 
-def test_water_table_makes_the_confinement_effective():
+def test_water_table_makes_the_confinement_effective(solved):
     """A water table at the surface with saturated unit weights gamma + gamma_w is the dry
     ground of gamma (the same effective stress): the same settlement to 1e-9 (2e-10: round-
     off of (gamma + gamma_w) h - gamma_w h); a water table
@@ -231,7 +231,7 @@ def test_water_table_makes_the_confinement_effective():
     from tankfx.laws.kondner import geostatic_stress
 
     dry = Scene.from_dict(small_tank(soil=SAND, load={"pressure": 50e3}))
-    w0_dry = analyse(dry).results["w0"]
+    w0_dry = solved(dry)["w0"]
     wet = dry.with_changes(soil={"unit_weight": 18e3 + 9810.0, "water_table": 0.0})
     assert analyse(wet).results["w0"] == pytest.approx(w0_dry, rel=1e-9)
     deep = dry.with_changes(soil={"water_table": 1.0})

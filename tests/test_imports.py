@@ -1,7 +1,7 @@
 """What a run loads: ``import tankfx`` and ``tankfx run --no-figures`` (its fields, profiles
 and report written) import neither matplotlib nor PyVista (nor VTK, which PyVista wraps);
 the figure modules are imported where a figure is drawn. Their import costs a whole-process
-run about 0.4 s (docs/development/2026-11-27-suite.md), a flexible load's whole run is under
+run about 0.4 s (docs/development/2026-11-26-suite.md), a flexible load's whole run is under
 a second.
 
 And the members' profiles, which a run without figures writes as .vtp files without

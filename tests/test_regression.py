@@ -15,7 +15,7 @@ The tolerances come from the numerics, not from one machine. ``benchmarks/reprod
 solved every scene again with what legitimately varies between machines: 2 BLAS threads,
 OpenBLAS's kernels of three other processors (``OPENBLAS_CORETYPE`` Haswell, SandyBridge,
 Prescott), MUMPS's AMD, METIS and PORD orderings, and 2 MPI ranks. The largest difference from
-the base run, over each scene's numbers (2026-11-27, AMD EPYC, 2 cores):
+the base run, over each scene's numbers (2026-11-26, AMD EPYC, 2 cores):
 
 ==========================  ========  ========  ==========  ========  =========
 scene                       threads   kernels   orderings   2 ranks   recorded

@@ -248,6 +248,17 @@ def test_an_enormous_mesh_is_refused_at_once(tmp_path):
     assert "--allow-large" in check.stderr and "Traceback" not in check.stderr
     allowed = _run("check", scene, "--allow-large")
     assert allowed.returncode == 0 and "run with --allow-large" in allowed.stdout
+    # a sweep with such a case: tankfx sweep would fail it (it has no --allow-large)
+    sweep = tmp_path / "sweep.toml"
+    base = tmp_path / "base.toml"
+    base.write_text(_toml(_with(mesh={"edge_size": 1e-6})))
+    sweep.write_text(f'base = "{base.name}"\nmode = "grid"\n[axes]\n'
+                     '"mesh.near_size" = [2.5, 1e-3]\n')
+    proc = _run("check", sweep)
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    assert "1 case(s) too large for this machine, which tankfx sweep would fail: case 2 " \
+        "(mesh.near_size = 0.001): the mesh would have about" in proc.stderr, proc.stderr
+    assert "--allow-large" not in proc.stderr
 
 
 HYPERBOLIC = {"model": "hyperbolic", "hyperbolic_a": 2.1e-7, "hyperbolic_b": 1e-5, "nu": 0.3}
@@ -356,7 +367,9 @@ def test_an_interrupted_run_leaves_nothing_that_reads_as_complete(tmp_path, monk
     """Stopped while drawing its figures: no results.json (written last but the report)."""
     def stop(*args, **kwargs):
         raise KeyboardInterrupt
-    monkeypatch.setattr(tankfx.cli, "write_figures", stop)
+    import tankfx.results.figures
+
+    monkeypatch.setattr(tankfx.results.figures, "write_figures", stop)   # (cli's, drawn there)
     out = tmp_path / "out"
     with pytest.raises(KeyboardInterrupt):
         tankfx.cli.main(["run", str(ROOT / "demos" / "scenes" / "flexible_load.toml"),
