@@ -70,12 +70,12 @@ lint: $(STAMP)
 WORKERS ?= 2
 
 test-serial: $(STAMP)
-	$(PY) -m pytest -q -rs -p no:cacheprovider --durations=12 $(if $(filter 0,$(WORKERS)),,-n $(WORKERS) --dist loadfile)
+	$(PY) -m pytest -q -rfEs -p no:cacheprovider --durations=12 $(if $(filter 0,$(WORKERS)),,-n $(WORKERS) --dist loadfile)
 
 # The tests marked `mpi` again on $(NP) ranks: each compares its parallel results with a
 # serial solve of the same scene.
 test-mpi: $(STAMP)
-	$(MPIEXEC) -n $(NP) $(PY) -m pytest -q -rs -p no:cacheprovider -m mpi
+	$(MPIEXEC) -n $(NP) $(PY) -m pytest -q -rfEs -p no:cacheprovider -m mpi
 
 benchmark: $(STAMP)
 	$(PY) benchmarks/flexible_load.py

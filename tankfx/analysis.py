@@ -20,7 +20,8 @@ from .fem.memory import keep_freed_memory
 from .fem.solvers import SolveError, make_solver
 from .fem.threads import limit_blas_threads
 from .iterations.active_set import solve
-from .iterations.secant import HyperbolicIteration, SoilFailure
+from .iterations.by_law import soil_iteration as soil_iteration_of
+from .iterations.secant import SoilFailure
 from .iterations.time_stepping import TimeStepping
 from .mesh import (
     SURFACE_GRADING,
@@ -182,7 +183,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     rocking = None          # the first harmonic, built by the first stage that overturns
     # a nonlinear soil's initial state, from which a failed single load's largest fraction
     # carried is searched
-    initial = _soil_state(model) if scene.soil.nonlinear and len(stages) == 1 else None
+    initial = _soil_state(model) if scene.soil.law.state_fields and len(stages) == 1 else None
     for k, load in enumerate(stages):
         if k > 0:
             log.info("load stage %d of %d", k + 1, len(stages))
@@ -332,17 +333,18 @@ def _set_up(scene: Scene, first: Load, comm: MPI.Comm, timings: dict) -> tuple:
 
     t = time.perf_counter()
     model = build_model(replace(scene, load=first), domain)
-    linear_soil = scene.soil.model == "linear"
+    # (a soil solved by one linear solve a stage keeps its stiffness)
+    stiffness_fixed = scene.soil.law.iteration is None
     mohr_coulomb = scene.interface.condition == "mohr_coulomb"
     # one factorisation: a linear soil under a bonded or smooth interface (its load stages
     # share the matrix)
-    one_shot = linear_soil and not mohr_coulomb and scene.consolidation is None
+    one_shot = stiffness_fixed and not mohr_coulomb and scene.consolidation is None
     solver = make_solver(scene.solver, model.a, model.L, model.bcs, model.unknowns,
                          entity_maps=model.entity_maps, name="tank",
                          symmetric=not mohr_coulomb, one_shot=one_shot,
                          # on a linear soil only a Mohr-Coulomb interface's states and a
                          # consolidation's time step change the matrix: the rest is kept
-                         split=model.a_split if linear_soil else None)
+                         split=model.a_split if stiffness_fixed else None)
     timings["forms"] = time.perf_counter() - t
     return domain, model, solver, one_shot
 
@@ -354,7 +356,7 @@ def _warnings(scene: Scene, model: Model) -> list[str]:
     grading = mesh_grading_warning(scene)
     if grading:
         warnings.append(grading)
-    unloading = scene.unloading_stages() if scene.soil.nonlinear else []
+    unloading = scene.unloading_stages() if scene.soil.law.unloads_on_curve else []
     if unloading and scene.soil.unloading_modulus_ratio is None:
         warnings.append(
             f"stages {', '.join(map(str, unloading))}: less vertical load than an earlier "
@@ -378,8 +380,8 @@ def _solve_stage(scene: Scene, load: Load, model: Model, solver, one_shot: bool,
         model.path_load_scale = model.load_scale
     soil_iteration = consolidation = None
     model.begin_stage()
-    if scene.soil.nonlinear:
-        soil_iteration = HyperbolicIteration(model).run(
+    if (iteration := soil_iteration_of(scene.soil.law)) is not None:
+        soil_iteration = iteration(model).run(
             lambda: solve(model, solver, log, single_pass=not nested), log)
     elif scene.consolidation is not None:
         consolidation = TimeStepping(model, solver, log).run()

@@ -28,6 +28,7 @@ from pathlib import Path
 from . import __version__
 from .analysis import analyse, mesh_grading_warning
 from .fem.solvers import SolveError
+from .iterations.by_law import soil_iteration
 from .iterations.time_stepping import load_path, path_steps
 from .laws.biot import stratum_coefficients
 from .mesh import build_domain, estimate, geometry_of, resource_problem
@@ -224,16 +225,14 @@ def describe(scene) -> list[str]:
         if scene.consolidation is not None:
             form = (f"drained constants; k = {permeability[k]:g} m/s, c_v = {c_v[k]:.3g} "
                     f"m^2/s")
-        if k == 0 and s.model == "duncan_chang":
-            consts += f", p_a = {s.atmospheric_pressure:g} Pa"
+        if k == 0:
+            consts += s.law.ground_text(s)
         out.append(f"  soil {where}: E = {st.E:.4g} Pa, nu = {st.nu:g}, E_gradient = "
                    f"{st.E_gradient:g} /m{consts} ({form})")
     if s.unloading_modulus_ratio is not None:
         out.append(f"  unloading along the load path: E_ur = {s.unloading_modulus_ratio:g} x "
                    f"each cell's initial modulus, below its most loaded state")
-    if s.model == "duncan_chang" and s.water_table is not None:
-        out.append(f"  water table {s.water_table:g} m down: the confinement below it is "
-                   f"effective (gamma_w = {s.water_unit_weight:g} N/m^3)")
+    out += [f"  {line}" for line in s.law.ground_lines(s)]
     members = scene.to_dict(resolved=True)
     if scene.plate is not None:
         out.append(f"  plate: {member_text('plate', members['plate'], scene.Kp)}")
@@ -275,9 +274,8 @@ def describe(scene) -> list[str]:
         out.append(f"  warning: {warning}")
     out += [f"  warning: {w}" for w in geometry_warnings(scene)]
     iterations = []
-    if s.nonlinear:
-        iterations.append(f"Picard on the secant modulus (tolerance {s.tolerance:g}, at most "
-                          f"{s.max_iterations})")
+    if (iteration := soil_iteration(s.law)) is not None:
+        iterations.append(iteration.describe(s))
     if scene.plate is not None and scene.interface.condition == "mohr_coulomb":
         iterations.append("the Mohr-Coulomb active set")
     parts = ["soil"] + [p for p in ("ringwall", "plate", "wall")

@@ -13,9 +13,9 @@ from dolfinx import fem
 
 from conftest import small_tank
 from tankfx import Scene, SceneError, analyse
-from tankfx.iterations import secant as hyperbolic
 from tankfx.laws import elasticity as soil_forms
-from tankfx.laws.kondner import major_strain, principal_strains
+from tankfx.laws.duncan_chang import DuncanChang
+from tankfx.laws.kondner import Kondner, major_strain, principal_strains
 from tankfx.results.fields import cellwise
 
 P_A = 101325.0
@@ -29,7 +29,7 @@ def test_kondner_limit_is_the_hyperbolic_soil(monkeypatch):
     "hyperbolic" (1e-10; at nu = 0.46, where both are solved in the mixed form, which
     Duncan & Chang's soil always is), the iteration accelerated alike (Duncan & Chang's
     own, deeper Anderson acceleration would take another path to the same state)."""
-    monkeypatch.setattr(hyperbolic, "DUNCAN_CHANG_ANDERSON_DEPTH", hyperbolic.ANDERSON_DEPTH)
+    monkeypatch.setattr(DuncanChang, "anderson_depth", Kondner.anderson_depth)
     K, c, R_f = 100.0, 50e3, 0.9
     load = {"pressure": 40e3, "load_radius": 1.0}
     dc = Scene.from_dict({"soil": {"model": "duncan_chang", "nu": 0.46, "modulus_number": K,

@@ -81,7 +81,7 @@ def kind(scene) -> str:
     """How a scene is solved, as far as its numbers' reproducibility goes: "secant" where
     the soil is iterated by the secant (Picard) loop, else "linear" (one solve, an active set
     or time steps, each step a linear solve)."""
-    return "secant" if scene.soil.nonlinear else "linear"
+    return scene.soil.law.iteration or "linear"
 
 
 def numbers(value, path: str = "") -> dict[str, float | None]:

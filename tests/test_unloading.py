@@ -230,9 +230,10 @@ def test_duncan_chang_in_its_kondner_limit_unloads_as_kondners_soil(monkeypatch)
     R_f; tests/test_duncan_chang.py), its unloading modulus K_ur p_a = ratio K p_a Kondner's
     ratio / a: along a path loaded, unloaded and reloaded the two give the same settlements
     (both in the mixed form at nu = 0.46, accelerated alike) and unload the same cells."""
-    from tankfx.iterations import secant as hyperbolic
+    from tankfx.laws.duncan_chang import DuncanChang
+    from tankfx.laws.kondner import Kondner
 
-    monkeypatch.setattr(hyperbolic, "DUNCAN_CHANG_ANDERSON_DEPTH", hyperbolic.ANDERSON_DEPTH)
+    monkeypatch.setattr(DuncanChang, "anderson_depth", Kondner.anderson_depth)
     K, c, R_f, p_a = 100.0, 50e3, 0.9, 101325.0
     common = {"nu": 0.46, "unloading_modulus_ratio": 2.5}
     load = {"pressure": 40e3, "load_radius": 1.0}

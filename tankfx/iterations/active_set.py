@@ -23,6 +23,10 @@ from ..model.protocol import Model
 from .reversed_slips import ReversedSlips
 
 
+#: added to a carrier's state in a cycle's key where its slip reversed
+REVERSED = 4          # (beyond NONE, STICK, SLIP and SEPARATED, which the law decides)
+
+
 class InterfaceIteration:
     """The Mohr-Coulomb active-set iteration of a model's interface block (Eqs. 6-16).
 
@@ -81,9 +85,9 @@ class InterfaceIteration:
         # secant law's converged form), a change of law that the state does not show
         self.carried_secant = interface.mesh.comm.allreduce(int(np.any(
             ((interface.status == law.SLIP) & (interface.k_s.x.array[:n] > 0))[self.owned])))
-        # single_pass: state changes per carrier, and the state it is held in (-1: none)
+        # single_pass: state changes per carrier, and the state it is held in (NONE: none)
         self.flips = np.zeros(n, dtype=int)
-        self.held = np.full(n, -1)
+        self.held = np.full(n, law.ContactState.NONE)
 
     def _applied_tractions(self, jn, jt) -> tuple:
         """The normal and shear tractions (sigma, tau) of each carrier under the model's
@@ -117,17 +121,18 @@ class InterfaceIteration:
         return secant, k_next
 
     def _decide(self, jn, jt) -> tuple:
-        """The Mohr-Coulomb state of every carrier from its jumps (-1 off the interface),
+        """The Mohr-Coulomb state of every carrier from its jumps (NONE off the interface),
         and the sign of its trial shear."""
         m, ifc = self.interface, self.interface.settings
         status, sign = law.element_states(jn, jt, m.stiffness_n, m.stiffness_s,
                                                 ifc.cohesion, self.tan_phi)
-        return np.where(m.in_contact, status, -1), sign
+        return np.where(m.in_contact, status, law.ContactState.NONE), sign
 
     def _state_key(self) -> tuple:
         """The model's states with their slip directions, partition-independent: what a
         cycle repeats."""
-        return self._global_status(self.interface.status + 4 * (self.slips.slip_sign < 0))
+        # (a slip that reversed counts as a state of its own: beyond every ContactState)
+        return self._global_status(self.interface.status + REVERSED * (self.slips.slip_sign < 0))
 
     def element_jumps(self):
         """Normal and tangential jump of each state carrier: an element's average, or a
@@ -153,9 +158,10 @@ class InterfaceIteration:
             self.slips.track(status, sign)[self.owned])))
         # an element that keeps changing state sits at the edge of a zone inside it: after
         # MAX_FLIPS changes it is held in the weaker of its last two states, as in run()
-        hold, weaker = self._flip_holds(status, self.held >= 0, " during the soil iteration")
+        held = self.held != law.ContactState.NONE
+        hold, weaker = self._flip_holds(status, held, " during the soil iteration")
         self.held = np.where(hold, weaker, self.held)
-        status = np.where(self.held >= 0, self.held, status)
+        status = np.where(held, self.held, status)
         changed = n_reversed + m.mesh.comm.allreduce(
             int(np.sum(status[self.owned] != m.status[self.owned])))
         self._set_states(status, sign, jn, jt)

@@ -15,36 +15,12 @@ from mpi4py import MPI
 from ..fem.evaluate import allsum, evaluate_at
 from ..fem.solvers import SolveError
 from ..laws import elasticity as soil_forms
-from ..laws.duncan_chang import (
-    _moduli,
-    duncan_chang_parameters,
-    duncan_chang_secant,
-    duncan_chang_unloading,
-)
-from ..laws.kondner import (
-    MODULUS_FLOOR,
-    geostatic_stress,
-    kondner_parameters,
-    major_strain,
-    principal_strains,
-    secant_update,
-)
+from ..laws.kondner import MODULUS_FLOOR, major_strain, principal_strains
 from ..model.memory import MAX_SWITCHES, unloading_cells
 
 #: The global criterion: the relative displacement update of the last iteration must be
 #: below this times the Eq. 18 tolerance.
 DISPLACEMENT_TOLERANCE_RATIO = 0.02
-
-
-#: Depth of the Anderson acceleration of the secant update (0: plain Picard).
-ANDERSON_DEPTH = 3
-
-
-#: ... and of Duncan & Chang's, whose failed zones settle slowly. Measured on the 1 m tank on
-#: sand (coarse mesh: 100-400 kPa with c = 5 kPa, 50 and 100 kPa without; the default mesh at
-#: 100 kPa; the demo's tank): depth 3 converged 7 of 8 in 80 iterations (18-53; the demo in
-#: 18), depth 6 6 of 8, depth 10 all 8 (10-64; the demo in 10)
-DUNCAN_CHANG_ANDERSON_DEPTH = 10
 
 
 class SoilFailure(SolveError):
@@ -54,7 +30,16 @@ class SoilFailure(SolveError):
 
 
 class HyperbolicIteration:
-    """Picard iteration on the DG0 secant modulus of a model's soil block."""
+    """Picard iteration on the DG0 secant modulus of a model's soil block, of any law that
+    declares the secant steps (``SoilLaw.iteration == "secant"``: Kondner's, Duncan &
+    Chang's): its start, its secant step, its next moduli, its unloading line and its words
+    (:class:`tankfx.laws.kondner.Kondner`)."""
+
+    @staticmethod
+    def describe(soil) -> str:
+        """The iteration in words, with the scene's settings (``tankfx check``)."""
+        return (f"Picard on the secant modulus (tolerance {soil.tolerance:g}, at most "
+                f"{soil.max_iterations})")
 
     def __init__(self, model):
         self.model = model
@@ -68,22 +53,17 @@ class HyperbolicIteration:
         # everything below is in cell order; V's and T's dofs are mapped through their maps
         self.dof_E = V.dofmap.list[:, 0]
         self.mid = model.domain.cell_midpoints
-        self.duncan_chang = s.model == "duncan_chang"
-        if self.duncan_chang:
-            # each cell's stratum's constants (the soil block's); the geostatic stress per
-            # cell (tension positive, (rr, zz, rz, theta)), to which the tank's is added for
-            # the confinement
-            self.strata = soil.cell_strata
-            sigma_v, sigma_h = geostatic_stress(s, -self.mid[:, 1])
-            self.geostatic = np.stack([-sigma_h, -sigma_v, 0.0 * sigma_v, -sigma_h], axis=1)
-            self.a, self.b = duncan_chang_parameters(s, np.minimum(sigma_v, sigma_h),
-                                                     self.strata)
-            self.nu = self.nu_intact = self.strata["nu"]
+        #: the soil's law, and its constants per cell as the iteration starts
+        self.law = s.law
+        self.start = self.law.secant_start(s, -self.mid[:, 1], soil.cell_strata)
+        self.a, self.b = self.start["a"], self.start["b"]
+        # (the law's strain measure reads the intact Poisson's ratio: a failed Duncan-Chang
+        # cell's is not its law's)
+        self.nu, self.nu_intact = self.start["nu"], self.start["nu_intact"]
+        if "nu" in self.law.state_fields:
             # a failed cell's Poisson's ratio, in the soil's per-cell field
             self.nu_field = soil.nu
             self.dof_nu = soil.nu.function_space.dofmap.list[:, 0]
-        else:
-            self.a, self.b, self.nu = kondner_parameters(s, -self.mid[:, 1])
         self.E_initial = 1.0 / self.a
         self.is_soil = np.zeros(n_cells, dtype=bool)
         self.is_soil[model.domain.cells("soil")] = True
@@ -96,7 +76,7 @@ class HyperbolicIteration:
         self.strain_expr = fem.Expression(
             soil_forms.tensor_components(soil_forms.strain(soil.u, soil.r)),
             T.element.interpolation_points)
-        if self.duncan_chang:
+        if self.law.needs_stress:
             self.stress = fem.Function(T)
             self.stress_expr = fem.Expression(soil_forms.tensor_components(soil.stress()),
                                               T.element.interpolation_points)
@@ -105,8 +85,7 @@ class HyperbolicIteration:
         #: per cell, how often it has changed between its curve and its line this stage
         self._switches = np.zeros(n_cells, dtype=int)
         self.history: list[dict] = []
-        self.anderson_depth = (DUNCAN_CHANG_ANDERSON_DEPTH if self.duncan_chang else
-                               ANDERSON_DEPTH)
+        self.anderson_depth = self.law.anderson_depth
         self._x_hist, self._f_hist, self._g_hist = [], [], []
 
     def run(self, inner_solve, log) -> dict:
@@ -126,10 +105,9 @@ class HyperbolicIteration:
         centre = np.array([[0.0, -m.scene.embedment]])
         w0_hist = []
         own = np.flatnonzero(self.is_soil[: self.n_owned])
-        self._log_start(s, tol, log)
-        # (Kondner's eps_p reads the intact Poisson's ratio: a failed Duncan-Chang cell's
-        # is not its law's)
-        nu_law = self.nu_intact if self.duncan_chang else self.nu
+        log.info(self.law.start_text(s, tol))
+        log.info("  it  changing  max misfit  at ultimate  du/u        time s")
+        nu_law = self.nu_intact
         for it in range(1, max_it + 1):
             t0 = time.perf_counter()
             try:
@@ -140,7 +118,11 @@ class HyperbolicIteration:
                 raise self._collapse(s, it, e) from None
             eps_min, eps_max = self.cell_principal_strains()
             E = self.modulus.x.array[self.dof_E]
-            law, E_new, misfit, ultimate = self._secant_moduli(s, E, eps_min, eps_max)
+            step = self.law.secant_step(s, self.start, self.nu, E, eps_min, eps_max,
+                                        self._cell_stress(), self.is_soil)
+            self.a, self.b = step["a"], step["b"]
+            self.E_initial = 1.0 / self.a
+            E_new, misfit, ultimate = step["E"], step["misfit"], step["ultimate"]
             self._ultimate = ultimate
             switched = unloading = None
             if self.memory is not None:
@@ -169,40 +151,16 @@ class HyperbolicIteration:
             if n_changing == 0 and du_rel <= du_tol and not unsettled:
                 return self._converged(it, row, tol, worst, du_rel, du_tol, n_ult, w0_hist,
                                        E, eps_min, eps_max, nu_law, unloading, own)
-            self._update(E, E_new, law, unloading, switched, own)
+            self._update(E, E_new, step, unloading, switched, own)
         self._fail(s, n_ult, ultimate, max_it, worst, du_rel, tol)
 
-    def _log_start(self, s, tol: float, log) -> None:
-        if self.duncan_chang:
-            log.info("Duncan-Chang soil: K = %.4g, n = %.3g, R_f = %.3g, c = %.4g Pa, phi = "
-                     "%.3g deg, gamma = %.4g N/m^3, K0 = %.3g; tolerance %.3g (Eq. 18)",
-                     s.modulus_number, s.modulus_exponent, s.failure_ratio, s.cohesion,
-                     s.friction_angle, s.unit_weight, s.K0, tol)
-        else:
-            log.info("hyperbolic soil: 1/a = %.4g Pa, 1/b = %.4g Pa, tolerance %.3g (Eq. 18)",
-                     1.0 / s.hyperbolic_a, 1.0 / s.hyperbolic_b, tol)
-        log.info("  it  changing  max misfit  at ultimate  du/u        time s")
-
-    def _secant_moduli(self, s, E, eps_min, eps_max) -> tuple:
-        """Each cell's secant modulus of its law at the current strains (Eq. 19, or Duncan &
-        Chang's at the current confinement), its misfit (Eq. 18) and whether it is at the
-        ultimate deviator. Returns (Duncan & Chang's law record or None, E_new, misfit,
-        ultimate)."""
-        if not self.duncan_chang:
-            _, _, misfit, E_new, ultimate = secant_update(E, self.nu, eps_min, eps_max,
-                                                          self.a, self.b)
-            return None, E_new, misfit, ultimate
-        # Duncan & Chang: a, b and failure follow each cell's confinement; the misfit is the
-        # modulus's distance from the consistent secant modulus
+    def _cell_stress(self):
+        """The cells' current stress ((rr, zz, rz, theta), tension positive, in cell order),
+        where the law reads it; else None."""
+        if not self.law.needs_stress:
+            return None
         self.stress.interpolate(self.stress_expr)
-        # (cells outside the soil, e.g. the pit's void, given G = 1 to keep quiet)
-        law = duncan_chang_secant(
-            s, self.strata, self.geostatic, self.stress.x.array.reshape(-1, 4)[self.dof_T],
-            np.where(self.is_soil, E / (2.0 * (1.0 + self.nu)), 1.0), eps_min, eps_max)
-        self.a, self.b, E_new = law["a"], law["b"], law["E"]
-        self.E_initial = 1.0 / self.a
-        misfit = np.abs(E - E_new) / E
-        return law, E_new, misfit, law["failed"]
+        return self.stress.x.array.reshape(-1, 4)[self.dof_T]
 
     def _unloading(self, E, E_new, ultimate, eps_min, eps_max, nu_law, tol) -> tuple:
         """A remembering soil: the cells below their most loaded state follow their
@@ -234,8 +192,7 @@ class HyperbolicIteration:
         constants (for the stress level) and a remembering soil its new peaks."""
         comm = self.model.domain.mesh.comm
         # the converged Kondner constants of each cell, for the stress level
-        self.model.soil.kondner = (self.a, self.b, self.nu_intact if
-                                   self.duncan_chang else self.nu)
+        self.model.soil.kondner = (self.a, self.b, self.nu_intact)
         extra = {}
         if self.memory is not None:
             # the cells on the loading curve past their largest strain are at their most
@@ -244,7 +201,7 @@ class HyperbolicIteration:
             self.memory.commit(self.model.soil.u, eps_p, E, self.nu, self.is_soil & ~unloading &
                                (eps_p >= self.memory.peak_strain),
                                self.stress.x.array.reshape(-1, 4)[self.dof_T]
-                               if self.duncan_chang else None)
+                               if self.law.needs_stress else None)
             held = self.is_soil & (self._switches >= MAX_SWITCHES)
             extra = {"unloading_cells": row["unloading"],
                      "held_on_loading_curve": comm.allreduce(int(held[own].sum())),
@@ -257,7 +214,7 @@ class HyperbolicIteration:
                 "cells_at_ultimate": n_ult,
                 "error_estimate": _error_estimate(w0_hist)}
 
-    def _update(self, E, E_new, law, unloading, switched, own) -> None:
+    def _update(self, E, E_new, step, unloading, switched, own) -> None:
         """Every soil cell takes its secant modulus (the paper updates only the cells
         outside the tolerance; that freezes a misfit of up to the tolerance, worth 2.5 % of
         w0 at the paper's 0.05 in the flexible-load test), floored, Anderson-accelerated."""
@@ -266,30 +223,23 @@ class HyperbolicIteration:
         if switched is not None and comm.allreduce(int(switched[own].sum())):
             # the map itself changed: its history no longer fits it
             del self._x_hist[:], self._f_hist[:], self._g_hist[:]
-        if self.duncan_chang:
-            # accelerated on ln G with each failed cell's bulk modulus held, so that a
-            # failed cell's (E, nu) stay a pair of the law
-            G = E / (2.0 * (1.0 + self.nu))
-            G_new = np.maximum(law["G"], floor / 3.0)
-            if self.anderson_depth:
-                G_new = self._anderson(G, G_new, floor / 3.0, own,
-                                       ceiling=self.E_initial / 2.0)
-            new, nu_new = _moduli(G_new, law["K"], self.nu_intact)
-            if unloading is not None:
-                # on its unloading line a cell is intact, of modulus E_ur
-                new = np.where(unloading, E_new, new)
+
+        def accelerate(x, x_new, low, high):
+            return self._anderson(x, x_new, low, own, ceiling=high) if self.anderson_depth \
+                else x_new
+
+        new, nu_new = self.law.next_moduli(step, E_new, E, self.nu, self.nu_intact,
+                                           self.E_initial, floor, accelerate)
+        if unloading is not None:
+            # on its unloading line a cell is intact, of modulus E_ur (above the loading
+            # curve's ceiling, 1/a)
+            new = np.where(unloading, E_new, new)
+            if nu_new is not None:
                 nu_new = np.where(unloading, self.nu_intact, nu_new)
-                self.memory.set_unloading(unloading)
+            self.memory.set_unloading(unloading)
+        if nu_new is not None:
             self.nu = np.where(self.is_soil, nu_new, self.nu_intact)
             self.nu_field.x.array[self.dof_nu] = self.nu
-        else:
-            new = np.maximum(E_new, floor)
-            if self.anderson_depth:
-                new = self._anderson(E, new, floor, own, ceiling=self.E_initial)
-            if unloading is not None:
-                # (E_ur lies above the loading curve's ceiling, 1/a)
-                new = np.where(unloading, E_new, new)
-                self.memory.set_unloading(unloading)
         self.modulus.x.array[self.dof_E] = np.where(self.is_soil, new, E)
 
     def _load_text(self) -> str:
@@ -300,12 +250,6 @@ class HyperbolicIteration:
         return (f"the vertical load {P / 1e6:.4g} MN, a mean bearing pressure of "
                 f"{P / (np.pi * a**2) / 1e3:.4g} kPa on the foundation (radius {a:g} m)")
 
-    def _strength_text(self, s) -> str:
-        if self.duncan_chang:
-            return (f"Duncan & Chang's strength c = {s.cohesion / 1e3:.4g} kPa, phi = "
-                    f"{s.friction_angle:g} deg")
-        return f"the ultimate deviator 1/b = {1.0 / s.hyperbolic_b / 1e3:.4g} kPa"
-
     def _collapse(self, s, it: int, error: SolveError) -> SoilFailure:
         """A linear solve failed inside the iteration (the soil so softened that the system
         is singular to round-off): what failed, where and under what load."""
@@ -314,7 +258,7 @@ class HyperbolicIteration:
             self.is_soil
         n = comm.allreduce(int(mask[: self.n_owned].sum()))
         where = (f"{n} cells of the soil {self._where(mask)} had reached "
-                 f"{self._strength_text(s)}" if n else "no cell had yet reached the soil's "
+                 f"{self.law.strength_text(s)}" if n else "no cell had yet reached the soil's "
                  "strength")
         return SoilFailure(
             f"the soil cannot carry {self._load_text()}: at iteration {it} {where}, and the "
@@ -322,35 +266,26 @@ class HyperbolicIteration:
 
     def _fail(self, s, n_ult, ultimate, max_it, worst, du_rel, tol) -> None:
         """No converged state in max_iterations: what failed, in physical terms."""
-        if n_ult > 0 and self.duncan_chang:
-            raise SoilFailure(
-                f"no converged state with {n_ult} failed elements (Mohr-Coulomb) "
-                f"{self._where(ultimate & self.is_soil)} after {max_it} iterations (largest "
-                f"modulus misfit {worst:.2g}, last displacement update {du_rel:.1e}): either "
-                f"the soil cannot carry this load (the settlement keeps growing), or the failed "
-                f"zone's moduli settle too slowly (a displacement update far below 1e-2: a "
-                f"soil without cohesion has almost no strength near the surface beside the "
-                f"foundation; raise [soil] max_iterations, or give the soil a little "
-                f"cohesion)", self.history)
+        own_words = n_ult > 0 and self.law.exhausted_text(
+            n_ult, self._where(ultimate & self.is_soil), max_it, worst, du_rel)
+        if own_words:
+            raise SoilFailure(own_words, self.history)
         if n_ult > 0:
             raise SoilFailure(f"the soil cannot carry {self._load_text()}: {n_ult} cells of the "
                               f"soil {self._where(ultimate & self.is_soil)} reached "
-                              f"{self._strength_text(s)} and no converged state was found in "
+                              f"{self.law.strength_text(s)} and no converged state was found in "
                               f"{max_it} iterations", self.history)
         raise SolveError(f"the hyperbolic soil iteration did not converge in {max_it} "
                          f"iterations (largest deviator misfit {worst:.3g} > {tol:g})",
                          self.history)
 
     def _unloading_modulus(self, E) -> np.ndarray:
-        """Per cell, the modulus of its unloading line: ratio x Kondner's 1/a, or Duncan &
-        Chang's K_ur p_a (sigma_3 / p_a)^n, K_ur = ratio x K, at the confinement it gives
-        (``duncan_chang_unloading``; ``E``: the cells' current modulus)."""
-        if not self.duncan_chang:
-            return self.memory.ratio * self.E_initial
-        return duncan_chang_unloading(
-            self.model.scene.soil, self.strata, self.geostatic,
-            self.stress.x.array.reshape(-1, 4)[self.dof_T], self.memory.peak_stress,
-            np.where(self.is_soil, E, 1.0), self.memory.ratio)
+        """Per cell, the modulus of its unloading line, by the law (``E``: the cells'
+        current modulus)."""
+        return self.law.unloading_modulus(
+            self.model.scene.soil, self.start, self.E_initial, E,
+            self.stress.x.array.reshape(-1, 4)[self.dof_T] if self.law.needs_stress else None,
+            self.memory.peak_stress, self.memory.ratio, self.is_soil)
 
     def cell_principal_strains(self) -> tuple[np.ndarray, np.ndarray]:
         """The smallest and largest principal strain of the current displacement at each

@@ -99,3 +99,19 @@ def mixed_stiffness_forms(u, p, v, q, E, nu, r, dx):
             -p * ufl.tr(strain(v, r)) * w * dx,
             -q * ufl.tr(strain(u, r)) * w * dx,
             -inverse_lambda(E, nu) * p * q * w * dx)
+
+
+def by_stratum(indicators, inside, outside=None):
+    """Per cell the expression of its stratum, by the strata's cell indicators chi_i (DG0, 1
+    in the stratum's cells, 0 elsewhere): (1 - sum chi_i) outside + sum chi_i inside_i, an
+    expression valid in every cell (for a form, a projection or a cell field).
+
+    ``inside``: one expression per indicator, or one for all of them (then (sum chi_i)
+    inside); ``outside``: the other cells' expression (None: nothing there)."""
+    if isinstance(inside, (list, tuple)):
+        out = None if outside is None else (1.0 - sum(indicators)) * outside
+        for chi, expr in zip(indicators, inside):
+            out = chi * expr if out is None else out + chi * expr
+        return out
+    chi = sum(indicators)
+    return chi * inside if outside is None else (1.0 - chi) * outside + chi * inside

@@ -30,19 +30,53 @@ scene (Pa/m) replace them.
 from __future__ import annotations
 
 import math
+from enum import IntEnum
 
 import numpy as np
 import ufl
+
+from .mohr_coulomb import shear_strength
 
 #: k = PENALTY_FACTOR * E_soil / h when the scene gives no interface stiffness.
 PENALTY_FACTOR = 1.0e3
 
 
-#: Interface element states (``contact_status`` in the results).
-STICK, SLIP, SEPARATED, REBONDED = 0, 1, 2, 3
+class ContactState(IntEnum):
+    """The state of an interface carrier (an element, or a node), the one encoding used by
+    the law, the iterations, the fields and the results (``contact_status``: its ``label``).
+
+    NONE marks a carrier off the interface (no soil facing it). REBONDED is reported only: a
+    carrier separated at a stage's start and closed at its end (the law itself knows stick,
+    slip and separated). The numbers are stored in fields and evaluated at stations, where
+    they are rounded back to a state: they must not change.
+    """
+    NONE = -1
+    STICK = 0
+    SLIP = 1
+    SEPARATED = 2
+    REBONDED = 3
+
+    @property
+    def label(self) -> str:
+        """The state's name in results.json and the reports ("stick", "none", ...)."""
+        return self.name.lower()
+
+    @property
+    def vtk_code(self) -> int:
+        """Its number in the VTK files, 0 for none upward (a viewer's colour map starts at
+        0)."""
+        return int(self) + 1
+
+    @classmethod
+    def nearest(cls, value: float) -> "ContactState":
+        """The state a field's value at a point stands for (rounded: an interpolated value
+        between carriers); NONE for anything else."""
+        code = int(round(value))
+        return cls(code) if cls.NONE <= code <= cls.REBONDED else cls.NONE
 
 
-STATUS_NAMES = {STICK: "stick", SLIP: "slip", SEPARATED: "separated", REBONDED: "rebonded"}
+STICK, SLIP, SEPARATED, REBONDED = (ContactState.STICK, ContactState.SLIP,
+                                    ContactState.SEPARATED, ContactState.REBONDED)
 
 
 def tractions(jump, n, t, k_n, k_s, mu=0.0, c=0.0):
@@ -66,8 +100,9 @@ def interface_load(j_test, t, c, r, measure):
 
 def mohr_coulomb_limit(sigma_n, cohesion, tan_phi):
     """The interface's shear strength, Eq. 13: tau_y = c + sigma_n tan phi (sigma_n
-    compression positive; an opening interface, sigma_n < 0, keeps only its cohesion)."""
-    return cohesion + np.maximum(sigma_n, 0.0) * tan_phi
+    compression positive; an opening interface, sigma_n < 0, keeps only its cohesion):
+    Mohr-Coulomb's envelope, :func:`tankfx.laws.mohr_coulomb.shear_strength`."""
+    return shear_strength(sigma_n, cohesion, tan_phi)
 
 
 def element_states(jn, jt, k_n, k_s, cohesion, tan_phi):

@@ -43,6 +43,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .soil_law import SoilLaw
+
 #: Duncan & Chang's confining stress is held at this fraction of p_a at least: at the
 #: ground surface, and where the tank's stress puts a cell in tension, sigma_3 would give no
 #: modulus and no strength.
@@ -128,3 +130,94 @@ def secant_update(E, nu, eps_min, eps_max, a, b):
     misfit = np.abs(E - E_new) / E          # = |q_c - q_m| / q_c (Eq. 18)
     at_ultimate = q_m * b >= ULTIMATE_FRACTION
     return q_c, q_m, misfit, E_new, at_ultimate
+
+
+class Kondner(SoilLaw):
+    """Kondner's hyperbolic soil, Eqs. 17-20 (``model = "hyperbolic"``): the functions of
+    this module, iterated by the secant (Picard) loop."""
+
+    word = "hyperbolic"
+    title = "Kondner's hyperbolic soil"
+    iteration = "secant"
+    iteration_keys = ("tolerance", "max_iterations")
+    max_iterations = 40
+    keys = layer_keys = ("hyperbolic_a", "hyperbolic_b")
+    E_keys = ("hyperbolic_a",)
+    remembers = unloads_on_curve = True
+    reports = ("stress_level",)
+    state_fields = ("E",)      # the secant modulus, per cell
+    #: the secant iteration reads the cells' stress (not only their strains)
+    needs_stress = False
+    #: depth of the Anderson acceleration of its secant update (0: plain Picard)
+    anderson_depth = 3
+
+    @classmethod
+    def stratum_text(cls, st):
+        return f", Kondner 1/b = {1.0 / st['hyperbolic_b']:.4g} Pa (1/a = E)"
+
+    @classmethod
+    def check(cls, table, given, name, p_a=None):
+        """Kondner's a and b, both required; an E given must be 1/a."""
+        out = [f"{name}.{key}: missing for model = \"hyperbolic\"; add it (1/Pa: 1/a is the "
+               f"initial tangent modulus, 1/b the ultimate deviator stress)"
+               for key in ("hyperbolic_a", "hyperbolic_b") if key not in given]
+        what_E = ("the surface modulus of a hyperbolic soil" if name == "soil" else
+                  "the layer's modulus at its top")
+        a_h = table.get("hyperbolic_a")
+        if "E" in table and a_h and a_h > 0 and abs(table["E"] * a_h - 1.0) > 1e-6:
+            out.append(f"{name}.E = {table['E']!r} contradicts {name}.hyperbolic_a (1/a = "
+                       f"{1.0 / a_h:.6g} Pa is {what_E}); remove {name}.E")
+        return out
+
+    @classmethod
+    def resolve_stratum(cls, table, ground):
+        return {"E": 1.0 / table["hyperbolic_a"], "hyperbolic_a": table["hyperbolic_a"],
+                "hyperbolic_b": table["hyperbolic_b"]}
+
+    # -- the secant iteration's steps (per cell, in cell order; numpy) -------------------
+
+    @classmethod
+    def secant_start(cls, soil, depth, cell_strata) -> dict:
+        """The cells' constants before the first iteration: Kondner's ``a``, ``b`` and the
+        law's ``nu`` (``nu_intact``: the one its strain measure reads) of their strata."""
+        a, b, nu = kondner_parameters(soil, depth)
+        return {"a": a, "b": b, "nu": nu, "nu_intact": nu}
+
+    @classmethod
+    def secant_step(cls, soil, start, nu, E, eps_min, eps_max, stress, is_soil) -> dict:
+        """The secant moduli of the current strains (Eq. 19: ``E``), their misfit (Eq. 18)
+        and the cells at the ultimate deviator; Kondner's ``a`` and ``b`` stay."""
+        _, _, misfit, E_new, ultimate = secant_update(E, nu, eps_min, eps_max, start["a"],
+                                                      start["b"])
+        return {"E": E_new, "misfit": misfit, "ultimate": ultimate, "a": start["a"],
+                "b": start["b"]}
+
+    @classmethod
+    def next_moduli(cls, step, E_new, E, nu, nu_intact, E_initial, floor, accelerate
+                    ) -> tuple:
+        """The moduli of the next iteration, (E, nu or None where the law keeps nu), from
+        the current ``E`` and this step's: the new secant modulus ``E_new`` (an unloading
+        cell's E_ur), floored, accelerated (``accelerate(x, x_new, floor, ceiling)``) up to
+        the initial modulus."""
+        return accelerate(E, np.maximum(E_new, floor), floor, E_initial), None
+
+    @classmethod
+    def unloading_modulus(cls, soil, start, E_initial, E, stress, peak_stress, ratio,
+                          is_soil):
+        """Each cell's unloading line's modulus: ratio x its initial modulus 1/a."""
+        return ratio * E_initial
+
+    @classmethod
+    def start_text(cls, soil, tol: float) -> str:
+        return (f"hyperbolic soil: 1/a = {1.0 / soil.hyperbolic_a:.4g} Pa, 1/b = "
+                f"{1.0 / soil.hyperbolic_b:.4g} Pa, tolerance {tol:.3g} (Eq. 18)")
+
+    @classmethod
+    def strength_text(cls, soil) -> str:
+        return f"the ultimate deviator 1/b = {1.0 / soil.hyperbolic_b / 1e3:.4g} kPa"
+
+    @classmethod
+    def exhausted_text(cls, n_ult, where, max_it, worst, du_rel) -> str | None:
+        """The iteration's failure in the law's own words, where it has them (None: the
+        soil cannot carry its load)."""
+        return None

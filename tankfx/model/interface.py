@@ -121,7 +121,7 @@ class InterfaceBlock:
     def set_stuck(self) -> None:
         """Every carrier in contact stuck, with the elastic stiffnesses: the states of a
         fresh analysis."""
-        self.status[:] = np.where(self.in_contact, interface.STICK, -1)
+        self.status[:] = np.where(self.in_contact, interface.STICK, interface.ContactState.NONE)
         for f, v in zip((self.k_n, self.k_s, self.mu, self.c_s),
                         (self.stiffness_n, self.stiffness_s, 0.0, 0.0)):
             f.x.array[:] = np.where(self.in_contact, v, 0.0)
@@ -167,7 +167,7 @@ class InterfaceBlock:
         fields = [fem.Function(self.S, name=n) for n in ("k_n", "k_s", "mu", "c_s")]
         fields[0].x.array[:] = self.stiffness_n
         fields[1].x.array[:] = 0.0 if ifc.condition == "smooth" else self.stiffness_s
-        self.status = np.where(self.in_contact, interface.STICK, -1)
+        self.status = np.where(self.in_contact, interface.STICK, interface.ContactState.NONE)
         return fields
 
     def _penalty_warnings(self, E_soil, h, in_contact, stiffness_n, stiffness_s) -> list[str]:
@@ -316,10 +316,12 @@ class InterfaceBlock:
         values = self.carrier_tag[:n_owned]
         lengths = {}
         rebonded = self.was_separated & (self.status != interface.SEPARATED)
-        for name, code in (("stick", interface.STICK), ("slip", interface.SLIP),
-                           ("separated", interface.SEPARATED), ("rebonded", -2)):
+        for code in (interface.STICK, interface.SLIP, interface.SEPARATED, interface.REBONDED):
+            name = code.label
             for part, tag in (("plate", st.PLATE), ("wall", st.WALL_EMBEDDED)):
-                state = rebonded if code == -2 else self.status == code
+                # (rebonded is a separated carrier closed since the stage's start: the
+                # carrier's state is stick or slip)
+                state = rebonded if code == interface.REBONDED else self.status == code
                 mine = state[:n_owned] & (values == tag)
                 lengths.setdefault(f"{name}_length", {})[part] = comm.allreduce(
                     float(h[mine].sum()))

@@ -13,7 +13,6 @@ from dolfinx import fem
 
 from ..fem.blocks import cell_field
 from ..laws import elasticity as soil_forms
-from ..laws.duncan_chang import initial_modulus
 from ..mesh import Domain
 from ..scene.scene import Scene
 
@@ -53,7 +52,6 @@ def soil_materials(scene: Scene, domain: Domain) -> SoilMaterials:
     s = scene.soil
     h = soil_forms.depth(msh)
     strata = s.strata
-    dc = s.model == "duncan_chang"
     stratum = np.zeros(0, dtype=np.int32)     # per local cell (layered ground)
     cell_strata = None
     #: which local cells are a ringwall's, and its fill's (none without); the secant
@@ -65,10 +63,10 @@ def soil_materials(scene: Scene, domain: Domain) -> SoilMaterials:
     # (linear, in the displacement form), after the ground's
     n_materials = len(strata) + (ring is not None) + \
         (ring is not None and ring.fill_E is not None)
-    if s.layers or dc or ring is not None:
+    if s.layers or "nu" in s.law.state_fields or ring is not None:
         # per cell, its stratum's values (the layers' tops are lines of the mesh, so no
         # cell straddles two): E = E_top (1 + lambda (h - top)) within each; and a
-        # Poisson's ratio per cell, which a failed Duncan-Chang cell changes
+        # Poisson's ratio per cell, where the law changes it (a failed Duncan-Chang cell)
         depth = -domain.cell_midpoints[:, 1]
         stratum = s.stratum_of(depth).astype(np.int32)
         values = cell_strata = s.at_depth(depth)
@@ -91,11 +89,11 @@ def soil_materials(scene: Scene, domain: Domain) -> SoilMaterials:
         nu = fem.Constant(msh, s.nu)
         gradient = fem.Constant(msh, s.E_gradient)
     E = soil_forms.modulus_with_depth(E_s, gradient, h)
-    if s.nonlinear:
+    if "E" in s.law.state_fields:
         # the secant modulus, one value per cell, starting at the initial tangent modulus
         # (at the cell's centroid, like the paper's element modulus)
-        if dc:      # at the geostatic confinement (depth: the cells', above)
-            initial = initial_modulus(s, depth, values)
+        initial = None if cell_strata is None else s.law.initial_modulus(s, depth, values)
+        if initial is not None:     # (the law's, e.g. at the geostatic confinement)
             # a ringwall and its fill are no soil of this law: their own E
             linear = ringwall_cells | fill_cells
             initial[linear] = values["E_top"][linear]

@@ -41,7 +41,7 @@ from ..fem.evaluate import allsum, evaluate_at
 from ..fem.solvers import DirectSolver
 from ..laws import harmonic as hm
 from ..laws import shell as st
-from ..laws.elasticity import mixed_stress
+from ..laws.elasticity import by_stratum, mixed_stress
 from ..laws.elasticity import stress as elastic
 from .soil import far_supports
 
@@ -290,8 +290,7 @@ class RockingModel:
                 # a ringwall's cells in the displacement form (with nu 0 in the ground,
                 # where its lambda would be infinite and the indicator zero)
 
-                stress = chi * stress + (1.0 - chi) * elastic(eps, soil.E,
-                                                              soil.nu * (1.0 - chi))
+                stress = by_stratum([chi], stress, elastic(eps, soil.E, soil.nu * (1.0 - chi)))
         else:
             stress = soil.stress_of(eps, pressures)
         return soil.vertical_stress(stress, name="sigma_zz_overturning")

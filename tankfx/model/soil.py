@@ -267,7 +267,7 @@ class SoilBlock:
         pressures = [pr for pr, _, _ in self.pressures]
         if self.n_strata == 1:
             return pressures[0]
-        return sum(c * pr for c, pr in zip(self._in_mixed, pressures))
+        return soil_forms.by_stratum(self._in_mixed, pressures)
 
     @cached_property
     def _in_mixed(self) -> list[fem.Function]:
@@ -302,9 +302,8 @@ class SoilBlock:
         if self.n_strata == 1:
             return m.unloading * mixed
         # the displacement form's strata by their own law
-        chi = sum(self._in_mixed)
-        return m.unloading * ((1.0 - chi) * soil_forms.stress(
-            eps_p, m.peak_modulus - self.E, self._nu_displacement_form) + chi * mixed)
+        return m.unloading * soil_forms.by_stratum(self._in_mixed, mixed, soil_forms.stress(
+            eps_p, m.peak_modulus - self.E, self._nu_displacement_form))
 
     def stress_of(self, eps, pressures):
         """The stress of a strain tensor ``eps`` with the mixed strata's ``pressures`` (one
@@ -321,11 +320,9 @@ class SoilBlock:
             return soil_forms.mixed_stress(eps, pressures[0], self.E, self.nu)
         # per cell the form of its stratum, by indicators (an expression valid in every
         # cell, for projections and cell fields)
-        chi = self._in_mixed
-        out = (1.0 - sum(chi)) * soil_forms.stress(eps, self.E, self._nu_displacement_form)
-        for c, pr in zip(chi, pressures):
-            out += c * soil_forms.mixed_stress(eps, pr, self.E, self.nu)
-        return out
+        return soil_forms.by_stratum(
+            self._in_mixed, [soil_forms.mixed_stress(eps, pr, self.E, self.nu) for pr in pressures],
+            soil_forms.stress(eps, self.E, self._nu_displacement_form))
 
     def matrix_rows(self, a_uu):
         """The soil's rows of a block matrix, from its displacement block: [[a_uu]] or,

@@ -15,6 +15,7 @@ from dolfinx import fem
 from ..laws import elasticity as soil_forms
 from ..laws import kondner as hyperbolic
 from ..laws.harmonic import cylindrical
+from ..laws.interface import ContactState
 
 
 def cellwise(expr, space) -> np.ndarray:
@@ -51,7 +52,7 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
     values = {"modulus": cellwise(block.E, Q0)[:, 0],
               "deviator": s_max - s_min,
               "mean_stress": -(sig[:, 0] + sig[:, 1] + sig[:, 3]) / 3.0}
-    if s.nonlinear:
+    if "stress_level" in s.law.reports:
         eps = cellwise(soil_forms.tensor_components(soil_forms.strain(block.u, block.r)), T)
         # Kondner's constants of each cell: as the iteration converged on them (Duncan &
         # Chang's follow the stress), else those of its stratum
@@ -92,7 +93,7 @@ FIELD_FILES = ("soil.pvd", "plate.vtp", "wall.vtp")
 
 
 #: Interface states as numbers in the structure's files (VTK point data are numeric).
-STATUS_CODES = {"none": 0, "stick": 1, "slip": 2, "separated": 3, "rebonded": 4}
+STATUS_CODES = {state.label: state.vtk_code for state in ContactState}
 
 
 #: The profiles :func:`write_profiles` writes, one CSV file each where the results have it.

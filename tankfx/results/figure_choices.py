@@ -26,7 +26,7 @@ def section_problem(scene, quantity: str) -> str | None:
     """Why section.png cannot show ``quantity`` for this scene (None if it can)."""
     if quantity not in SECTION_QUANTITIES:
         return (f"--section {quantity}: one of {', '.join(SECTION_QUANTITIES)}")
-    if quantity == "stress_level" and not scene.soil.nonlinear:
+    if quantity == "stress_level" and "stress_level" not in scene.soil.law.reports:
         return ("--section stress_level: a stress level is a nonlinear soil's (soil.model = "
                 "\"hyperbolic\" or \"duncan_chang\"); choose sigma_zz or deviator")
     if quantity == "pore_pressure" and scene.consolidation is None:

@@ -553,7 +553,7 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
                                        directory / "ringwall_section.png"),
                         {**section, "r_min": max(centre - half, 0.0), "extent": centre + half,
                          "title": f"{title}: the ringwall"}))
-    if scene.soil.nonlinear and section_quantity != "stress_level":
+    if "stress_level" in scene.soil.law.reports and section_quantity != "stress_level":
         level = soil_cell_fields(solution.model)["stress_level"]
         figures.append((plot_section, (solution.u, level, directory / "stress_level.png"),
                         {**section, "label": "q / q_ult", "scalar_scale": 1.0}))

@@ -217,7 +217,7 @@ def _iteration_rows(r: dict) -> list[tuple[str, str, str]]:
                 f"{ifc[f'{state}_length'][p]:.2f} m {p}" for p in parts), ""))
     soil = r.get("soil", {})
     note = (f"cells at the ultimate: {soil['cells_at_ultimate']}"
-            if soil.get("model") == "hyperbolic" else "")
+            if "cells_at_ultimate" in soil else "")
     rows.append(("iterations: soil, interface (solves)", f"{soil.get('iterations', 0)}, "
                  f"{ifc.get('iterations', 0)} ({r['linear_solves']})", note))
     eq = r["equilibrium"]

@@ -119,7 +119,7 @@ def status_at(model: TankModel, F, pts, cells) -> list[str]:
     """The interface state of the element at each station (vertices: the element on the
     axis side)."""
     codes = evaluate_at(F["status"], pts, cells)[:, 0]
-    return [interface.STATUS_NAMES.get(int(round(c)), "none") for c in codes]
+    return [interface.ContactState.nearest(c).label for c in codes]
 
 
 def junction(model: TankModel, F) -> dict:

@@ -7,11 +7,11 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from ..laws.soil_law import words
+from ..laws.soil_laws import SOIL_LAWS
 from .reader import (
     CONDITIONS,
     DRAINAGE,
-    DUNCAN_CHANG,
-    DUNCAN_CHANG_REQUIRED,
     KEYS,
     LAYER_KEYS,
     LAYER_SPEC,
@@ -35,15 +35,13 @@ from .plausible import (
     ratio_problem,
 )
 from .sections import (
-    ATMOSPHERIC_PRESSURE,
     DEFAULT_DOMAIN_FACTOR,
     FLEXIBLE_DEGREE,
     MIXED_FROM_NU,
-    STRATUM_DUNCAN_CHANG,
-    WATER_UNIT_WEIGHT,
     Interface,
     Layer,
     SceneError,
+    Soil,
     SolverOptions,
 )
 
@@ -133,11 +131,12 @@ def check_consolidation(rd: Reader, c: dict, data: dict, soil: dict, layers: lis
                    f"reported)")
     rd.choice(c, "consolidation", "drainage", "top", DRAINAGE,
               "\"top\": the ground surface drains; \"top_and_bottom\": the domain's base too")
-    model = soil.get("model", "linear")
-    if model != "linear":
+    model = soil.get("model", Soil.model)
+    if model in SOIL_LAWS and not SOIL_LAWS[model].consolidates:
         rd.bad(f"[consolidation] with soil.model = {model!r}: consolidation is solved for a "
                f"linear elastic skeleton (its E, nu the drained constants); use model = "
-               f"\"linear\" or remove [consolidation]")
+               f"{words(SOIL_LAWS.values(), lambda o: o.consolidates)} or remove "
+               f"[consolidation]")
     for name, table in (("soil", soil), *((f"soil.layers[{k}]", x)
                                           for k, x in enumerate(layers, start=1))):
         nu = table.get("nu")
@@ -178,68 +177,50 @@ def check_annular_ring(rd: Reader, plate: dict, wall: dict | None) -> None:
 
 def check_soil(rd: Reader, soil: dict | None, raw_layers,
                 consolidating: bool = False) -> list[dict[str, Any]]:
-    """The [soil] table's checks, its model's and its layers' (returned, checked)."""
+    """The [soil] table's checks, its law's (:mod:`tankfx.laws.soil_laws`) and its layers'
+    (returned, checked)."""
+    law = None
     if soil is not None:
-        model = soil.get("model", "linear")
-        if model not in SOIL_MODELS:
+        model = soil.get("model", Soil.model)
+        law = SOIL_LAWS.get(model)
+        if law is None:
             rd.bad(f"soil.model = {model!r}: unknown model{suggest(model, SOIL_MODELS)}")
-        elif model == "hyperbolic":
-            read_kondner(rd, soil, soil, "soil", "the surface modulus of a hyperbolic soil")
-        elif model == "duncan_chang":
-            read_duncan_chang(rd, soil)
-        if model == "linear" and "E" not in soil:
-            rd.bad("soil.E: missing; add 'E = ...' under [soil] (Pa)")
-        for key in ("hyperbolic_a", "hyperbolic_b"):
-            if key in soil and model != "hyperbolic":
-                rd.bad(f"soil.{key}: only used with model = \"hyperbolic\"; remove it")
-        for key in ("tolerance", "max_iterations"):
-            if key in soil and model == "linear":
-                rd.bad(f"soil.{key}: only used with a nonlinear soil (model = \"hyperbolic\" "
-                       f"or \"duncan_chang\"); remove it")
-        for key in DUNCAN_CHANG:
-            if key in soil and model != "duncan_chang":
-                rd.bad(f"soil.{key}: only used with model = \"duncan_chang\"; remove it")
+        else:
+            for problem in law.check(soil, soil, "soil"):
+                rd.bad(problem)
+            _other_laws_keys(rd, soil, law, "soil", "model")
         check_unloading(rd, soil, consolidating)
-    layers = read_layers(rd, raw_layers, (soil or {}).get("model", "linear"),
-                     (soil or {}).get("atmospheric_pressure")) \
+    layers = read_layers(rd, raw_layers, law, (soil or {}).get("atmospheric_pressure")) \
         if raw_layers is not None else []
-    if (soil or {}).get("model") == "duncan_chang" and "water_table" in soil:
-        # below the water table a stratum must be heavier than water: its effective weight
-        # gamma - gamma_w carries the confinement
-        gamma_w = soil.get("water_unit_weight", WATER_UNIT_WEIGHT)
-        tops = [0.0] + [x.get("depth", 0.0) for x in layers]
-        bottoms = tops[1:] + [math.inf]
-        for k, (part, bottom) in enumerate(zip([soil, *layers], bottoms)):
-            g = part.get("unit_weight")
-            if isinstance(g, float) and bottom > soil["water_table"] and g <= gamma_w:
-                where = "soil" if k == 0 else f"soil.layers[{k}]"
-                rd.bad(f"{where}.unit_weight = {g!r}: below the water table (soil.water_table "
-                       f"= {soil['water_table']!r} m) a stratum's unit weight must exceed "
-                       f"water's ({gamma_w:g} N/m^3); give its saturated unit weight")
+    if law is not None:
+        for problem in law.check_ground(soil, layers):
+            rd.bad(problem)
     return layers
 
 
-def duncan_chang_values(part: dict, p_a: float) -> dict[str, float]:
-    """Duncan & Chang's constants of a soil or layer table, defaults resolved."""
-    phi = part.get("friction_angle", 0.0)
-    return {"modulus_number": part["modulus_number"],
-            "modulus_exponent": part["modulus_exponent"],
-            "failure_ratio": part.get("failure_ratio", 0.9),
-            "cohesion": part.get("cohesion", 0.0), "friction_angle": phi,
-            "unit_weight": part["unit_weight"],
-            "K0": part.get("K0", 1.0 - math.sin(math.radians(phi)))}
+def _other_laws_keys(rd: Reader, table: dict, law, name: str, model_key: str) -> None:
+    """A key of a law that is not the soil's (nor of its iteration) is refused, with the
+    laws it belongs to."""
+    layer = name != "soil"
+    for key in dict.fromkeys(k for other in SOIL_LAWS.values()
+                             for k in (other.layer_keys if layer else other.keys)):
+        if key in table and key not in (law.layer_keys if layer else law.keys):
+            owners = words(SOIL_LAWS.values(),
+                           lambda o: key in (o.layer_keys if layer else o.keys))
+            rd.bad(f"{name}.{key}: only used with {model_key} = {owners}; remove it")
+    if layer:
+        return
+    for key in dict.fromkeys(k for other in SOIL_LAWS.values() for k in other.iteration_keys):
+        if key in table and key not in law.iteration_keys:
+            owners = words(SOIL_LAWS.values(), lambda o: key in o.iteration_keys)
+            rd.bad(f"soil.{key}: only used with a nonlinear soil (model = {owners}); "
+                   f"remove it")
 
 
-def read_layer(x: dict, hyperbolic: bool, dc: bool, dc_values: dict) -> Layer:
-    """A checked [[soil.layers]] table, resolved."""
-    if dc:
-        values = duncan_chang_values(x, dc_values["atmospheric_pressure"])
-        return Layer(depth=x["depth"], E=values["modulus_number"] *
-                     dc_values["atmospheric_pressure"], nu=x["nu"], **values)
-    return Layer(depth=x["depth"], E=1.0 / x["hyperbolic_a"] if hyperbolic else x["E"],
-                 nu=x["nu"], E_gradient=x.get("E_gradient", 0.0),
-                 hyperbolic_a=x.get("hyperbolic_a"), hyperbolic_b=x.get("hyperbolic_b"),
-                 permeability=x.get("permeability"))
+def read_layer(x: dict, law, ground: dict) -> Layer:
+    """A checked [[soil.layers]] table, resolved: its E and constants by the soil's law."""
+    return Layer(depth=x["depth"], nu=x["nu"], E_gradient=x.get("E_gradient", 0.0),
+                 permeability=x.get("permeability"), **law.resolve_stratum(x, ground))
 
 
 def check_unloading(rd: Reader, soil: dict, consolidating: bool) -> None:
@@ -252,10 +233,11 @@ def check_unloading(rd: Reader, soil: dict, consolidating: bool) -> None:
                "skeleton is linear elastic and swells back as it was compressed (a "
                "remembering skeleton is not modelled yet); remove the key")
         return
-    if soil.get("model", "linear") not in ("hyperbolic", "duncan_chang"):
-        rd.bad("soil.unloading_modulus_ratio: only used with a nonlinear soil (model = "
-               "\"hyperbolic\" or \"duncan_chang\"): a linear soil unloads as it loads; "
-               "remove it")
+    law = SOIL_LAWS.get(soil.get("model", Soil.model))
+    if law is not None and not law.remembers:
+        rd.bad(f"soil.unloading_modulus_ratio: only used with a nonlinear soil (model = "
+               f"{words(SOIL_LAWS.values(), lambda o: o.remembers)}): {law.title} unloads as "
+               f"it loads; remove it")
         return
     if isinstance(ratio, float) and not (
             math.isfinite(ratio) and KEYS["soil"]["unloading_modulus_ratio"].limit.holds(ratio)):
@@ -264,46 +246,9 @@ def check_unloading(rd: Reader, soil: dict, consolidating: bool) -> None:
                f"1-3 usual); a smaller E_ur would lift the soil above where it started")
 
 
-def read_kondner(rd: Reader, table: dict, given, name: str, what_E: str) -> None:
-    """Kondner's a and b of the soil or a layer (``name``; ``given``: its keys as written):
-    both required and positive; an E given must be 1/a (``what_E``)."""
-    for key in ("hyperbolic_a", "hyperbolic_b"):
-        if key not in given:
-            rd.bad(f"{name}.{key}: missing for model = \"hyperbolic\"; add it (1/Pa: 1/a is "
-                   f"the initial tangent modulus, 1/b the ultimate deviator stress)")
-    a_h = table.get("hyperbolic_a")
-    if "E" in table and a_h and a_h > 0 and abs(table["E"] * a_h - 1.0) > 1e-6:
-        rd.bad(f"{name}.E = {table['E']!r} contradicts {name}.hyperbolic_a (1/a = "
-               f"{1.0 / a_h:.6g} Pa is {what_E}); remove {name}.E")
-
-
-def read_duncan_chang(rd: Reader, soil: dict, name: str = "soil",
-                  p_a: float | None = None) -> None:
-    """The keys of Duncan & Chang's soil (or of one of its layers, ``name``): K, n and the
-    unit weight required; a strength (c or phi); E is K p_a, not given."""
-    for key in DUNCAN_CHANG_REQUIRED:
-        if key not in soil:
-            rd.bad(f"{name}.{key}: missing for model = \"duncan_chang\"; add it ("
-                   + {"modulus_number": "K: the initial modulus is K p_a (sigma_3 / p_a)^n",
-                      "modulus_exponent": "n, e.g. 0.5",
-                      "unit_weight": "N/m^3: the geostatic stress sets the confinement"}[key]
-                   + ")")
-    phi = soil.get("friction_angle")
-    if not soil.get("cohesion", 0.0) > 0.0 and not (phi or 0.0) > 0.0:
-        rd.bad(f"{name}.cohesion, {name}.friction_angle: Duncan & Chang's soil needs a "
-               f"strength; give cohesion > 0 (Pa) or friction_angle > 0 (degrees)")
-    K = soil.get("modulus_number")
-    p_a = p_a or soil.get("atmospheric_pressure", ATMOSPHERIC_PRESSURE)
-    if "E" in soil and K and K > 0 and p_a > 0 and abs(soil["E"] / (K * p_a) - 1.0) > 1e-6:
-        rd.bad(f"{name}.E = {soil['E']!r}: not used with model = \"duncan_chang\" (its "
-               f"reference modulus is K p_a = {K * p_a:.6g} Pa); remove it")
-    if soil.get("E_gradient", 0.0) != 0.0:
-        rd.bad(f"{name}.E_gradient: not used with model = \"duncan_chang\" (the modulus "
-               f"grows with the confining stress instead); remove it")
-
-
-def read_layers(rd: Reader, raw, model: str, p_a: float | None = None) -> list[dict[str, Any]]:
-    """The [[soil.layers]] tables, checked like [soil]; top down, each below the last."""
+def read_layers(rd: Reader, raw, law, p_a: float | None = None) -> list[dict[str, Any]]:
+    """The [[soil.layers]] tables, checked like [soil] (by the soil's ``law``, where it is
+    known); top down, each below the last."""
     if not isinstance(raw, list) or not all(isinstance(x, dict) for x in raw):
         rd.bad("soil.layers: a list of tables, one '[[soil.layers]]' header each, with the "
                "layer's 'depth' (m below the ground, where its top lies), 'E' and 'nu'")
@@ -325,21 +270,11 @@ def read_layers(rd: Reader, raw, model: str, p_a: float | None = None) -> list[d
             if key not in raw_layer:
                 rd.bad(f"{name}.{key}: missing; add '{key} = ...' ({why})")
         rd.limits(layer, name, LAYER_KEYS)
-        for key in STRATUM_DUNCAN_CHANG:
-            if key in raw_layer and model != "duncan_chang":
-                rd.bad(f"{name}.{key}: only used with soil.model = \"duncan_chang\"; "
-                       f"remove it")
-        if model == "duncan_chang":
-            read_duncan_chang(rd, layer, name, p_a)
-        elif model == "hyperbolic":
-            # every layer has its own Kondner parameters
-            read_kondner(rd, layer, raw_layer, name, "the layer's modulus at its top")
-        elif "E" not in raw_layer:
-            rd.bad(f"{name}.E: missing; add 'E = ...' (Pa, the modulus at the layer's top)")
-        for key in ("hyperbolic_a", "hyperbolic_b"):
-            if key in raw_layer and model != "hyperbolic":
-                rd.bad(f"{name}.{key}: only used with soil.model = \"hyperbolic\"; "
-                       f"remove it")
+        if law is not None:
+            # every layer has its own constants of the soil's law
+            _other_laws_keys(rd, raw_layer, law, name, "soil.model")
+            for problem in law.check(layer, raw_layer, name, p_a):
+                rd.bad(problem)
         out.append(layer)
     depths = [x.get("depth") for x in out]
     for k in range(1, len(out)):
@@ -559,18 +494,19 @@ def check_discretisation(rd: Reader, mesh: dict, solver: dict, soil: dict,
     nus = [x.get("nu") for x in [soil, *layers]]
     nus = [v for v in nus if isinstance(v, (int, float))]
     nu_s = max(nus) if nus else None
-    if soil.get("model") == "duncan_chang" and nus:
-        # solved in the mixed form throughout (a failed cell's nu tends to 0.5)
+    law = SOIL_LAWS.get(soil.get("model", Soil.model))
+    all_mixed = law is not None and law.all_mixed
+    if all_mixed and nus:
+        # solved in the mixed form throughout
         if min(nus) <= 0.0:
-            rd.bad(f"soil nu = {min(nus)!r}: Duncan & Chang's soil is solved in the mixed "
+            rd.bad(f"soil nu = {min(nus)!r}: {law.title} is solved in the mixed "
                    f"form, which takes 1 / lambda, infinite at nu = 0; use nu > 0")
         nu_s = 0.5
     method = solver.get("method", SolverOptions.method)
     if isinstance(method, str) and method not in SOLVER_METHODS:
         rd.bad(f"solver.method = {method!r}: one of {', '.join(SOLVER_METHODS)}"
                f"{suggest(method, SOLVER_METHODS)}")
-    mixed_why = ("Duncan & Chang's soil (a failed cell's nu tends to 0.5)"
-                 if soil.get("model") == "duncan_chang" else f"soil nu = {nu_s!r}")
+    mixed_why = f"{law.title} ({law.all_mixed})" if all_mixed else f"soil nu = {nu_s!r}"
     if method == "iterative" and nu_s is not None and nu_s > MIXED_FROM_NU:
         rd.bad(f"solver.method = \"iterative\" with {mixed_why}: the mixed form of a "
                f"nearly incompressible soil (nu > {MIXED_FROM_NU}) has a zero pressure block "

@@ -14,7 +14,6 @@ from .keys import Key
 from .plausible import implausible
 from .sections import (
     ALTERNATIVE_KEYS,
-    STRATUM_DUNCAN_CHANG,
     Consolidation,
     DomainSize,
     Interface,
@@ -71,10 +70,6 @@ DRAINAGE = KEYS["consolidation"]["drainage"].choices
 
 TOP = {"title": str, "accept": list}
 REQUIRED_SECTIONS = ("soil", "load")
-#: the keys of Duncan & Chang's soil, and those of them it requires
-DUNCAN_CHANG = (*STRATUM_DUNCAN_CHANG, "atmospheric_pressure", "water_table",
-                "water_unit_weight")
-DUNCAN_CHANG_REQUIRED = ("modulus_number", "modulus_exponent", "unit_weight")
 
 
 def suggest(name: str, valid) -> str:

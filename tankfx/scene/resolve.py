@@ -10,17 +10,15 @@ from dataclasses import fields
 from typing import Any
 
 from ..laws.rigidity import plate_thickness_from_Kp
-from .checks import duncan_chang_values, read_courses, read_layer
+from ..laws.soil_laws import SOIL_LAWS
+from .checks import read_courses, read_layer
 from .reader import Reader
 from .sections import (
-    ATMOSPHERIC_PRESSURE,
     DEFAULT_DOMAIN_FACTOR,
     DEFAULT_EDGE_SIZE,
     DEFAULT_NEAR_SIZE,
     DEFAULT_TOLERANCE,
     FLEXIBLE_COARSENING,
-    MAX_ITERATIONS,
-    WATER_UNIT_WEIGHT,
     DomainSize,
     Interface,
     Load,
@@ -43,26 +41,16 @@ def given(cls, table: dict[str, Any], **resolved):
 
 
 def soil_of(soil: dict, layers: list) -> Soil:
-    """The soil: its surface modulus (E, 1/a or K p_a), a nonlinear soil's tolerance and
-    iterations, Duncan & Chang's constants resolved, the layers."""
-    model = soil.get("model", Soil.model)
-    hyperbolic, dc = model == "hyperbolic", model == "duncan_chang"
-    dc_values = {}
-    if dc:
-        p_a = soil.get("atmospheric_pressure", ATMOSPHERIC_PRESSURE)
-        dc_values = duncan_chang_values(soil, p_a) | {
-            "atmospheric_pressure": p_a, "water_table": soil.get("water_table"),
-            "water_unit_weight": soil.get("water_unit_weight", WATER_UNIT_WEIGHT)
-            if "water_table" in soil else None}
-    E_surface = (1.0 / soil["hyperbolic_a"] if hyperbolic else
-                 dc_values["modulus_number"] * dc_values["atmospheric_pressure"] if dc
-                 else soil["E"])
-    nonlinear = hyperbolic or dc
-    return given(Soil, soil, E=E_surface, **dc_values,
-                 tolerance=soil.get("tolerance", DEFAULT_TOLERANCE) if nonlinear else None,
-                 max_iterations=(soil.get("max_iterations", MAX_ITERATIONS[model])
-                                 if nonlinear else None),
-                 layers=tuple(read_layer(x, hyperbolic, dc, dc_values) for x in layers))
+    """The soil: each stratum's E and constants and the ground's values by its law (E, 1/a
+    or K p_a), an iterated soil's tolerance and iterations, the layers."""
+    law = SOIL_LAWS[soil.get("model", Soil.model)]
+    ground = law.resolve_ground(soil)
+    iterated = law.iteration is not None
+    return given(Soil, soil, **law.resolve_stratum(soil, ground), **ground,
+                 tolerance=soil.get("tolerance", DEFAULT_TOLERANCE) if iterated else None,
+                 max_iterations=(soil.get("max_iterations", law.max_iterations)
+                                 if iterated else None),
+                 layers=tuple(read_layer(x, law, ground) for x in layers))
 
 
 def plate_of(plate: dict | None, soil: Soil) -> Plate | None:

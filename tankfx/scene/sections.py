@@ -11,6 +11,9 @@ from typing import Any
 
 import numpy as np
 
+from ..laws.duncan_chang import ATMOSPHERIC_PRESSURE
+from ..laws.soil_law import WATER_UNIT_WEIGHT, SoilLaw
+from ..laws.soil_laws import SOIL_LAWS
 from .keys import NON_NEGATIVE, POSITIVE, Key, Limit, key
 
 #: Default domain size, in multiples of the foundation radius. The truncation error of the
@@ -41,16 +44,11 @@ FLEXIBLE_DEGREE = 3
 FLEXIBLE_COARSENING = 2.0
 
 
-#: gamma_w, N/m^3
-WATER_UNIT_WEIGHT = 9810.0
-#: p_a, Pa: the reference pressure of Duncan & Chang's modulus
-ATMOSPHERIC_PRESSURE = 101325.0
 
 
-#: A nonlinear soil's Eq. 18 tolerance (the paper's) and its secant iterations at most, by
-#: model (Duncan & Chang's failed zones settle slowly: 10-64 iterations measured)
+#: A nonlinear soil's Eq. 18 tolerance (the paper's); its iterations at most are its law's
+#: (SoilLaw.max_iterations)
 DEFAULT_TOLERANCE = 0.05
-MAX_ITERATIONS = {"hyperbolic": 40, "duncan_chang": 80}
 
 
 #: Above this soil Poisson's ratio the soil is solved in the mixed displacement-pressure
@@ -194,12 +192,12 @@ class Layer:
 
 #: The [soil] (or layer) keys that set its E (1/a, K p_a): a change of one of them drops
 #: the E resolved from the old value (Scene.with_changes, sweep axes)
-E_FROM_KEYS = ("hyperbolic_a", "modulus_number", "atmospheric_pressure")
+E_FROM_KEYS = tuple(dict.fromkeys(k for law in SOIL_LAWS.values() for k in law.E_keys))
 
 
-#: Duncan & Chang's constants that each stratum has (p_a is the soil's, one for all)
-STRATUM_DUNCAN_CHANG = ("modulus_number", "modulus_exponent", "failure_ratio", "cohesion",
-                        "friction_angle", "unit_weight", "K0")
+#: the constants of its law that each stratum has, of every law
+STRATUM_LAW_KEYS = tuple(dict.fromkeys(k for law in SOIL_LAWS.values()
+                                       for k in law.layer_keys))
 
 
 @dataclass(frozen=True)
@@ -222,7 +220,7 @@ class Soil:
                                     "(1 + lambda h), h the depth below the ground surface (a "
                                     "hyperbolic soil's 1/a too); not with model = "
                                     "\"duncan_chang\"")
-    model: str = key("linear", choices=("linear", "hyperbolic", "duncan_chang"),
+    model: str = key("linear", choices=tuple(SOIL_LAWS),
                      meaning="the soil's stress-strain law: \"linear\" elastic, \"hyperbolic\" "
                              "(Kondner's, Eqs. 17-20: `hyperbolic_a`, `hyperbolic_b`) or "
                              "\"duncan_chang\" (Kondner's law with constants that follow each "
@@ -247,8 +245,9 @@ class Soil:
                                           "exceeds it and the displacement update is small; at "
                                           "most `max_iterations` iterations")
     max_iterations: int | None = key(None, unit="-", limit=Limit(1, low_open=False),
-                                     default_doc=", ".join(f"{n} ({m})" for m, n in
-                                                           MAX_ITERATIONS.items()),
+                                     default_doc=", ".join(
+                                         f"{law.max_iterations} ({word})" for word, law in
+                                         SOIL_LAWS.items() if law.max_iterations),
                                      meaning="a nonlinear soil's secant (Picard) iterations at "
                                              "most, to reach the `tolerance`; not converged by then"
                                              " is an error (Duncan & Chang's failed zones settle "
@@ -309,22 +308,22 @@ class Soil:
     def strata(self) -> tuple[Layer, ...]:
         """Every stratum from the surface down, the surface soil as the first (depth 0)."""
         top = Layer(depth=0.0, E=self.E, nu=self.nu, E_gradient=self.E_gradient,
-                    hyperbolic_a=self.hyperbolic_a, hyperbolic_b=self.hyperbolic_b,
-                    **{k: getattr(self, k) for k in STRATUM_DUNCAN_CHANG})
+                    **{k: getattr(self, k) for k in STRATUM_LAW_KEYS})
         return (top, *self.layers)
 
     @property
-    def nonlinear(self) -> bool:
-        """Whether the soil is iterated (Kondner's law, alone or Duncan & Chang's)."""
-        return self.model in ("hyperbolic", "duncan_chang")
+    def law(self) -> type[SoilLaw]:
+        """The soil's law (:data:`tankfx.laws.soil_laws.SOIL_LAWS` of its ``model``)."""
+        return SOIL_LAWS[self.model]
 
     @property
     def mixed_strata(self) -> list[int]:
         """Indices into :attr:`strata` of those solved in the mixed u-p form: nu >
-        MIXED_FROM_NU, and every stratum of Duncan & Chang's soil (a failed cell keeps its
-        bulk modulus while its secant shear modulus falls: nu -> 0.5)."""
-        dc = self.model == "duncan_chang"
-        return [i for i, st in enumerate(self.strata) if dc or st.nu > MIXED_FROM_NU]
+        MIXED_FROM_NU, and every stratum of a law that is always mixed (Duncan & Chang's: a
+        failed cell keeps its bulk modulus while its secant shear modulus falls: nu ->
+        0.5)."""
+        return [i for i, st in enumerate(self.strata)
+                if self.law.all_mixed or st.nu > MIXED_FROM_NU]
 
     @property
     def max_nu(self) -> float:
@@ -341,12 +340,11 @@ class Soil:
     def at_depth(self, depth) -> dict[str, np.ndarray]:
         """Per depth (m, arrays): the stratum's top ``top``, its ``E_top``, ``E_gradient``,
         ``nu``, Kondner's ``hyperbolic_a`` and ``hyperbolic_b`` (hyperbolic model), Duncan &
-        Chang's constants (STRATUM_DUNCAN_CHANG; 0 where the model has none), and the
+        Chang's constants (STRATUM_LAW_KEYS; 0 where the model has none), and the
         initial modulus ``E`` = E_top (1 + E_gradient (h - top)) (h clipped at the ground)."""
         idx = self.stratum_of(depth)
         out = {key: np.array([getattr(st, key) or 0.0 for st in self.strata])[idx]
-               for key in ("E_gradient", "nu", "hyperbolic_a", "hyperbolic_b",
-                           *STRATUM_DUNCAN_CHANG)}
+               for key in ("E_gradient", "nu", *STRATUM_LAW_KEYS)}
         out["top"] = np.array([st.depth for st in self.strata])[idx]
         out["E_top"] = np.array([st.E for st in self.strata])[idx]
         h = np.maximum(np.asarray(depth, dtype=float), 0.0)

@@ -6,20 +6,15 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from ..laws.soil_laws import SOIL_LAWS
+
 
 def stratum_constants(model: str, st: Mapping[str, Any]) -> str:
-    """A nonlinear stratum's constants in words, as `tankfx check` and the report write
-    them (``st``: a :class:`Layer` as a dict, or a stratum of results.json's scene):
+    """A stratum's constants of its soil law in words, as `tankfx check` and the report
+    write them (``st``: a :class:`Layer` as a dict, or a stratum of results.json's scene):
     Kondner's 1/b (its 1/a is the stratum's E), or Duncan & Chang's K, n, R_f, c, phi,
     gamma and K0; nothing for a linear soil."""
-    if model == "hyperbolic":
-        return f", Kondner 1/b = {1.0 / st['hyperbolic_b']:.4g} Pa (1/a = E)"
-    if model == "duncan_chang":
-        return (f", Duncan-Chang K = {st['modulus_number']:g}, n = {st['modulus_exponent']:g}, "
-                f"R_f = {st['failure_ratio']:g}, c = {st['cohesion']:g} Pa, phi = "
-                f"{st['friction_angle']:g} deg, gamma = {st['unit_weight']:g} N/m^3, K0 = "
-                f"{st['K0']:.3g} (E = K p_a)")
-    return ""
+    return SOIL_LAWS[model].stratum_text(st)
 
 
 def ringwall_text(ring: Mapping[str, Any]) -> str:

@@ -36,7 +36,7 @@ def first_order_excess(scene, comm: MPI.Comm = MPI.COMM_WORLD) -> dict:
     from dolfinx.fem import petsc as fem_petsc
 
 
-    if scene.soil.model != "hyperbolic":
+    if not (scene.soil.law.fixed_constants and scene.soil.law.iteration == "secant"):
         raise ValueError("first_order_excess needs [soil] model = \"hyperbolic\" (Kondner's "
                          "constants fixed; Duncan & Chang's follow the stress)")
     if scene.plate is None or scene.interface.condition == "mohr_coulomb":

@@ -1,0 +1,148 @@
+"""What a soil law is to the rest of tankfx: one class per law, its properties declared as
+class attributes, so that the scene, the model, the iterations and the results ask the law
+instead of branching on the scene's ``soil.model`` word (which
+:data:`tankfx.laws.soil_laws.SOIL_LAWS` looks up, once).
+
+A law's numerics (its moduli, its update, what it reports cell by cell) are functions of its
+own module (:mod:`tankfx.laws.kondner`, :mod:`tankfx.laws.duncan_chang`); this module and
+the classes stay numpy-free, so that the scene layer, which never imports UFL or DOLFINx,
+can read them.
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, ClassVar
+
+#: gamma_w, N/m^3: the pore water's unit weight
+WATER_UNIT_WEIGHT = 9810.0
+
+
+class SoilLaw:
+    """The base of every soil law: a linear elastic law's answers, which a law overrides
+    where it differs.
+
+    Attributes
+    ----------
+    word : str
+        ``soil.model`` of a scene that takes this law.
+    title : str
+        The law in words ("Duncan & Chang's soil").
+    iteration : str or None
+        The iteration that solves a stage of this soil (``"secant"``: Picard on the secant
+        modulus, :mod:`tankfx.iterations.secant`); None: one linear solve a stage.
+    max_iterations : int or None
+        That iteration's default limit (``soil.max_iterations``).
+    keys, layer_keys : tuple of str
+        The ``[soil]`` and ``[[soil.layers]]`` keys this law alone uses.
+    iteration_keys : tuple of str
+        The ``[soil]`` keys of its iteration (``tolerance``, ``max_iterations``).
+    E_keys : tuple of str
+        The keys that set the soil's E (1/a, K p_a): a change of one drops an E resolved
+        from the old value.
+    all_mixed : str or None
+        Why every stratum is solved in the mixed u-p form whatever its nu (None: a stratum's
+        nu decides).
+    consolidates : bool
+        The law takes a ``[consolidation]`` (its E and nu are the drained skeleton's).
+    remembers : bool
+        ``unloading_modulus_ratio`` applies: a cell below its most loaded state unloads
+        along a line.
+    unloads_on_curve : bool
+        Without that memory, a cell unloads along its loading curve (nonlinear elastic).
+    reports : tuple of str
+        The cell fields it reports beyond the stresses (``"stress_level"``).
+    state_fields : tuple of str
+        The soil's fields its iteration changes cell by cell (``"E"``, ``"nu"``), which a
+        failed stage restores.
+    fixed_constants : bool
+        Its constants are the stratum's, not the stress's (a derivative with respect to one
+        of them is defined: :mod:`tankfx.studies.excess`).
+    """
+
+    word: ClassVar[str] = "linear"
+    title: ClassVar[str] = "a linear elastic soil"
+    iteration: ClassVar[str | None] = None
+    iteration_keys: ClassVar[tuple[str, ...]] = ()
+    max_iterations: ClassVar[int | None] = None
+    keys: ClassVar[tuple[str, ...]] = ()
+    layer_keys: ClassVar[tuple[str, ...]] = ()
+    E_keys: ClassVar[tuple[str, ...]] = ()
+    all_mixed: ClassVar[str | None] = None
+    consolidates: ClassVar[bool] = False
+    remembers: ClassVar[bool] = False
+    unloads_on_curve: ClassVar[bool] = False
+    reports: ClassVar[tuple[str, ...]] = ()
+    state_fields: ClassVar[tuple[str, ...]] = ()
+    fixed_constants: ClassVar[bool] = True
+
+    @classmethod
+    def stratum_text(cls, st: Mapping[str, Any]) -> str:
+        """A stratum's constants of this law in words, after its E and nu (``st``: a
+        :class:`tankfx.scene.sections.Layer` as a dict, or a stratum of results.json's
+        scene); nothing for a linear soil."""
+        return ""
+
+    # -- the scene's rules and defaults, on the tables as read (plain dicts) --------------
+
+    @classmethod
+    def check(cls, table: dict, given: Mapping, name: str, p_a: float | None = None
+              ) -> list[str]:
+        """The law's problems with a ``[soil]`` table (``name`` "soil") or a layer's
+        (``given``: its keys as written; ``p_a``: the soil's reference pressure, where the
+        law has one): a linear stratum needs its E."""
+        if "E" in given:
+            return []
+        if name == "soil":
+            return ["soil.E: missing; add 'E = ...' under [soil] (Pa)"]
+        return [f"{name}.E: missing; add 'E = ...' (Pa, the modulus at the layer's top)"]
+
+    @classmethod
+    def check_ground(cls, soil: dict, layers: list[dict]) -> list[str]:
+        """The law's problems with the ground as a whole (its strata, top down)."""
+        return []
+
+    @classmethod
+    def resolve_ground(cls, soil: dict) -> dict[str, Any]:
+        """The law's values of the whole ground, defaults resolved (``Soil`` fields)."""
+        return {}
+
+    @classmethod
+    def resolve_stratum(cls, table: dict, ground: Mapping[str, Any]) -> dict[str, Any]:
+        """A stratum's E and the law's constants of it, defaults resolved (``Layer``
+        fields), from its checked table and the ground's values."""
+        return {"E": table["E"]}
+
+    # -- the numerics ---------------------------------------------------------------------
+
+    @classmethod
+    def initial_modulus(cls, soil, depth, st):
+        """Each cell's initial modulus where it is not its stratum's E(h) (a numpy array at
+        the cells' ``depth``, ``st`` their strata's constants); None: E(h), interpolated."""
+        return None
+
+    # -- the scene in words -------------------------------------------------------------
+
+    @classmethod
+    def ground_text(cls, soil) -> str:
+        """The law's constants of the whole ground in words, after the surface stratum's
+        (``soil``: the scene's :class:`tankfx.scene.sections.Soil`)."""
+        return ""
+
+    @classmethod
+    def ground_lines(cls, soil) -> list[str]:
+        """Lines of their own on the ground's state (a water table), for `tankfx check`."""
+        return []
+
+
+class LinearElastic(SoilLaw):
+    """Hooke's law with E(h) = E_s (1 + lambda h) (Eq. 3), per stratum: one linear solve a
+    stage; the only law a consolidation takes."""
+
+    word = "linear"
+    title = "a linear soil"
+    consolidates = True
+
+
+def words(laws, test) -> str:
+    """The words of the laws that pass ``test``, as a message lists them ('"a" or "b"')."""
+    return " or ".join(f'"{law.word}"' for law in laws if test(law))
