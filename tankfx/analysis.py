@@ -183,7 +183,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     rocking = None          # the first harmonic, built by the first stage that overturns
     # a nonlinear soil's initial state, from which a failed single load's largest fraction
     # carried is searched
-    initial = _soil_state(model) if scene.soil.law.state_fields and len(stages) == 1 else None
+    search = scene.soil.law.state_fields and len(stages) == 1
+    if search:
+        model.soil.history.commit()
     for k, load in enumerate(stages):
         if k > 0:
             log.info("load stage %d of %d", k + 1, len(stages))
@@ -194,8 +196,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                 stage_scene, soil_iteration, consolidation = _solve_stage(
                     scene, load, model, solver, one_shot, nested)
         except SoilFailure as e:
-            if initial is not None:
-                _search_carried(e, scene, load, model, solver, nested, initial)
+            if search:
+                _search_carried(e, scene, load, model, solver, nested)
             elif len(stages) > 1:
                 _stage_failed(e, k, stages, solutions, scene)
             raise
@@ -244,13 +246,6 @@ def _stage_failed(e: SolveError, k: int, stages: list, solutions: list, scene: S
     e.converged_stages = [s.results for s in solutions]
 
 
-def _soil_state(model: Model) -> list:
-    """Copies of the soil's fields a secant iteration changes (its modulus, and a Duncan &
-    Chang soil's Poisson's ratio), to start again from."""
-    return [(f, f.x.array.copy()) for f in (model.soil.E, model.soil.nu)
-            if isinstance(f, fem.Function)]
-
-
 def scaled_load(load: Load, fraction: float) -> Load:
     """The load with every applied force times ``fraction`` (the structure's own weight,
     where it is asked for, stays whole)."""
@@ -260,9 +255,10 @@ def scaled_load(load: Load, fraction: float) -> Load:
 
 
 def _search_carried(e: SoilFailure, scene: Scene, load: Load, model: Model, solver,
-                    nested: bool, initial: list) -> None:
+                    nested: bool) -> None:
     """A single load the soil cannot carry: bisect the fraction of it that it does
-    (CARRIED_SEARCH_STEPS halvings, each a secant iteration from the initial state), and
+    (CARRIED_SEARCH_STEPS halvings, each a secant iteration from the committed initial
+    state), and
     say it in the failure's message and ``e.carried``."""
     a = scene.foundation_radius
     lo, hi = 0.0, 1.0
@@ -270,8 +266,7 @@ def _search_carried(e: SoilFailure, scene: Scene, load: Load, model: Model, solv
              "(%d halvings)", CARRIED_SEARCH_STEPS)
     for _ in range(CARRIED_SEARCH_STEPS):
         f = 0.5 * (lo + hi)
-        for field, values in initial:
-            field.x.array[:] = values
+        model.soil.history.rollback()
         if model.interface is not None and model.interface.mohr_coulomb:
             model.interface.set_stuck()
         model.set_loads(scaled_load(load, f))

@@ -20,6 +20,7 @@ from ..fem.solvers import mass_solve
 from ..laws import elasticity as soil_forms
 from ..mesh import CELL_TAGS, Domain
 from ..scene.scene import Scene
+from .history import History
 from .materials import soil_materials
 from .memory import UnloadingMemory
 from .pore_pressure import PorePressure
@@ -87,6 +88,11 @@ class SoilBlock:
         self.ringwall_cells, self.fill_cells = mat.ringwall_cells, mat.fill_cells
         self.n_materials = mat.n_materials
         self.E_s, self.gradient, self.nu, self.E = mat.E_s, mat.gradient, mat.nu, mat.E
+        #: the fields its law's iteration changes (tankfx.laws.soil_law.SoilLaw.state_fields),
+        #: committed when a stage converges and rolled back to start one again
+        self.history = History()
+        for name in s.law.state_fields:
+            self.history.register(name, getattr(self, name))
         self.trial, self.test = ufl.TrialFunction(self.V), ufl.TestFunction(self.V)
         self._cell_measures(self.n_materials)
         self.unknowns = [self.u]
