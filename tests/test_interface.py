@@ -255,7 +255,7 @@ def test_node_states_hold_a_cycle_at_the_wall_foot(solved):
             assert node[key] == pytest.approx(element[key], rel=5e-3), key
     with pytest.raises(SolveError, match="active set cycles") as err:
         analyse(scene(tan_phi=10.0, embedment=0.3, states="node", on_cycle="stop"))
-    assert len(err.value.history) >= 2
+    assert len(err.value.history) >= 2 and err.value.code == "cycles"
 
 
 def test_slip_follows_its_jump_and_sits_on_the_limit():

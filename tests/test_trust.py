@@ -387,7 +387,7 @@ def test_a_tank_loaded_far_past_its_soils_strength_fails_in_the_soils_terms():
     with pytest.raises(SolveError) as failure:
         analyse(scene.with_coarse_mesh())
     e = failure.value
-    assert isinstance(e, SoilFailure) and e.history
+    assert isinstance(e, SoilFailure) and e.history and e.code == "soil_failure"
     for words in ("the soil cannot carry the vertical load", "kPa on the foundation",
                   "reached the ultimate deviator 1/b = 100 kPa"):
         assert words in str(e), words

@@ -100,11 +100,17 @@ class SolveError(RuntimeError):
     history : list
         The iteration history of a nonlinear solve up to the failure (empty when there is
         none).
+    code : str
+        What failed, for a program to act on (the message says it for a person):
+        ``"linear_solve"`` unless the iteration that raised it says more
+        (:class:`tankfx.iterations.status.Failure`).
     """
 
-    def __init__(self, message: str, history: list | None = None):
+    def __init__(self, message: str, history: list | None = None,
+                 code: str = "linear_solve"):
         super().__init__(message)
         self.history = history or []
+        self.code = code
         #: a load path's stages that converged before this one failed (their results)
         self.converged_stages: list[dict] = []
         #: a single load's search for the largest fraction of it carried (see

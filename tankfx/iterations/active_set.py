@@ -21,6 +21,7 @@ from ..laws import interface as law
 from ..model.interface import InterfaceBlock
 from ..model.protocol import Model
 from .reversed_slips import ReversedSlips
+from .status import Failure
 
 
 #: added to a carrier's state in a cycle's key where its slip reversed
@@ -186,7 +187,7 @@ class InterfaceIteration:
             raise SolveError(
                 f"the interface's active set cycles: {n_hold} {m.carrier_name}(s) changed "
                 f"state {self.MAX_FLIPS} times{where}; interface.on_cycle = \"hold\" holds "
-                f"them in the weaker state and goes on", self.history)
+                f"them in the weaker state and goes on", self.history, code=Failure.CYCLES)
         weaker = np.where((status == law.SEPARATED) | (m.status == law.SEPARATED),
                           law.SEPARATED, law.SLIP)
         return hold, weaker
@@ -213,7 +214,7 @@ class InterfaceIteration:
             f"an interface far stiffer than the soil (interface.normal_stiffness, "
             f"interface.shear_stiffness): lower them, leave them out for the default, or "
             f"take a state per node (interface.states = \"node\"), whose tractions do not "
-            f"oscillate so", self.history)
+            f"oscillate so", self.history, code=Failure.HELD_PENETRATION)
 
     def reversed_slips(self) -> int:
         """How many state carriers reversed their slip and took the secant law."""
@@ -257,7 +258,8 @@ class InterfaceIteration:
                 return self._converged(it, status, jn, n_frozen, excess, change)
             if counts[0] + counts[1] == 0:
                 raise SolveError("the interface separated everywhere: nothing holds the "
-                                 "foundation (is the net load upward?)", self.history)
+                                 "foundation (is the net load upward?)", self.history,
+                                 code=Failure.SEPARATED)
             self._states[it] = m.status.copy()
             if (changed == 0 and secant is not None) or (changed and not moved) \
                     or (changed == 0 and it == 1 and self.carried_secant):
@@ -273,10 +275,10 @@ class InterfaceIteration:
                     f"the interface iteration stopped with no {m.carrier_name} changing state "
                     f"but an out-of-balance force of {excess:.1e} of the load (above "
                     f"{self.MAX_OUT_OF_BALANCE:g}): the linear solve lost accuracy",
-                    self.history)
+                    self.history, code=Failure.LOST_ACCURACY)
             self._hold_a_cycle(it, log)
         raise SolveError(f"the interface iteration did not converge in {self.max_iterations} "
-                         f"solves", self.history)
+                         f"solves", self.history, code=Failure.MAX_ITERATIONS)
 
     def _traction_change(self, jn, jt, previous) -> tuple:
         """The tractions of the state just solved (what the structure actually felt) and
@@ -358,7 +360,7 @@ class InterfaceIteration:
                     f"{it} repeat those of iteration {seen[key]} ({n_new} {what}(s) "
                     f"alternate, at the edge of a contact or slip zone); "
                     f"interface.on_cycle = \"hold\" holds them in the weaker state and "
-                    f"goes on, or refine the mesh there", self.history)
+                    f"goes on, or refine the mesh there", self.history, code=Failure.CYCLES)
             self._freezes += 1
             log.info("  the %s states cycle (iteration %d repeats %d): holding %d "
                      "alternating %s(s) in the weaker state", what, it, seen[key], n_new,
@@ -368,7 +370,7 @@ class InterfaceIteration:
                     f"the interface's active set cycles: the states of iteration {it} "
                     f"repeat those of iteration {seen[key]} and holding the alternating "
                     f"{what}s did not stop it (try a finer mesh at the contact zone's "
-                    f"edge)", self.history)
+                    f"edge)", self.history, code=Failure.CYCLES)
             self._forced = np.where(differ & ~self._frozen, weaker, self._forced)
             self._frozen |= differ
             self._seen = {}
@@ -428,7 +430,7 @@ def iterate_interface(model: Model, block: InterfaceBlock, solver, log) -> dict:
     try:
         return carried.run(solver, log)
     except SolveError as first:
-        if block.settings.on_cycle == "stop" and "cycles" in str(first):
+        if block.settings.on_cycle == "stop" and first.code == Failure.CYCLES:
             raise
         log.info("Mohr-Coulomb interface: no converged state from the previous states "
                  "(%s); once more from every element stuck", first)
@@ -437,6 +439,6 @@ def iterate_interface(model: Model, block: InterfaceBlock, solver, log) -> dict:
             result = InterfaceIteration(model, block).run(solver, log)
         except SolveError as second:
             raise SolveError(f"{second} (and from the previous states: {first})",
-                             first.history + second.history) from None
+                             first.history + second.history, code=second.code) from None
         block.restarts += 1
         return result

@@ -17,6 +17,7 @@ from ..fem.solvers import SolveError
 from ..laws import elasticity as soil_forms
 from ..laws.kondner import MODULUS_FLOOR, major_strain, principal_strains
 from ..model.memory import MAX_SWITCHES, unloading_cells
+from .status import Failure
 
 #: The global criterion: the relative displacement update of the last iteration must be
 #: below this times the Eq. 18 tolerance.
@@ -27,6 +28,9 @@ class SoilFailure(SolveError):
     """The soil cannot carry the load: its iteration reached cells at the ultimate deviator
     (Kondner's 1/b) or at Duncan & Chang's strength. The message says where and under what
     load; a :class:`SolveError` with its ``history``."""
+
+    def __init__(self, message: str, history: list | None = None):
+        super().__init__(message, history, code=Failure.SOIL_FAILURE)
 
 
 class HyperbolicIteration:
@@ -277,7 +281,7 @@ class HyperbolicIteration:
                               f"{max_it} iterations", self.history)
         raise SolveError(f"the hyperbolic soil iteration did not converge in {max_it} "
                          f"iterations (largest deviator misfit {worst:.3g} > {tol:g})",
-                         self.history)
+                         self.history, code=Failure.MAX_ITERATIONS)
 
     def _unloading_modulus(self, E) -> np.ndarray:
         """Per cell, the modulus of its unloading line, by the law (``E``: the cells'

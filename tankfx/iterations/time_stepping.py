@@ -176,7 +176,7 @@ class TimeStepping:
         except SolveError as e:
             when = "the drained limit" if t is None else f"t = {t / DAY:.6g} days"
             raise SolveError(f"consolidation, at {when} (load {self.model.applied_load:.6g} "
-                             f"N): {e}", e.history) from None
+                             f"N): {e}", e.history, code=e.code) from None
 
     def _advance(self) -> None:
         soil = self.soil
