@@ -22,7 +22,7 @@ from .fem.threads import limit_blas_threads
 from .iterations.active_set import solve
 from .iterations.by_law import soil_iteration as soil_iteration_of
 from .iterations.secant import SoilFailure
-from .iterations.time_stepping import TimeStepping
+from .iterations.time_stepping import ConsolidationRun, TimeStepping
 from .mesh import (
     SURFACE_GRADING,
     Domain,
@@ -34,6 +34,7 @@ from .mesh import (
 from .model.build import build_model
 from .model.overturning import RockingModel
 from .model.protocol import Model
+from .results.consolidation import consolidation_record
 from .results.contract import results_of, stage_summary, versions
 from .results.overturning import superpose
 from .results.validity import validity
@@ -391,7 +392,8 @@ def _solve_stage(scene: Scene, load: Load, model: Model, solver, one_shot: bool,
 
 def _record_stage(results: dict, scene: Scene, solver, dofs: dict, timings: dict,
                   comm: MPI.Comm, warnings: list[str], stage: int | None,
-                  soil_iteration: dict | None, consolidation: dict | None) -> None:
+                  soil_iteration: dict | None, consolidation: ConsolidationRun | None
+                  ) -> None:
     """Add to a stage's results what the run cost and how it converged: dofs, timings,
     ranks, versions, the soil's iteration, the linear solver, the warnings, and a
     consolidation's history."""
@@ -422,7 +424,7 @@ def _record_stage(results: dict, scene: Scene, solver, dofs: dict, timings: dict
     if scene.solver.method == "iterative":
         results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
     if consolidation is not None:
-        results["consolidation"] = consolidation
+        results["consolidation"] = consolidation_record(consolidation, scene.consolidation)
 
 
 def _overturning(model, rocking, load, results: dict, log, sigma_zz):

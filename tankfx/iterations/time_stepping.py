@@ -6,7 +6,7 @@ Beyond the paper: no equation of it is carried out here.
 """
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 from mpi4py import MPI
@@ -107,6 +107,28 @@ class _AtDebug:
         self.info, self.warning = log.debug, log.warning
 
 
+@dataclass
+class ConsolidationRun:
+    """What a consolidation computed (:meth:`TimeStepping.run`): the states (w0, the
+    settlements, the axis's pore pressure, ... at a time) of the drained limit, of each
+    reported time (with the surface's profile) and of every step, the isochrones' pore
+    pressures at the reported times, the steps taken, and the soil's c_v, time scale a^2 /
+    c_v, the axis's depth and the isochrones' depths; a load path's state at each stage's
+    time. :func:`tankfx.results.consolidation.consolidation_record` makes it results.json's
+    ``consolidation``."""
+
+    drained: dict
+    at_times: list[dict]
+    history: list[dict]
+    isochrones: list
+    steps: int
+    c_v: float
+    time_scale: float
+    axis_depth: float
+    isochrone_depths: np.ndarray
+    at_stages: list[dict] | None = None
+
+
 class TimeStepping:
     """Consolidation of a model whose soil block has a pore pressure (SoilBlock with a
     scene's [consolidation]): its drained limit, the undrained response at t = 0, then the
@@ -190,7 +212,7 @@ class TimeStepping:
         # none: a tank emptied)
         model.path_load_scale = model.load_scale      # (the largest so far: see load_scale)
 
-    def run(self) -> dict:
+    def run(self) -> ConsolidationRun:
         soil, log, c, model = self.soil, self.log, self.c, self.model
         scene = model.scene
         path = load_path(scene)
@@ -234,34 +256,9 @@ class TimeStepping:
                          "on the axis %.4g Pa (step %d of %d)", t / DAY, state["w0"],
                          state["axis_pore_pressure"], k + 1, len(steps))
             t_prev, dt_prev = t, dt
-        start = at_times[0]             # t = 0, after the loads applied at once
-        w_u, w_d = start["w0"], drained["w0"]
-
-        def degree(state):
-            return (state["w0"] - w_u) / (w_d - w_u) if w_d != w_u else 1.0
-
-        for state in history + at_times:      # (the reported states are copies)
-            state["degree"] = degree(state)
-            state["Tv"] = state["t"] / self.time_scale
-        drained["degree"], drained["Tv"] = 1.0, None
-        drained["applied_load"] = None
-        out = {"times": list(c.times), "degree": at_times[-1]["degree"],
-               "undrained": start, "drained": drained,
-               "at_times": at_times, "history": history,
-               "c_v": self.c_v, "time_scale": self.time_scale, "axis_depth": self.axis_depth,
-               "isochrones": {"z": self.isochrone_depths.tolist(),
-                              "t_days": [s["t_days"] for s in at_times],
-                              "pore_pressure": isochrones},
-               "steps": len(steps) - 1, "permeability": c.permeability,
-               "drainage": c.drainage,
-               "integrator": "undrained at t = 0 (and at each load applied at once), then "
-                             "backward Euler once and variable-step BDF2, "
-                             f"{c.steps_per_decade} steps a decade from {FIRST_STEP:g} x "
-                             "the first reported time (restarted at each breakpoint of a "
-                             "load path); the drained limit as one step of "
-                             f"{DRAINED_STEP:g} a^2 / c_v"}
-        if scene.stages:
-            # each stage's state when its load is reached (after any jump there)
-            out["at_stages"] = [[h for h in history if h["t"] == t][-1]
-                                for t in scene.stage_times]
-        return out
+        return ConsolidationRun(
+            drained=drained, at_times=at_times, history=history, isochrones=isochrones,
+            steps=len(steps) - 1, c_v=self.c_v, time_scale=self.time_scale,
+            axis_depth=self.axis_depth, isochrone_depths=self.isochrone_depths,
+            at_stages=[[h for h in history if h["t"] == t][-1] for t in scene.stage_times]
+            if scene.stages else None)

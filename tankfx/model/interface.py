@@ -307,32 +307,3 @@ class InterfaceBlock:
         vec.scatter_reverse(la.InsertMode.add)
         vec.scatter_forward()
         return vec.array[:self.n_carrier].copy()
-
-    def summary(self) -> dict:
-        """Lengths in each state (per part), iterations and history of the interface."""
-        comm = self.mesh.comm
-        n_owned = self.n_carrier_owned
-        h = self.carrier_lengths[:n_owned]
-        values = self.carrier_tag[:n_owned]
-        lengths = {}
-        rebonded = self.was_separated & (self.status != interface.SEPARATED)
-        for code in (interface.STICK, interface.SLIP, interface.SEPARATED, interface.REBONDED):
-            name = code.label
-            for part, tag in (("plate", st.PLATE), ("wall", st.WALL_EMBEDDED)):
-                # (rebonded is a separated carrier closed since the stage's start: the
-                # carrier's state is stick or slip)
-                state = rebonded if code == interface.REBONDED else self.status == code
-                mine = state[:n_owned] & (values == tag)
-                lengths.setdefault(f"{name}_length", {})[part] = comm.allreduce(
-                    float(h[mine].sum()))
-        res = self.result or {"converged": True, "iterations": 0, "history": [],
-                                        "criterion": "linear interface: one solve"}
-        if self.settings.condition == "mohr_coulomb":
-            res = {**res, "states": self.settings.states,
-                   "restarts_from_stuck": self.restarts}
-        return {"condition": self.settings.condition, **res, **lengths,
-                "normal_stiffness_range": [
-                    comm.allreduce(float(self.stiffness_n[self.in_contact].min(initial=np.inf)),
-                                   op=MPI.MIN),
-                    comm.allreduce(float(self.stiffness_n[self.in_contact].max(initial=0.0)),
-                                   op=MPI.MAX)]}

@@ -10,9 +10,11 @@ The paper: M0 (Eq. 23c) is the plate's M_r at the centre; the interface's states
 from __future__ import annotations
 
 import numpy as np
+from mpi4py import MPI
 
 from ..fem.evaluate import evaluate_at
 from ..laws import interface
+from ..laws import shell as st
 from ..model.tank import TankModel
 from ..scene.sections import vertical_load, vertical_load_scale
 
@@ -70,7 +72,7 @@ def structure_results(model: TankModel) -> dict:
     out = {"profiles": profiles,
            "equilibrium": {"contact_resultant": contact,
                            "contact_relative_error": abs(contact - applied) / scale},
-           "interface": model.interface.summary()}
+           "interface": interface_summary(model.interface)}
     if s.wall is not None:
         out["junction"] = junction(model, F)
         out["courses"] = courses(model, F)
@@ -152,3 +154,32 @@ def junction(model: TankModel, F) -> dict:
             "M_plate_about_corner": Mc_in - Mc_out, "M_wall_about_corner": Mc_w,
             "wall_bending_stress": 6.0 * abs(M_w) / (2 * e_w) ** 2,
             "plate_bending_stress": 6.0 * abs(M_in) / (2 * e_in) ** 2}
+
+
+def interface_summary(block) -> dict:
+    """The interface's results: its condition, how its iteration went (the record its
+    iteration left, or a linear interface's one solve), the length in each state per part
+    (plate, wall), and the range of its normal stiffness."""
+    comm = block.mesh.comm
+    n_owned = block.n_carrier_owned
+    h = block.carrier_lengths[:n_owned]
+    values = block.carrier_tag[:n_owned]
+    lengths = {}
+    rebonded = block.was_separated & (block.status != interface.SEPARATED)
+    for code in (interface.STICK, interface.SLIP, interface.SEPARATED, interface.REBONDED):
+        for part, tag in (("plate", st.PLATE), ("wall", st.WALL_EMBEDDED)):
+            # (rebonded is a separated carrier closed since the stage's start: the
+            # carrier's state is stick or slip)
+            state = rebonded if code == interface.REBONDED else block.status == code
+            mine = state[:n_owned] & (values == tag)
+            lengths.setdefault(f"{code.label}_length", {})[part] = comm.allreduce(
+                float(h[mine].sum()))
+    res = block.result or {"converged": True, "iterations": 0, "history": [],
+                           "criterion": "linear interface: one solve"}
+    if block.settings.condition == "mohr_coulomb":
+        res = {**res, "states": block.settings.states, "restarts_from_stuck": block.restarts}
+    in_contact = block.stiffness_n[block.in_contact]
+    return {"condition": block.settings.condition, **res, **lengths,
+            "normal_stiffness_range": [
+                comm.allreduce(float(in_contact.min(initial=np.inf)), op=MPI.MIN),
+                comm.allreduce(float(in_contact.max(initial=0.0)), op=MPI.MAX)]}
