@@ -378,7 +378,7 @@ def _solve_stage(scene: Scene, load: Load, model: Model, solver, one_shot: bool,
     model.begin_stage()
     if (iteration := soil_iteration_of(scene.soil.law)) is not None:
         soil_iteration = iteration(model).run(
-            lambda: solve(model, solver, log, single_pass=not nested), log)
+            lambda: solve(model, solver, log, single_pass=not nested), log).record
     elif scene.consolidation is not None:
         consolidation = TimeStepping(model, solver, log).run()
         # (the load at the last reported time: a load path's may lie between stages)

@@ -102,8 +102,8 @@ def test_column_follows_kondners_hyperbola(confined, level):
     # the axial stress that brings the deviator to `level` times the ultimate 1/b
     p = level / B * ((1 - NU) / (1 - 2 * NU) if confined else 1.0)
     result, u, E = column(p, confined, tolerance)
-    assert result["converged"] and result["iterations"] > 3, "a genuinely nonlinear state"
-    assert result["history"][-1]["max_misfit"] <= tolerance
+    assert result.converged and result.iterations > 3, "a genuinely nonlinear state"
+    assert result.code == "converged" and result.history[-1]["max_misfit"] <= tolerance
     q, e_p, E_closed, e_z = closed_form(p, confined)
     assert q * B == pytest.approx(level)
     # every cell carries the closed-form secant modulus (the state is homogeneous)

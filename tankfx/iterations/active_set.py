@@ -21,7 +21,7 @@ from ..laws import interface as law
 from ..model.interface import InterfaceBlock
 from ..model.protocol import Model
 from .reversed_slips import ReversedSlips
-from .status import Failure
+from .status import Failure, IterationStatus
 
 
 #: added to a carrier's state in a cycle's key where its slip reversed
@@ -220,9 +220,9 @@ class InterfaceIteration:
         """How many state carriers reversed their slip and took the secant law."""
         return self.slips.count()
 
-    def run(self, solver, log) -> dict:
+    def run(self, solver, log) -> IterationStatus:
         """Solve, re-decide the states, until none changes and the out-of-balance force is
-        negligible (see the class); returns the record, or raises SolveError with the
+        negligible (see the class); returns its status, or raises SolveError with the
         history."""
         m = self.interface
         comm = m.mesh.comm
@@ -324,7 +324,7 @@ class InterfaceIteration:
                  row["time_s"])
         return counts, n_frozen
 
-    def _converged(self, it, status, jn, n_frozen, excess, change) -> dict:
+    def _converged(self, it, status, jn, n_frozen, excess, change) -> IterationStatus:
         """The record of a converged state (its held separated carriers checked)."""
         self._check_holds(self._frozen & (status == law.SEPARATED), jn)
         what = self.interface.carrier_name
@@ -334,9 +334,9 @@ class InterfaceIteration:
                      f"alternated between states and were held in the weaker one")
         if change is not None:
             note += f"; traction change {change:.1e}"
-        return {"converged": True, "iterations": it, "history": self.history,
-                "frozen_elements": n_frozen, "criterion": note,
-                "reversed_slips": self.reversed_slips()}
+        return IterationStatus.of({"converged": True, "iterations": it,
+                                   "history": self.history, "frozen_elements": n_frozen,
+                                   "criterion": note, "reversed_slips": self.reversed_slips()})
 
     def _hold_a_cycle(self, it: int, log) -> None:
         """Where the states of this iteration repeat earlier ones (a cycle), the carriers
@@ -396,7 +396,7 @@ def solve(model: Model, solver, log, single_pass: bool = False) -> int:
         # node states are converged inside every soil iteration: updated once per soil
         # iteration they oscillate with the secant moduli (measured: a period-2 cycle,
         # no convergence in 40 iterations, where the nested loop takes 6 solves)
-        block.result = iterate_interface(model, block, solver, log)
+        block.result = iterate_interface(model, block, solver, log).record
         return 0
     if block.passes is None:
         block.passes = InterfaceIteration(model, block)
@@ -411,7 +411,7 @@ def solve(model: Model, solver, log, single_pass: bool = False) -> int:
     return changed
 
 
-def iterate_interface(model: Model, block: InterfaceBlock, solver, log) -> dict:
+def iterate_interface(model: Model, block: InterfaceBlock, solver, log) -> IterationStatus:
     """The Mohr-Coulomb iteration from the states so far (a load path's or a time step's
     last); where it fails from them, once more from the states of a fresh analysis (every
     carrier in contact stuck). The law holds no slip from one solution to the next (total

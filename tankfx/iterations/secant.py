@@ -17,7 +17,7 @@ from ..fem.solvers import SolveError
 from ..laws import elasticity as soil_forms
 from ..laws.kondner import MODULUS_FLOOR, major_strain, principal_strains
 from ..model.memory import MAX_SWITCHES, unloading_cells
-from .status import Failure
+from .status import Failure, IterationStatus
 
 #: The global criterion: the relative displacement update of the last iteration must be
 #: below this times the Eq. 18 tolerance.
@@ -92,13 +92,14 @@ class HyperbolicIteration:
         self.anderson_depth = self.law.anderson_depth
         self._x_hist, self._f_hist, self._g_hist = [], [], []
 
-    def run(self, inner_solve, log) -> dict:
+    def run(self, inner_solve, log) -> IterationStatus:
         """Iterate: ``inner_solve()`` solves the model with the current moduli (and returns
         how many interface elements changed state), then every soil cell takes the secant
         modulus of its strains (Eqs. 17-19, or Duncan & Chang's; a remembering soil's
         unloading line), until no cell's misfit exceeds the tolerance (Eq. 20), the
-        displacement update is small and the interface has settled. Returns the record of
-        the iteration; raises SoilFailure (or SolveError) with the history otherwise."""
+        displacement update is small and the interface has settled. Returns its status
+        (its results.json record ``record``); raises SoilFailure (or SolveError) with the
+        history otherwise."""
         m, s = self.model, self.model.scene.soil
         comm = m.domain.mesh.comm
         tol, max_it = s.tolerance, s.max_iterations
@@ -191,7 +192,7 @@ class HyperbolicIteration:
         return E_new, misfit, ultimate & ~unloading, unloading, switched
 
     def _converged(self, it, row, tol, worst, du_rel, du_tol, n_ult, w0_hist, E, eps_min,
-                   eps_max, nu_law, unloading, own) -> dict:
+                   eps_max, nu_law, unloading, own) -> IterationStatus:
         """The record of a converged iteration; the soil block keeps the converged Kondner
         constants (for the stress level) and a remembering soil its new peaks."""
         comm = self.model.domain.mesh.comm
@@ -210,13 +211,12 @@ class HyperbolicIteration:
             extra = {"unloading_cells": row["unloading"],
                      "held_on_loading_curve": comm.allreduce(int(held[own].sum())),
                      "unloading_modulus_ratio": self.memory.ratio}
-        return {"converged": True, "iterations": it, "history": self.history,
-                **extra,
-                "criterion": f"no cell's deviator misfit exceeds {tol:g} (Eq. 20; "
-                             f"largest {worst:.2e}) and the displacement update is "
-                             f"{du_rel:.1e} <= {du_tol:g}",
-                "cells_at_ultimate": n_ult,
-                "error_estimate": _error_estimate(w0_hist)}
+        return IterationStatus.of({
+            "converged": True, "iterations": it, "history": self.history, **extra,
+            "criterion": f"no cell's deviator misfit exceeds {tol:g} (Eq. 20; largest "
+                         f"{worst:.2e}) and the displacement update is {du_rel:.1e} <= "
+                         f"{du_tol:g}",
+            "cells_at_ultimate": n_ult, "error_estimate": _error_estimate(w0_hist)})
 
     def _update(self, E, E_new, step, unloading, switched, own) -> None:
         """Every soil cell takes its secant modulus (the paper updates only the cells

@@ -1,7 +1,10 @@
-"""What an iteration's failure was, as a code a program acts on (``SolveError.code``); its
-message says it to a person."""
+"""How an iteration ended: the status it returns (converged, its iterations, its history,
+its reason in physical terms, a code, and its results.json record), and the codes of its
+failures (``SolveError.code``), which a program acts on while the message says it to a
+person."""
 from __future__ import annotations
 
+from dataclasses import dataclass
 from enum import StrEnum
 
 
@@ -22,3 +25,43 @@ class Failure(StrEnum):
     LOST_ACCURACY = "lost_accuracy"
     #: carriers held separated are pressed into by the soil
     HELD_PENETRATION = "held_penetration"
+
+
+#: the code of a status whose iteration converged
+CONVERGED = "converged"
+#: ... and of one pass of an iteration nested in another, whose states still change
+UNSETTLED = "unsettled"
+
+
+@dataclass(frozen=True)
+class IterationStatus:
+    """How an iteration ended (a failure raises a ``SolveError`` with its code instead).
+
+    Attributes
+    ----------
+    converged : bool
+    iterations : int
+    history : list of dict
+        A row per iteration, as the log shows it.
+    reason : str
+        Why it stopped, in physical terms (results.json's ``criterion``).
+    code : str
+        CONVERGED, or UNSETTLED for a pass whose states still change.
+    record : dict
+        Its entry of results.json.
+    """
+
+    converged: bool
+    iterations: int
+    history: list
+    reason: str
+    code: str
+    record: dict
+
+    @classmethod
+    def of(cls, record: dict) -> "IterationStatus":
+        """The status of an iteration's record (``converged``, ``iterations``,
+        ``history``, ``criterion`` and what else it reports)."""
+        return cls(record["converged"], record["iterations"], record["history"],
+                   record["criterion"], CONVERGED if record["converged"] else UNSETTLED,
+                   record)
