@@ -184,7 +184,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     rocking = None          # the first harmonic, built by the first stage that overturns
     # a nonlinear soil's initial state, from which a failed single load's largest fraction
     # carried is searched
-    search = scene.soil.law.state_fields and len(stages) == 1
+    search = bool(scene.soil.law.state_fields) and len(stages) == 1
     if search:
         model.soil.history.commit()
     for k, load in enumerate(stages):
@@ -259,8 +259,7 @@ def _search_carried(e: SoilFailure, scene: Scene, load: Load, model: Model, solv
                     nested: bool) -> None:
     """A single load the soil cannot carry: bisect the fraction of it that it does
     (CARRIED_SEARCH_STEPS halvings, each a secant iteration from the committed initial
-    state), and
-    say it in the failure's message and ``e.carried``."""
+    state), and say it in the failure's message and ``e.carried``."""
     a = scene.foundation_radius
     lo, hi = 0.0, 1.0
     log.info("the soil cannot carry the load: searching the largest fraction it carries "

@@ -9,6 +9,7 @@ import numpy as np
 from dolfinx import fem
 
 from ..laws import interface as law
+from ..laws.mohr_coulomb import shear_strength
 from ..model.interface import InterfaceBlock
 
 __all__ = ["ReversedSlips"]
@@ -72,7 +73,7 @@ class ReversedSlips:
         elements, 10 / 13 / 10 solves, where a secant root of the misfit k |j| - L took
         14 / 23 / 39 (its updates crawled down from k_s while the misfit stayed flat)."""
         m, ifc = self.interface, self.interface.settings
-        limit = law.mohr_coulomb_limit(m.stiffness_n * jn, ifc.cohesion, self.tan_phi)
+        limit = shear_strength(m.stiffness_n * jn, ifc.cohesion, self.tan_phi)
         ks = np.where(m.stiffness_s > 0, m.stiffness_s, 1.0)
         g = np.minimum(1.0, limit / np.maximum(np.abs(jt) * ks, 1e-300))   # k / k_s
         x = np.where(secant, k_used / ks, g)          # what the last solve used

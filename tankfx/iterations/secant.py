@@ -80,6 +80,8 @@ class HyperbolicIteration:
         self.strain_expr = fem.Expression(
             soil_forms.tensor_components(soil_forms.strain(soil.u, soil.r)),
             T.element.interpolation_points)
+        #: the cells' stress of the current iteration, where the law reads it (else None)
+        self._stress = None
         if self.law.needs_stress:
             self.stress = fem.Function(T)
             self.stress_expr = fem.Expression(soil_forms.tensor_components(soil.stress()),
@@ -112,7 +114,6 @@ class HyperbolicIteration:
         own = np.flatnonzero(self.is_soil[: self.n_owned])
         log.info(self.law.start_text(s, tol))
         log.info("  it  changing  max misfit  at ultimate  du/u        time s")
-        nu_law = self.nu_intact
         for it in range(1, max_it + 1):
             t0 = time.perf_counter()
             try:
@@ -123,8 +124,10 @@ class HyperbolicIteration:
                 raise self._collapse(s, it, e) from None
             eps_min, eps_max = self.cell_principal_strains()
             E = self.modulus.x.array[self.dof_E]
+            # (the cells' stress where the law reads it, for this iteration's steps)
+            self._stress = self._cell_stress()
             step = self.law.secant_step(s, self.start, self.nu, E, eps_min, eps_max,
-                                        self._cell_stress(), self.is_soil)
+                                        self._stress, self.is_soil)
             self.a, self.b = step["a"], step["b"]
             self.E_initial = 1.0 / self.a
             E_new, misfit, ultimate = step["E"], step["misfit"], step["ultimate"]
@@ -132,7 +135,7 @@ class HyperbolicIteration:
             switched = unloading = None
             if self.memory is not None:
                 E_new, misfit, ultimate, unloading, switched = self._unloading(
-                    E, E_new, ultimate, eps_min, eps_max, nu_law, tol)
+                    E, E_new, ultimate, eps_min, eps_max, tol)
             changing = (misfit > tol) & self.is_soil
             if switched is not None:
                 changing |= switched
@@ -155,7 +158,7 @@ class HyperbolicIteration:
                      du_rel, row["time_s"])
             if n_changing == 0 and du_rel <= du_tol and not unsettled:
                 return self._converged(it, row, tol, worst, du_rel, du_tol, n_ult, w0_hist,
-                                       E, eps_min, eps_max, nu_law, unloading, own)
+                                       E, eps_min, eps_max, unloading, own)
             self._update(E, E_new, step, unloading, switched, own)
         self._fail(s, n_ult, ultimate, max_it, worst, du_rel, tol)
 
@@ -167,13 +170,13 @@ class HyperbolicIteration:
         self.stress.interpolate(self.stress_expr)
         return self.stress.x.array.reshape(-1, 4)[self.dof_T]
 
-    def _unloading(self, E, E_new, ultimate, eps_min, eps_max, nu_law, tol) -> tuple:
+    def _unloading(self, E, E_new, ultimate, eps_min, eps_max, tol) -> tuple:
         """A remembering soil: the cells below their most loaded state follow their
         unloading line (E_ur). Returns (E_new, misfit, ultimate, unloading, switched)."""
         # cells below their most loaded state follow their unloading line: E_ur
         was = self.memory.unloading_mask
         unloading = self.is_soil & unloading_cells(
-            major_strain(eps_min, eps_max, nu_law), self.memory.peak_strain, was, tol)
+            major_strain(eps_min, eps_max, self.nu_intact), self.memory.peak_strain, was, tol)
         # (none on a line or going there, as while a path first loads: no E_ur to find,
         # which for Duncan & Chang's soil is a bisection over the cells)
         E_ur = self._unloading_modulus(E) if (unloading | was).any() else E
@@ -192,7 +195,7 @@ class HyperbolicIteration:
         return E_new, misfit, ultimate & ~unloading, unloading, switched
 
     def _converged(self, it, row, tol, worst, du_rel, du_tol, n_ult, w0_hist, E, eps_min,
-                   eps_max, nu_law, unloading, own) -> IterationStatus:
+                   eps_max, unloading, own) -> IterationStatus:
         """The record of a converged iteration; the soil block keeps the converged Kondner
         constants (for the stress level) and a remembering soil its new peaks."""
         comm = self.model.domain.mesh.comm
@@ -202,11 +205,10 @@ class HyperbolicIteration:
         if self.memory is not None:
             # the cells on the loading curve past their largest strain are at their most
             # loaded state so far (a held cell below it keeps its own)
-            eps_p = major_strain(eps_min, eps_max, nu_law)
+            eps_p = major_strain(eps_min, eps_max, self.nu_intact)
             self.memory.commit(self.model.soil.u, eps_p, E, self.nu, self.is_soil & ~unloading &
                                (eps_p >= self.memory.peak_strain),
-                               self.stress.x.array.reshape(-1, 4)[self.dof_T]
-                               if self.law.needs_stress else None)
+                               self._stress)
             held = self.is_soil & (self._switches >= MAX_SWITCHES)
             extra = {"unloading_cells": row["unloading"],
                      "held_on_loading_curve": comm.allreduce(int(held[own].sum())),
@@ -288,7 +290,7 @@ class HyperbolicIteration:
         current modulus)."""
         return self.law.unloading_modulus(
             self.model.scene.soil, self.start, self.E_initial, E,
-            self.stress.x.array.reshape(-1, 4)[self.dof_T] if self.law.needs_stress else None,
+            self._stress,
             self.memory.peak_stress, self.memory.ratio, self.is_soil)
 
     def cell_principal_strains(self) -> tuple[np.ndarray, np.ndarray]:

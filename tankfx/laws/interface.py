@@ -98,13 +98,6 @@ def interface_load(j_test, t, c, r, measure):
     return -c * ufl.dot(j_test, t) * 2.0 * math.pi * r * measure
 
 
-def mohr_coulomb_limit(sigma_n, cohesion, tan_phi):
-    """The interface's shear strength, Eq. 13: tau_y = c + sigma_n tan phi (sigma_n
-    compression positive; an opening interface, sigma_n < 0, keeps only its cohesion):
-    Mohr-Coulomb's envelope, :func:`tankfx.laws.mohr_coulomb.shear_strength`."""
-    return shear_strength(sigma_n, cohesion, tan_phi)
-
-
 def element_states(jn, jt, k_n, k_s, cohesion, tan_phi):
     """Mohr-Coulomb state of each interface element from its average jump (numpy arrays).
 
@@ -114,7 +107,7 @@ def element_states(jn, jt, k_n, k_s, cohesion, tan_phi):
     """
     sigma_n = k_n * jn
     trial = k_s * jt
-    limit = mohr_coulomb_limit(sigma_n, cohesion, tan_phi)
+    limit = shear_strength(sigma_n, cohesion, tan_phi)        # Eq. 13
     status = np.where(jn < 0.0, SEPARATED, np.where(np.abs(trial) <= limit, STICK, SLIP))
     return status, np.sign(trial)
 

@@ -4,9 +4,9 @@ instead of branching on the scene's ``soil.model`` word (which
 :data:`tankfx.laws.soil_laws.SOIL_LAWS` looks up, once).
 
 A law's numerics (its moduli, its update, what it reports cell by cell) are functions of its
-own module (:mod:`tankfx.laws.kondner`, :mod:`tankfx.laws.duncan_chang`); this module and
-the classes stay numpy-free, so that the scene layer, which never imports UFL or DOLFINx,
-can read them.
+own module (:mod:`tankfx.laws.kondner`, :mod:`tankfx.laws.duncan_chang`). This module, the
+registry and those modules import numpy and nothing of UFL or DOLFINx, so that the scene
+layer, which is checked before any mesh, can read them.
 """
 from __future__ import annotations
 

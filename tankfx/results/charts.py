@@ -26,7 +26,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from ..laws.interface import mohr_coulomb_limit
+from ..laws.mohr_coulomb import shear_strength
 from .figure_choices import CHARTABLE, DEFAULT_CHARTS, numeric_axes
 from .report import MULTIPLES
 
@@ -219,7 +219,7 @@ def contact_chart(results: dict, title: str = "") -> Figure:
         shear_values = [tau]
         if mc:
             c = ifc.get("cohesion", 0.0) / 1e3
-            bound = mohr_coulomb_limit(np.clip(sn, -limit, limit), c, ifc["tan_phi"])
+            bound = shear_strength(np.clip(sn, -limit, limit), c, ifc["tan_phi"])
             bottom.plot(x, bound, color="black", lw=1, ls="--", label="c + sigma_n tan phi")
             bottom.plot(x, -bound, color="black", lw=1, ls="--")
             shear_values.append(bound)

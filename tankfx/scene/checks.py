@@ -188,7 +188,7 @@ def check_soil(rd: Reader, soil: dict | None, raw_layers,
         else:
             for problem in law.check(soil, soil, "soil"):
                 rd.bad(problem)
-            _other_laws_keys(rd, soil, law, "soil", "model")
+            _other_laws_keys(rd, soil, law, "soil")
         check_unloading(rd, soil, consolidating)
     layers = read_layers(rd, raw_layers, law, (soil or {}).get("atmospheric_pressure")) \
         if raw_layers is not None else []
@@ -198,16 +198,19 @@ def check_soil(rd: Reader, soil: dict | None, raw_layers,
     return layers
 
 
-def _other_laws_keys(rd: Reader, table: dict, law, name: str, model_key: str) -> None:
+def _other_laws_keys(rd: Reader, table: dict, law, name: str) -> None:
     """A key of a law that is not the soil's (nor of its iteration) is refused, with the
-    laws it belongs to."""
+    laws it belongs to (``name``: "soil" or a layer's)."""
     layer = name != "soil"
-    for key in dict.fromkeys(k for other in SOIL_LAWS.values()
-                             for k in (other.layer_keys if layer else other.keys)):
-        if key in table and key not in (law.layer_keys if layer else law.keys):
-            owners = words(SOIL_LAWS.values(),
-                           lambda o: key in (o.layer_keys if layer else o.keys))
-            rd.bad(f"{name}.{key}: only used with {model_key} = {owners}; remove it")
+
+    def keys(o):
+        return o.layer_keys if layer else o.keys
+
+    for key in dict.fromkeys(k for other in SOIL_LAWS.values() for k in keys(other)):
+        if key in table and key not in keys(law):
+            owners = words(SOIL_LAWS.values(), lambda o: key in keys(o))
+            rd.bad(f"{name}.{key}: only used with {'soil.' if layer else ''}model = {owners}; "
+                   f"remove it")
     if layer:
         return
     for key in dict.fromkeys(k for other in SOIL_LAWS.values() for k in other.iteration_keys):
@@ -272,7 +275,7 @@ def read_layers(rd: Reader, raw, law, p_a: float | None = None) -> list[dict[str
         rd.limits(layer, name, LAYER_KEYS)
         if law is not None:
             # every layer has its own constants of the soil's law
-            _other_laws_keys(rd, raw_layer, law, name, "soil.model")
+            _other_laws_keys(rd, raw_layer, law, name)
             for problem in law.check(layer, raw_layer, name, p_a):
                 rd.bad(problem)
         out.append(layer)
