@@ -19,10 +19,9 @@ from mpi4py import MPI
 from .fem.memory import keep_freed_memory
 from .fem.solvers import SolveError, make_solver
 from .fem.threads import limit_blas_threads
-from .iterations.active_set import solve
-from .iterations.by_law import soil_iteration as soil_iteration_of
 from .iterations.secant import SoilFailure
-from .iterations.time_stepping import ConsolidationRun, TimeStepping
+from .iterations.stage import StageIterations
+from .iterations.status import IterationStatus
 from .mesh import (
     SURFACE_GRADING,
     Domain,
@@ -77,6 +76,9 @@ class Solution:
     #: the overturning's first harmonic (tankfx.model.overturning.RockingModel) where the load has
     # one
     harmonic: object = None
+    #: how the stage's iterations ended, by name ("soil", "interface", "consolidation",
+    #: "linear_solve"; tankfx.iterations.stage)
+    statuses: dict = None
 
 
 #: mesh_grading_warning: warned above lambda x edge size = GRADING_WARNING, where the
@@ -173,7 +175,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             raise SceneError([problem])
     t_start = time.perf_counter()
     timings: dict[str, float] = {}
-    domain, model, solver, one_shot = _set_up(scene, stages[0], comm, timings)
+    domain, model, solver, iterations = _set_up(scene, stages[0], comm, timings, nested)
     warnings = _warnings(scene, model)
     for w in warnings:
         log.warning("warning: %s", w)
@@ -194,11 +196,10 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         t = time.perf_counter()
         try:
             with heartbeat("solving" + (f" load stage {k + 1}" if len(stages) > 1 else "")):
-                stage_scene, soil_iteration, consolidation = _solve_stage(
-                    scene, load, model, solver, one_shot, nested)
+                stage_scene, statuses = _solve_stage(scene, load, model, iterations)
         except SoilFailure as e:
             if search:
-                _search_carried(e, scene, load, model, solver, nested)
+                _search_carried(e, scene, load, model, iterations)
             elif len(stages) > 1:
                 _stage_failed(e, k, stages, solutions, scene)
             raise
@@ -211,11 +212,11 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
 
         t = time.perf_counter()
         sigma_zz = model.soil.vertical_stress()
-        results = results_of(stage_scene, domain, model, sigma_zz)
+        results = results_of(stage_scene, domain, model, sigma_zz, statuses)
         timings["post"] = time.perf_counter() - t
         timings["total"] = time.perf_counter() - t_start
         _record_stage(results, scene, solver, dofs, timings, comm, warnings,
-                      k + 1 if len(stages) > 1 else None, soil_iteration, consolidation)
+                      k + 1 if len(stages) > 1 else None, statuses)
         # (a consolidation's: the load at its last reported time, on the state then)
         load = stage_scene.load
         if load.overturning:
@@ -225,7 +226,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             log.warning("not valid: %s", note)
         solutions.append(Solution(scene=stage_scene, domain=domain, u=model.soil.u,
                                   sigma_zz=sigma_zz, results=results, model=model,
-                                  harmonic=rocking if load.overturning else None))
+                                  harmonic=rocking if load.overturning else None,
+                                  statuses=statuses))
     if len(solutions) > 1:
         solutions[-1].results["stages"] = [stage_summary(s.results) for s in solutions]
     return solutions
@@ -255,8 +257,8 @@ def scaled_load(load: Load, fraction: float) -> Load:
         "overturning_moment", "base_shear")})
 
 
-def _search_carried(e: SoilFailure, scene: Scene, load: Load, model: Model, solver,
-                    nested: bool) -> None:
+def _search_carried(e: SoilFailure, scene: Scene, load: Load, model: Model,
+                    iterations: StageIterations) -> None:
     """A single load the soil cannot carry: bisect the fraction of it that it does
     (CARRIED_SEARCH_STEPS halvings, each a secant iteration from the committed initial
     state), and say it in the failure's message and ``e.carried``."""
@@ -271,7 +273,7 @@ def _search_carried(e: SoilFailure, scene: Scene, load: Load, model: Model, solv
             model.interface.set_stuck()
         model.set_loads(scaled_load(load, f))
         try:
-            _solve_stage(scene, scaled_load(load, f), model, solver, False, nested)
+            _solve_stage(scene, scaled_load(load, f), model, iterations)
             lo = f
         except SolveError:
             hi = f
@@ -312,9 +314,9 @@ def _load_stages(scene: Scene, loads: list) -> list[Load]:
     return stages
 
 
-def _set_up(scene: Scene, first: Load, comm: MPI.Comm, timings: dict) -> tuple:
-    """The mesh, the model under the first load and its solver; ``one_shot``: a linear soil
-    under a bonded or smooth interface, whose stages share one factorisation."""
+def _set_up(scene: Scene, first: Load, comm: MPI.Comm, timings: dict, nested: bool) -> tuple:
+    """The mesh, the model under the first load, its solver and the chain of iterations
+    that solves a stage (:mod:`tankfx.iterations.stage`)."""
     log.info("scene '%s': meshing on rank 0, distributing over %d rank(s)", scene.title,
              comm.size)
     t = time.perf_counter()
@@ -341,7 +343,7 @@ def _set_up(scene: Scene, first: Load, comm: MPI.Comm, timings: dict) -> tuple:
                          # consolidation's time step change the matrix: the rest is kept
                          split=model.a_split if stiffness_fixed else None)
     timings["forms"] = time.perf_counter() - t
-    return domain, model, solver, one_shot
+    return domain, model, solver, StageIterations.of(scene, model, solver, one_shot, nested)
 
 
 def _warnings(scene: Scene, model: Model) -> list[str]:
@@ -362,37 +364,24 @@ def _warnings(scene: Scene, model: Model) -> list[str]:
     return warnings
 
 
-def _solve_stage(scene: Scene, load: Load, model: Model, solver, one_shot: bool,
-                 nested: bool) -> tuple:
-    """Solve one stage of the path by the iteration the scene needs: the secant iteration
-    of a nonlinear soil, the time stepping of a consolidation, or one solve (with the
-    Mohr-Coulomb iteration where the interface has one). Returns the stage's scene, the
-    soil iteration's record and the consolidation's history (None where not run)."""
-    stage_scene = replace(scene, load=load)
+def _solve_stage(scene: Scene, load: Load, model: Model,
+                 iterations: StageIterations) -> tuple[Scene, dict[str, IterationStatus]]:
+    """Solve one stage of the path by the scene's chain of iterations. Returns the stage's
+    scene (a consolidation's: its load at the last reported time, which on a load path may
+    lie between stages) and the iterations' statuses by name."""
     if model.soil.memory is not None:
         # a remembering soil's path may unload to nothing: its equilibrium errors are
         # relative to the path's largest load so far
         model.path_load_scale = model.load_scale
-    soil_iteration = consolidation = None
     model.begin_stage()
-    if (iteration := soil_iteration_of(scene.soil.law)) is not None:
-        soil_iteration = iteration(model).run(
-            lambda: solve(model, solver, log, single_pass=not nested), log).record
-    elif scene.consolidation is not None:
-        consolidation = TimeStepping(model, solver, log).run()
-        # (the load at the last reported time: a load path's may lie between stages)
-        stage_scene = replace(scene, load=model.scene.load)
-    else:
-        solve(model, solver, log)
-        if one_shot:
-            solver.keep_matrix()       # only the load changes from stage to stage
-    return stage_scene, soil_iteration, consolidation
+    iterations.begin_stage()
+    statuses = iterations.run(log)
+    return replace(scene, load=model.scene.load), statuses
 
 
 def _record_stage(results: dict, scene: Scene, solver, dofs: dict, timings: dict,
                   comm: MPI.Comm, warnings: list[str], stage: int | None,
-                  soil_iteration: dict | None, consolidation: ConsolidationRun | None
-                  ) -> None:
+                  statuses: dict[str, IterationStatus]) -> None:
     """Add to a stage's results what the run cost and how it converged: dofs, timings,
     ranks, versions, the soil's iteration, the linear solver, the warnings, and a
     consolidation's history."""
@@ -402,7 +391,8 @@ def _record_stage(results: dict, scene: Scene, solver, dofs: dict, timings: dict
     results["versions"] = versions()
     if stage is not None:
         results["stage"] = stage
-    results["soil"] = soil_iteration or {"model": "linear", "iterations": 0}
+    soil = statuses.get("soil")
+    results["soil"] = soil.record if soil is not None else {"model": "linear", "iterations": 0}
     results["soil"]["model"] = scene.soil.model
     results["linear_solves"] = solver.solves
     results["warnings"] = list(warnings)
@@ -422,8 +412,9 @@ def _record_stage(results: dict, scene: Scene, solver, dofs: dict, timings: dict
         "numpy_blas_threads": limit_blas_threads()}
     if scene.solver.method == "iterative":
         results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
-    if consolidation is not None:
-        results["consolidation"] = consolidation_record(consolidation, scene.consolidation)
+    if (consolidation := statuses.get("consolidation")) is not None:
+        results["consolidation"] = consolidation_record(consolidation.data,
+                                                        scene.consolidation)
 
 
 def _overturning(model, rocking, load, results: dict, log, sigma_zz):

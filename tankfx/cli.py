@@ -28,8 +28,7 @@ from pathlib import Path
 from . import __version__
 from .analysis import analyse, mesh_grading_warning
 from .fem.solvers import SolveError
-from .iterations.by_law import soil_iteration
-from .iterations.time_stepping import load_path, path_steps
+from .iterations.stage import stage_plan
 from .laws.biot import stratum_coefficients
 from .mesh import build_domain, estimate, geometry_of, resource_problem
 from .model.build import build_model
@@ -273,11 +272,9 @@ def describe(scene) -> list[str]:
     if warning:
         out.append(f"  warning: {warning}")
     out += [f"  warning: {w}" for w in geometry_warnings(scene)]
-    iterations = []
-    if (iteration := soil_iteration(s.law)) is not None:
-        iterations.append(iteration.describe(s))
-    if scene.plate is not None and scene.interface.condition == "mohr_coulomb":
-        iterations.append("the Mohr-Coulomb active set")
+    # the chain that solves a stage, outermost first (the last, a linear solve, in every
+    # one)
+    iterations = [it.describe(scene) for it in stage_plan(scene)[:-1]]
     parts = ["soil"] + [p for p in ("ringwall", "plate", "wall")
                         if getattr(scene, p) is not None]
     if scene.plate is not None:
@@ -287,11 +284,8 @@ def describe(scene) -> list[str]:
                      "has it)")
     c = scene.consolidation
     if c is not None:
-        steps = len(path_steps(load_path(scene), c.times, c.steps_per_decade)) - 1
         parts.append(f"the excess pore pressure (Biot's consolidation, k = "
                      f"{c.permeability:g} m/s, drained at the {c.drainage.replace('_', ' ')})")
-        iterations.append(f"in time: the drained limit, the undrained start and {steps} "
-                          f"time steps to {c.times[-1] / 86400:.4g} days (a solve each)")
     out.append(f"  builds: {', '.join(parts)}; iterates: "
                f"{', '.join(iterations) if iterations else 'nothing (one linear solve a stage)'}")
     return out

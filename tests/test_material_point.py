@@ -27,6 +27,7 @@ from mpi4py import MPI
 
 from tankfx.laws import elasticity as soil_forms
 from tankfx.iterations.secant import HyperbolicIteration
+from tankfx.iterations.stage import LinearSolve
 from tankfx.scene.sections import Soil
 from tankfx.fem.solvers import DirectSolver
 
@@ -75,11 +76,9 @@ def column(p, confined, tolerance):
             cell_midpoints=dmesh.compute_midpoints(
                 msh, 2, np.arange(n_cells, dtype=np.int32))[:, :2]))
 
-    def inner_solve():
-        solver.solve()
-        return 0                      # no interface here
-
-    result = HyperbolicIteration(model).run(inner_solve, _Quiet())
+    # (no interface here: the linear solve is the only iteration inside)
+    linear = LinearSolve(solver)
+    result = HyperbolicIteration(model).run(lambda: linear.run(None, _Quiet()), _Quiet())
     return result, u, E
 
 

@@ -11,6 +11,7 @@ that make it terminate. :mod:`tankfx.laws.kondner` is its counterpart for the so
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 from dolfinx import mesh as dmesh
@@ -146,11 +147,11 @@ class InterfaceIteration:
         vals = np.concatenate(self.interface.mesh.comm.allgather(status[self.owned]))
         return tuple(vals[self.order].tolist())
 
-    def single_pass(self, solver) -> int:
-        """One solve and one state update (no cycle handling); returns how many elements
-        changed state."""
+    def single_pass(self, inner) -> int:
+        """One solve (``inner()``) and one state update (no cycle handling); returns how
+        many elements changed state."""
         m = self.interface
-        solver.solve()
+        inner()
         jn, jt = self.element_jumps()
         status, sign = self._decide(jn, jt)
         # a slip that reversed takes the secant law, as in run(); its stiffness converges
@@ -220,10 +221,10 @@ class InterfaceIteration:
         """How many state carriers reversed their slip and took the secant law."""
         return self.slips.count()
 
-    def run(self, solver, log) -> IterationStatus:
-        """Solve, re-decide the states, until none changes and the out-of-balance force is
-        negligible (see the class); returns its status, or raises SolveError with the
-        history."""
+    def run(self, inner, log) -> IterationStatus:
+        """Solve (``inner()``), re-decide the states, until none changes and the
+        out-of-balance force is negligible (see the class); returns its status, or raises
+        SolveError with the history."""
         m = self.interface
         comm = m.mesh.comm
         self._seen = {self._state_key(): 0}
@@ -238,7 +239,7 @@ class InterfaceIteration:
                  "out-of-balance   time s")
         for it in range(1, self.max_iterations + 1):
             t0 = time.perf_counter()
-            solver.solve()
+            inner()
             jn, jt = self.element_jumps()
             previous, change = self._traction_change(jn, jt, previous)
             status, sign = self._redecide(jn, jt)
@@ -378,67 +379,98 @@ class InterfaceIteration:
 
 
 #: solves of the Mohr-Coulomb iteration from a previous solution's states before it starts
-#: again from stuck ones (see :func:`iterate_interface`)
+#: again from stuck ones (see :meth:`ActiveSet.run`)
 CARRIED_STATES_SOLVES = 20
 
 
-def solve(model: Model, solver, log, single_pass: bool = False) -> int:
-    """Solve a model: one linear solve for a bonded or smooth interface (or none); the
-    Mohr-Coulomb iteration otherwise (a scene that does not need the return does not run
-    it). With ``single_pass`` the interface makes one solve and one state update only (for a
-    soil iteration that converges both at once); returns the number of elements that
-    changed state (0 when the interface is converged)."""
-    block = model.interface
-    if block is None or not block.mohr_coulomb:
-        solver.solve()
-        return 0
-    if not single_pass or block.node_states:
+class ActiveSet:
+    """The Mohr-Coulomb interface's iteration of a stage, as the analysis composes it
+    (:mod:`tankfx.iterations.stage`): ``run(inner, log)`` solves with ``inner()`` and
+    re-decides the states until they settle (:class:`InterfaceIteration`), from the states
+    so far and, where that fails, once more from stuck ones. With ``one_update`` (inside a
+    soil iteration that converges both at once) each ``run`` is one solve and one state
+    update, and its status says how many carriers still changed (``unsettled``).
+
+    ``restarts``: the iterations of the analysis that started again from stuck states."""
+
+    name = "interface"
+    #: whether the iterations inside it log at debug level only
+    quiet_inner = False
+
+    def __init__(self, model: Model, block: InterfaceBlock, one_update: bool = False):
+        self.model, self.block = model, block
         # node states are converged inside every soil iteration: updated once per soil
         # iteration they oscillate with the secant moduli (measured: a period-2 cycle,
         # no convergence in 40 iterations, where the nested loop takes 6 solves)
-        block.result = iterate_interface(model, block, solver, log).record
-        return 0
-    if block.passes is None:
-        block.passes = InterfaceIteration(model, block)
-    passes = block.passes
-    changed = passes.single_pass(solver)
-    block.result = {"converged": changed == 0, "iterations": len(passes.history),
-                    "history": passes.history,
-                    "frozen_elements": passes.history[-1]["frozen"],
-                    "reversed_slips": passes.reversed_slips(),
-                    "criterion": "one state update per soil iteration, until no element "
-                                 "changes state"}
-    return changed
+        self.one_update = one_update and not block.node_states
+        self.restarts = 0
+        #: the status of the stage's last run (None before it)
+        self.last: IterationStatus | None = None
+        self._passes: InterfaceIteration | None = None
 
+    @classmethod
+    def build(cls, model: Model, solver, how) -> "ActiveSet":
+        """The stage's active set (``how``: :class:`tankfx.iterations.stage.Composition`)."""
+        return cls(model, model.interface, one_update=how.one_update)
 
-def iterate_interface(model: Model, block: InterfaceBlock, solver, log) -> IterationStatus:
-    """The Mohr-Coulomb iteration from the states so far (a load path's or a time step's
-    last); where it fails from them, once more from the states of a fresh analysis (every
-    carrier in contact stuck). The law holds no slip from one solution to the next (total
-    loading), so the states so far are only a starting guess, and a poor one where the load
-    fell: the small tank's consolidation emptied to 5 % of its load cycled its reversed
-    slips for 50 solves from the full tank's states, and converged in 4 from stuck ones.
-    The first try has CARRIED_STATES_SOLVES solves."""
-    # (a stuck carrier's coefficients are those of its state: the states say it all;
-    # every rank takes the same branch, the iteration's solves being collective)
-    fresh = np.all(block.status[block.in_contact] == law.STICK)
-    if block.mesh.comm.allreduce(int(fresh), op=MPI.MIN):
-        return InterfaceIteration(model, block).run(solver, log)
-    carried = InterfaceIteration(model, block)
-    # (from a good guess it takes a few solves; a fresh start, a handful more)
-    carried.max_iterations = CARRIED_STATES_SOLVES
-    try:
-        return carried.run(solver, log)
-    except SolveError as first:
-        if block.settings.on_cycle == "stop" and first.code == Failure.CYCLES:
-            raise
-        log.info("Mohr-Coulomb interface: no converged state from the previous states "
-                 "(%s); once more from every element stuck", first)
-        block.set_stuck()
+    @staticmethod
+    def describe(scene) -> str:
+        """The iteration in words (``tankfx check``)."""
+        return "the Mohr-Coulomb active set"
+
+    def begin_stage(self) -> None:
+        """A new stage: its states so far are the starting guess; no pass made yet."""
+        self.last = None
+        self._passes = None
+
+    def run(self, inner, log) -> IterationStatus:
+        status = self._one_update(inner) if self.one_update else self._iterate(inner, log)
+        self.last = replace(status, record={**status.record,
+                                            "restarts_from_stuck": self.restarts})
+        return self.last
+
+    def _one_update(self, inner) -> IterationStatus:
+        """One solve and one state update; UNSETTLED while carriers change state."""
+        if self._passes is None:
+            self._passes = InterfaceIteration(self.model, self.block)
+        passes = self._passes
+        changed = passes.single_pass(inner)
+        return IterationStatus.of(
+            {"converged": changed == 0, "iterations": len(passes.history),
+             "history": passes.history, "frozen_elements": passes.history[-1]["frozen"],
+             "reversed_slips": passes.reversed_slips(),
+             "criterion": "one state update per soil iteration, until no element changes "
+                          "state"}, unsettled=changed)
+
+    def _iterate(self, inner, log) -> IterationStatus:
+        """The Mohr-Coulomb iteration from the states so far (a load path's or a time
+        step's last); where it fails from them, once more from the states of a fresh
+        analysis (every carrier in contact stuck). The law holds no slip from one solution
+        to the next (total loading), so the states so far are only a starting guess, and a
+        poor one where the load fell: the small tank's consolidation emptied to 5 % of its
+        load cycled its reversed slips for 50 solves from the full tank's states, and
+        converged in 4 from stuck ones. The first try has CARRIED_STATES_SOLVES solves."""
+        model, block = self.model, self.block
+        # (a stuck carrier's coefficients are those of its state: the states say it all;
+        # every rank takes the same branch, the iteration's solves being collective)
+        fresh = np.all(block.status[block.in_contact] == law.STICK)
+        if block.mesh.comm.allreduce(int(fresh), op=MPI.MIN):
+            return InterfaceIteration(model, block).run(inner, log)
+        carried = InterfaceIteration(model, block)
+        # (from a good guess it takes a few solves; a fresh start, a handful more)
+        carried.max_iterations = CARRIED_STATES_SOLVES
         try:
-            result = InterfaceIteration(model, block).run(solver, log)
-        except SolveError as second:
-            raise SolveError(f"{second} (and from the previous states: {first})",
-                             first.history + second.history, code=second.code) from None
-        block.restarts += 1
-        return result
+            return carried.run(inner, log)
+        except SolveError as first:
+            if block.settings.on_cycle == "stop" and first.code == Failure.CYCLES:
+                raise
+            log.info("Mohr-Coulomb interface: no converged state from the previous states "
+                     "(%s); once more from every element stuck", first)
+            block.set_stuck()
+            try:
+                result = InterfaceIteration(model, block).run(inner, log)
+            except SolveError as second:
+                raise SolveError(f"{second} (and from the previous states: {first})",
+                                 first.history + second.history, code=second.code) from None
+            self.restarts += 1
+            return result

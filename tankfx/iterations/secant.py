@@ -39,36 +39,40 @@ class HyperbolicIteration:
     Chang's): its start, its secant step, its next moduli, its unloading line and its words
     (:class:`tankfx.laws.kondner.Kondner`)."""
 
+    name = "soil"
+    quiet_inner = False
+    #: an active set inside it may update its states once per soil iteration
+    one_update_inside = True
+
+    @classmethod
+    def build(cls, model, solver, how) -> "HyperbolicIteration":
+        return cls(model)
+
     @staticmethod
-    def describe(soil) -> str:
+    def describe(scene) -> str:
         """The iteration in words, with the scene's settings (``tankfx check``)."""
+        soil = scene.soil
         return (f"Picard on the secant modulus (tolerance {soil.tolerance:g}, at most "
                 f"{soil.max_iterations})")
 
     def __init__(self, model):
         self.model = model
         soil = model.soil
-        s = model.scene.soil
         self.modulus = soil.E          # the DG0 secant modulus (a fem.Function)
         V = self.modulus.function_space
         msh = V.mesh
         n_cells = msh.topology.index_map(2).size_local + msh.topology.index_map(2).num_ghosts
+        self.n_cells = n_cells
         self.n_owned = msh.topology.index_map(2).size_local
         # everything below is in cell order; V's and T's dofs are mapped through their maps
         self.dof_E = V.dofmap.list[:, 0]
         self.mid = model.domain.cell_midpoints
-        #: the soil's law, and its constants per cell as the iteration starts
-        self.law = s.law
-        self.start = self.law.secant_start(s, -self.mid[:, 1], soil.cell_strata)
-        self.a, self.b = self.start["a"], self.start["b"]
-        # (the law's strain measure reads the intact Poisson's ratio: a failed Duncan-Chang
-        # cell's is not its law's)
-        self.nu, self.nu_intact = self.start["nu"], self.start["nu_intact"]
+        #: the soil's law
+        self.law = model.scene.soil.law
         if "nu" in self.law.state_fields:
             # a failed cell's Poisson's ratio, in the soil's per-cell field
             self.nu_field = soil.nu
             self.dof_nu = soil.nu.function_space.dofmap.list[:, 0]
-        self.E_initial = 1.0 / self.a
         self.is_soil = np.zeros(n_cells, dtype=bool)
         self.is_soil[model.domain.cells("soil")] = True
         # a ringwall's cells (and its fill's) are no soil of this law: they keep their
@@ -80,23 +84,37 @@ class HyperbolicIteration:
         self.strain_expr = fem.Expression(
             soil_forms.tensor_components(soil_forms.strain(soil.u, soil.r)),
             T.element.interpolation_points)
-        #: the cells' stress of the current iteration, where the law reads it (else None)
-        self._stress = None
         if self.law.needs_stress:
             self.stress = fem.Function(T)
             self.stress_expr = fem.Expression(soil_forms.tensor_components(soil.stress()),
                                               T.element.interpolation_points)
         #: the cells' unloading memory along a load path (None: the paper's law)
         self.memory = soil.memory
-        #: per cell, how often it has changed between its curve and its line this stage
-        self._switches = np.zeros(n_cells, dtype=int)
-        self.history: list[dict] = []
         self.anderson_depth = self.law.anderson_depth
-        self._x_hist, self._f_hist, self._g_hist = [], [], []
+        self.begin_stage()
 
-    def run(self, inner_solve, log) -> IterationStatus:
-        """Iterate: ``inner_solve()`` solves the model with the current moduli (and returns
-        how many interface elements changed state), then every soil cell takes the secant
+    def begin_stage(self) -> None:
+        """A new stage: the law's constants per cell as the iteration starts, and no
+        history (the moduli themselves start from the last stage's)."""
+        s = self.model.scene.soil
+        self.start = self.law.secant_start(s, -self.mid[:, 1], self.model.soil.cell_strata)
+        self.a, self.b = self.start["a"], self.start["b"]
+        # (the law's strain measure reads the intact Poisson's ratio: a failed Duncan-Chang
+        # cell's is not its law's)
+        self.nu, self.nu_intact = self.start["nu"], self.start["nu_intact"]
+        self.E_initial = 1.0 / self.a
+        #: the cells' stress of the current iteration, where the law reads it (else None)
+        self._stress = None
+        #: per cell, how often it has changed between its curve and its line this stage
+        self._switches = np.zeros(self.n_cells, dtype=int)
+        self.history: list[dict] = []
+        self._x_hist, self._f_hist, self._g_hist = [], [], []
+        #: the status of the stage's last run (None before it)
+        self.last: IterationStatus | None = None
+
+    def run(self, inner, log) -> IterationStatus:
+        """Iterate: ``inner()`` solves the model with the current moduli (its status
+        ``unsettled``: how many interface elements changed state), then every soil cell takes the secant
         modulus of its strains (Eqs. 17-19, or Duncan & Chang's; a remembering soil's
         unloading line), until no cell's misfit exceeds the tolerance (Eq. 20), the
         displacement update is small and the interface has settled. Returns its status
@@ -117,7 +135,8 @@ class HyperbolicIteration:
         for it in range(1, max_it + 1):
             t0 = time.perf_counter()
             try:
-                unsettled = inner_solve()   # interface elements that changed state (single loop)
+                # (interface elements that changed state, with one update per iteration)
+                unsettled = inner().unsettled
             except SolveError as e:
                 # the stiffness left by the soil at its ultimate no longer solves: say so in
                 # the soil's terms, with the history so far
@@ -157,8 +176,9 @@ class HyperbolicIteration:
             log.info("  %2d %9d %11.3e %12d  %10.3e %8.2f", it, n_changing, worst, n_ult,
                      du_rel, row["time_s"])
             if n_changing == 0 and du_rel <= du_tol and not unsettled:
-                return self._converged(it, row, tol, worst, du_rel, du_tol, n_ult, w0_hist,
-                                       E, eps_min, eps_max, unloading, own)
+                self.last = self._converged(it, row, tol, worst, du_rel, du_tol, n_ult, w0_hist,
+                                            E, eps_min, eps_max, unloading, own)
+                return self.last
             self._update(E, E_new, step, unloading, switched, own)
         self._fail(s, n_ult, ultimate, max_it, worst, du_rel, tol)
 
@@ -196,11 +216,10 @@ class HyperbolicIteration:
 
     def _converged(self, it, row, tol, worst, du_rel, du_tol, n_ult, w0_hist, E, eps_min,
                    eps_max, unloading, own) -> IterationStatus:
-        """The record of a converged iteration; the soil block keeps the converged Kondner
-        constants (for the stress level) and a remembering soil its new peaks."""
+        """The record of a converged iteration, with the converged Kondner constants of
+        each cell (``data``: a, b, nu, for the stress level); a remembering soil commits its
+        new peaks."""
         comm = self.model.domain.mesh.comm
-        # the converged Kondner constants of each cell, for the stress level
-        self.model.soil.kondner = (self.a, self.b, self.nu_intact)
         extra = {}
         if self.memory is not None:
             # the cells on the loading curve past their largest strain are at their most
@@ -218,7 +237,8 @@ class HyperbolicIteration:
             "criterion": f"no cell's deviator misfit exceeds {tol:g} (Eq. 20; largest "
                          f"{worst:.2e}) and the displacement update is {du_rel:.1e} <= "
                          f"{du_tol:g}",
-            "cells_at_ultimate": n_ult, "error_estimate": _error_estimate(w0_hist)})
+            "cells_at_ultimate": n_ult, "error_estimate": _error_estimate(w0_hist)},
+            data={"a": self.a, "b": self.b, "nu": self.nu_intact})
 
     def _update(self, E, E_new, step, unloading, switched, own) -> None:
         """Every soil cell takes its secant modulus (the paper updates only the cells

@@ -49,6 +49,12 @@ class IterationStatus:
         CONVERGED, or UNSETTLED for a pass whose states still change.
     record : dict
         Its entry of results.json.
+    unsettled : int
+        How many of its states still changed (a pass of an iteration nested in another:
+        the outer one is not converged while they do).
+    data : object
+        What it computed beyond its record, for ``tankfx.results`` to report (the secant
+        loop's converged constants per cell, a consolidation's ``ConsolidationRun``).
     """
 
     converged: bool
@@ -57,11 +63,13 @@ class IterationStatus:
     reason: str
     code: str
     record: dict
+    unsettled: int = 0
+    data: object = None
 
     @classmethod
-    def of(cls, record: dict) -> "IterationStatus":
+    def of(cls, record: dict, unsettled: int = 0, data: object = None) -> "IterationStatus":
         """The status of an iteration's record (``converged``, ``iterations``,
         ``history``, ``criterion`` and what else it reports)."""
         return cls(record["converged"], record["iterations"], record["history"],
                    record["criterion"], CONVERGED if record["converged"] else UNSETTLED,
-                   record)
+                   record, unsettled, data)

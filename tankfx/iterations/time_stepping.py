@@ -14,7 +14,7 @@ from mpi4py import MPI
 from ..fem.evaluate import evaluate_at, nodal_values_on_facets
 from ..fem.solvers import SolveError
 from ..laws.biot import stratum_coefficients
-from .active_set import solve
+from .status import CONVERGED, IterationStatus
 
 
 def time_steps(times, first: float, per_decade: int) -> np.ndarray:
@@ -100,13 +100,6 @@ FIRST_STEP = 1e-2
 DAY = 86400.0
 
 
-class _AtDebug:
-    """A logger's info at debug level, its warnings as they are."""
-
-    def __init__(self, log):
-        self.info, self.warning = log.debug, log.warning
-
-
 @dataclass
 class ConsolidationRun:
     """What a consolidation computed (:meth:`TimeStepping.run`): the states (w0, the
@@ -132,10 +125,32 @@ class ConsolidationRun:
 class TimeStepping:
     """Consolidation of a model whose soil block has a pore pressure (SoilBlock with a
     scene's [consolidation]): its drained limit, the undrained response at t = 0, then the
-    steps through the reported times. The model's fields end at the last reported time."""
+    steps through the reported times, each solved by ``inner()``. The model's fields end at
+    the last reported time. Its status's ``data`` is the :class:`ConsolidationRun`."""
 
-    def __init__(self, model, solver, log):
-        self.model, self.solver, self.log = model, solver, log
+    name = "consolidation"
+    #: the iterations inside a time step log at debug level: a table a step would drown
+    #: the log
+    quiet_inner = True
+
+    @classmethod
+    def build(cls, model, solver, how) -> "TimeStepping":
+        return cls(model, solver)
+
+    @staticmethod
+    def describe(scene) -> str:
+        """The time stepping in words (``tankfx check``)."""
+        c = scene.consolidation
+        steps = len(path_steps(load_path(scene), c.times, c.steps_per_decade)) - 1
+        return (f"in time: the drained limit, the undrained start and {steps} time steps to "
+                f"{c.times[-1] / 86400:.4g} days (a solve each)")
+
+    def begin_stage(self) -> None:
+        self.last = None
+
+    def __init__(self, model, solver):
+        self.model = model
+        self.last: IterationStatus | None = None
         # (a step of the path with no load left: see the solver's relative_to_largest_load)
         solver.relative_to_largest_load = True
         scene = model.scene
@@ -188,13 +203,12 @@ class TimeStepping:
                 "axis_pore_pressure": axis}
 
     def _solve(self, dt_eff: float, t: float | None = None) -> None:
-        """One step (a Mohr-Coulomb interface converged in it, its table logged at debug
-        level: a table a step would drown the log); a step that does not converge says
-        when, with the interface's history."""
+        """One step (``inner()``: a Mohr-Coulomb interface converged in it); a step that
+        does not converge says when, with the interface's history."""
 
         self.soil.conductance.value = dt_eff / self.c.water_unit_weight
         try:
-            solve(self.model, self.solver, _AtDebug(self.log))
+            self._inner()
         except SolveError as e:
             when = "the drained limit" if t is None else f"t = {t / DAY:.6g} days"
             raise SolveError(f"consolidation, at {when} (load {self.model.applied_load:.6g} "
@@ -212,8 +226,9 @@ class TimeStepping:
         # none: a tank emptied)
         model.path_load_scale = model.load_scale      # (the largest so far: see load_scale)
 
-    def run(self) -> ConsolidationRun:
-        soil, log, c, model = self.soil, self.log, self.c, self.model
+    def run(self, inner, log) -> IterationStatus:
+        self._inner = inner
+        soil, c, model = self.soil, self.c, self.model
         scene = model.scene
         path = load_path(scene)
         # the drained limit first, under the path's last load, from rest (it does not
@@ -256,9 +271,13 @@ class TimeStepping:
                          "on the axis %.4g Pa (step %d of %d)", t / DAY, state["w0"],
                          state["axis_pore_pressure"], k + 1, len(steps))
             t_prev, dt_prev = t, dt
-        return ConsolidationRun(
+        run = ConsolidationRun(
             drained=drained, at_times=at_times, history=history, isochrones=isochrones,
             steps=len(steps) - 1, c_v=self.c_v, time_scale=self.time_scale,
             axis_depth=self.axis_depth, isochrone_depths=self.isochrone_depths,
             at_stages=[[h for h in history if h["t"] == t][-1] for t in scene.stage_times]
             if scene.stages else None)
+        self.last = IterationStatus(
+            True, len(steps) - 1, history, f"{len(steps) - 1} time steps to the last reported "
+            f"time", CONVERGED, {}, data=run)
+        return self.last

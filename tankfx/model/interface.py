@@ -52,13 +52,6 @@ class InterfaceBlock:
     structure's unknown (its displacement is the interface's structure side) and ``soil``
     the soil block (its displacement, the soil side)."""
 
-    #: the Mohr-Coulomb iteration's result of the current stage (None before its first solve)
-    result: dict | None = None
-    #: how many Mohr-Coulomb iterations of this analysis started again from stuck states
-    restarts = 0
-    #: the single-pass iteration of the current stage (see tankfx.iterations.active_set)
-    passes = None
-
     def __init__(self, scene: Scene, domain: Domain, soil: SoilBlock, sub, cell_tags,
                  cell_midpoints, w: fem.Function, entity_maps: list):
         self.scene, self.domain, self.soil = scene, domain, soil
@@ -114,9 +107,7 @@ class InterfaceBlock:
     def begin_stage(self) -> None:
         """Start a load stage: the states so far are the starting guess, and the carriers
         separated now are the ones that can be reported ``rebonded`` later."""
-        self.result = None
         self.was_separated = self.status == interface.SEPARATED
-        self.passes = None
 
     def set_stuck(self) -> None:
         """Every carrier in contact stuck, with the elastic stiffnesses: the states of a

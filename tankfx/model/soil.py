@@ -62,10 +62,6 @@ class SoilBlock:
     nu has a pressure of its own (``mixed_strata``), pinned outside its cells.
     ``stress(u)`` is the stress of either form."""
 
-    #: Kondner's (a, b, nu) per cell as the secant iteration last converged on them (set
-    #: by :class:`tankfx.iterations.secant.HyperbolicIteration`; None before it has run)
-    kondner: tuple | None = None
-
     def __init__(self, scene: Scene, domain: Domain):
         msh = domain.mesh
         self.scene, self.domain = scene, domain

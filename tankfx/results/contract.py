@@ -93,7 +93,9 @@ def axis_pore_pressure(model, domain: Domain, z_axis, sigma_zz) -> dict:
     return {"pore_pressure": pw.tolist(), "sigma_zz_effective": (sigma_zz - pw).tolist()}
 
 
-def results_of(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
+def results_of(scene: Scene, domain: Domain, model, sigma_zz, statuses=None) -> dict:
+    """results.json of a solved stage (``statuses``: its iterations', by name;
+    :mod:`tankfx.iterations.stage`)."""
     a = scene.foundation_radius
     D = scene.embedment
     p = model.reference_pressure
@@ -132,7 +134,7 @@ def results_of(scene: Scene, domain: Domain, model, sigma_zz) -> dict:
         "scene": scene.to_dict(resolved=True),
     }
     if isinstance(model, TankModel):
-        extra = structure_results(model)
+        extra = structure_results(model, (statuses or {}).get("interface"))
         out["profiles"].update(extra.pop("profiles"))
         out["equilibrium"].update(extra.pop("equilibrium"))
         out.update(extra)

@@ -26,7 +26,7 @@ def cellwise(expr, space) -> np.ndarray:
     return f.x.array.reshape(-1, space.dofmap.index_map_bs)[space.dofmap.list[:, 0]]
 
 
-def soil_cell_fields(model) -> dict[str, fem.Function]:
+def soil_cell_fields(model, statuses=None) -> dict[str, fem.Function]:
     """The soil's state cell by cell (DG0: each cell's centroid), for viewing.
 
     ``modulus``: Young's modulus, Pa (E(h), or a hyperbolic soil's secant modulus);
@@ -39,7 +39,8 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
     ``soil``: 1 on soil cells, 0 where the foundation took the soil's place; on layered
     ground ``stratum``: 0 in the surface soil, k in the k-th layer; with a ringwall
     ``ringwall``: 1 in its cells, 2 in its fill's (which the other fields cover too: their
-    stresses, their E)."""
+    stresses, their E). ``statuses``: the stage's iterations' (the secant loop's carries
+    the constants it converged on; without it, those of each cell's stratum)."""
 
     block, s = model.soil, model.scene.soil
     msh = block.u.function_space.mesh
@@ -56,8 +57,9 @@ def soil_cell_fields(model) -> dict[str, fem.Function]:
         eps = cellwise(soil_forms.tensor_components(soil_forms.strain(block.u, block.r)), T)
         # Kondner's constants of each cell: as the iteration converged on them (Duncan &
         # Chang's follow the stress), else those of its stratum
-        a, b, nu = block.kondner or hyperbolic.kondner_parameters(
-            s, cellwise(soil_forms.depth(msh), Q0)[:, 0])
+        converged = getattr((statuses or {}).get("soil"), "data", None)
+        a, b, nu = (converged["a"], converged["b"], converged["nu"]) if converged else \
+            hyperbolic.kondner_parameters(s, cellwise(soil_forms.depth(msh), Q0)[:, 0])
         eps_min, eps_max = hyperbolic.principal_strains(eps[:, 0], eps[:, 1], eps[:, 2],
                                                         eps[:, 3])
         # (Kondner's law is the soil's: nothing to say of a ringwall's concrete)
@@ -180,7 +182,7 @@ def write_fields(solution, directory) -> list[Path]:
     if comm.rank == 0:
         directory.mkdir(parents=True, exist_ok=True)
     comm.barrier()
-    cells = soil_cell_fields(solution.model)
+    cells = soil_cell_fields(solution.model, solution.statuses)
     paths = [directory / "soil.pvd"]
     extra = []
     if solution.harmonic is not None:

@@ -517,7 +517,7 @@ def section_field(solution, quantity: str):
         return solution.sigma_zz
     if quantity == "pore_pressure":
         return solution.model.soil.pore_pressure
-    return soil_cell_fields(solution.model)[quantity]
+    return soil_cell_fields(solution.model, solution.statuses)[quantity]
 
 
 def write_figures(solution, directory: str | Path, section_quantity: str = "sigma_zz"
@@ -554,7 +554,7 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
                         {**section, "r_min": max(centre - half, 0.0), "extent": centre + half,
                          "title": f"{title}: the ringwall"}))
     if "stress_level" in scene.soil.law.reports and section_quantity != "stress_level":
-        level = soil_cell_fields(solution.model)["stress_level"]
+        level = soil_cell_fields(solution.model, solution.statuses)["stress_level"]
         figures.append((plot_section, (solution.u, level, directory / "stress_level.png"),
                         {**section, "label": "q / q_ult", "scalar_scale": 1.0}))
     if "stages" in r:

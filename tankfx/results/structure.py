@@ -27,7 +27,10 @@ def contact_at(model: TankModel, F, pts, cells):
             evaluate_at(F["tau"], pts, cells)[:, 0])
 
 
-def structure_results(model: TankModel) -> dict:
+def structure_results(model: TankModel, interface_status=None) -> dict:
+    """The plate's, the wall's and the interface's results of the current solution
+    (``interface_status``: the stage's Mohr-Coulomb iteration's, None for a linear
+    interface)."""
     F, s = model.last_fields, model.scene
     pts = model.stations(model.plate_cells, along=0)
     cells = model.plate_cells
@@ -72,7 +75,7 @@ def structure_results(model: TankModel) -> dict:
     out = {"profiles": profiles,
            "equilibrium": {"contact_resultant": contact,
                            "contact_relative_error": abs(contact - applied) / scale},
-           "interface": interface_summary(model.interface)}
+           "interface": interface_summary(model.interface, interface_status)}
     if s.wall is not None:
         out["junction"] = junction(model, F)
         out["courses"] = courses(model, F)
@@ -156,7 +159,7 @@ def junction(model: TankModel, F) -> dict:
             "plate_bending_stress": 6.0 * abs(M_in) / (2 * e_in) ** 2}
 
 
-def interface_summary(block) -> dict:
+def interface_summary(block, status=None) -> dict:
     """The interface's results: its condition, how its iteration went (the record its
     iteration left, or a linear interface's one solve), the length in each state per part
     (plate, wall), and the range of its normal stiffness."""
@@ -174,10 +177,11 @@ def interface_summary(block) -> dict:
             mine = state[:n_owned] & (values == tag)
             lengths.setdefault(f"{code.label}_length", {})[part] = comm.allreduce(
                 float(h[mine].sum()))
-    res = block.result or {"converged": True, "iterations": 0, "history": [],
-                           "criterion": "linear interface: one solve"}
+    res = status.record if status is not None else {
+        "converged": True, "iterations": 0, "history": [],
+        "criterion": "linear interface: one solve"}
     if block.settings.condition == "mohr_coulomb":
-        res = {**res, "states": block.settings.states, "restarts_from_stuck": block.restarts}
+        res = {**res, "states": block.settings.states}
     in_contact = block.stiffness_n[block.in_contact]
     return {"condition": block.settings.condition, **res, **lengths,
             "normal_stiffness_range": [

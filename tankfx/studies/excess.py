@@ -10,8 +10,8 @@ from mpi4py import MPI
 
 from ..fem.evaluate import allsum
 from ..fem.solvers import make_solver
-from ..iterations.active_set import solve
 from ..iterations.secant import HyperbolicIteration
+from ..iterations.stage import LinearSolve
 from ..laws import elasticity as soil_forms
 from ..laws.kondner import major_strain
 from ..mesh import build_domain
@@ -49,7 +49,7 @@ def first_order_excess(scene, comm: MPI.Comm = MPI.COMM_WORLD) -> dict:
     model = build_model(scene, domain)
     solver = make_solver(scene.solver, model.a, model.L, model.bcs, model.unknowns,
                          entity_maps=model.entity_maps, name="first_order", symmetric=True)
-    solve(model, solver, _Quiet())                  # the linear solution on E_0 = 1/a
+    LinearSolve(solver).run(None, _Quiet())         # the linear solution on E_0 = 1/a
     it = HyperbolicIteration(model)
     u = model.soil.u
     # the adjoint load: a unit upward force on the plate's deflection at its centre (the
