@@ -188,7 +188,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     # carried is searched
     search = bool(scene.soil.law.state_fields) and len(stages) == 1
     if search:
-        model.soil.history.commit()
+        model.commit()
     for k, load in enumerate(stages):
         if k > 0:
             log.info("load stage %d of %d", k + 1, len(stages))
@@ -268,9 +268,7 @@ def _search_carried(e: SoilFailure, scene: Scene, load: Load, model: Model,
              "(%d halvings)", CARRIED_SEARCH_STEPS)
     for _ in range(CARRIED_SEARCH_STEPS):
         f = 0.5 * (lo + hi)
-        model.soil.history.rollback()
-        if model.interface is not None and model.interface.mohr_coulomb:
-            model.interface.set_stuck()
+        model.rollback()
         model.set_loads(scaled_load(load, f))
         try:
             _solve_stage(scene, scaled_load(load, f), model, iterations)

@@ -57,3 +57,65 @@ def test_commit_and_rollback_restore_exactly(square):
     assert "stress" in history and "nu" not in history
     with pytest.raises(ValueError, match="carried already"):
         history.register("E", modulus)
+
+
+def test_a_model_rolls_back_its_interface_states_and_soil_memory():
+    """The model's commit and rollback carry the interface's states and coefficients and a
+    remembering soil's memory: a Mohr-Coulomb tank solved from its committed stuck start
+    and rolled back is stuck again, coefficient for coefficient; committed after the solve,
+    it rolls back to the solved states."""
+    from tankfx import Scene
+    from tankfx.fem.solvers import make_solver
+    from tankfx.iterations.stage import StageIterations
+    from tankfx.laws.interface import ContactState
+    from tankfx.mesh import build_domain
+    from tankfx.model.build import build_model
+    from conftest import HYPERBOLIC_SOIL, small_tank
+
+    class Quiet:
+        def info(self, *args):
+            pass
+
+    scene = Scene.from_dict(small_tank(
+        soil=HYPERBOLIC_SOIL | {"unloading_modulus_ratio": 3.0},
+        interface={"condition": "mohr_coulomb", "friction_angle": 10.0},
+        load={"pressure": 100e3}) | {"stages": [{}, {}]})
+    model = build_model(scene, build_domain(scene))
+    solver = make_solver(scene.solver, model.a, model.L, model.bcs, model.unknowns,
+                         entity_maps=model.entity_maps, name="rollback", symmetric=False)
+    ifc, soil = model.interface, model.soil
+    carried = {**ifc.history.fields, **soil.history.fields}
+    assert {"status", "k_s", "mu", "was_separated", "E", "peak_strain",
+            "peak_u"} <= set(carried)
+
+    def values():
+        return {n: (f if isinstance(f, np.ndarray) else f.x.array).copy()
+                for n, f in carried.items()}
+
+    model.commit()
+    start = values()
+    iterations = StageIterations.of(scene, model, solver)
+    model.begin_stage()
+    iterations.begin_stage()
+    statuses = iterations.run(Quiet())
+    assert statuses["soil"].converged and statuses["interface"].converged
+    own = ifc.n_carrier_owned
+    slipped = MPI.COMM_WORLD.allreduce(int(np.sum(ifc.status[:own] != ContactState.STICK)
+                                           - np.sum(~ifc.in_contact[:own])))
+    assert slipped > 0, "the test needs states that changed"
+    solved = values()
+    for name in ("E", "peak_strain", "k_s"):
+        assert not np.array_equal(solved[name], start[name]), name
+    model.rollback()
+    for name, v in values().items():
+        assert np.array_equal(v, start[name]), name
+    assert np.all(ifc.status[ifc.in_contact] == ContactState.STICK)
+    # (the solved state committed: the rollback returns to it)
+    for name, field in carried.items():
+        (field if isinstance(field, np.ndarray) else field.x.array)[...] = solved[name]
+    model.commit()
+    soil.E.x.array[:] = 0.0
+    ifc.status[:] = ContactState.SEPARATED
+    model.rollback()
+    for name, v in values().items():
+        assert np.array_equal(v, solved[name]), name

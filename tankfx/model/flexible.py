@@ -65,6 +65,14 @@ class FlexibleLoad:
     def begin_stage(self) -> None:
         pass
 
+    def commit(self) -> None:
+        """The soil's state now is the one to go on from."""
+        self.soil.history.commit()
+
+    def rollback(self) -> None:
+        """Back to the soil's last committed state."""
+        self.soil.history.rollback()
+
     def set_loads(self, load) -> None:
         """The pressure of a later load stage (on the same, meshed, loaded circle)."""
         self.scene = replace(self.scene, load=load)

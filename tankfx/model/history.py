@@ -11,6 +11,7 @@ degree, and nowhere else.
 from __future__ import annotations
 
 import basix.ufl
+import numpy as np
 import ufl
 from dolfinx import fem
 
@@ -32,31 +33,36 @@ def quadrature_measure(mesh, mesh_degree: int) -> ufl.Measure:
                        metadata={"quadrature_degree": quadrature_degree(mesh_degree)})
 
 
+def _values(field) -> np.ndarray:
+    """The array a carried field's values are in (a Function's, or the array itself)."""
+    return field if isinstance(field, np.ndarray) else field.x.array
+
+
 class History:
-    """Named fields (``fem.Function``: DG0 per cell, or at quadrature points) and their last
-    committed values."""
+    """Named fields (``fem.Function``: DG0 per cell, or at quadrature points; or a numpy
+    array per local cell or carrier, changed in place) and their last committed values."""
 
     def __init__(self):
-        self.fields: dict[str, fem.Function] = {}
-        self._committed: dict[str, object] = {}
+        self.fields: dict[str, object] = {}
+        self._committed: dict[str, np.ndarray] = {}
 
-    def register(self, name: str, field: fem.Function) -> None:
+    def register(self, name: str, field) -> None:
         """Carry ``field`` under ``name``, committed as it is now."""
         if name in self.fields:
             raise ValueError(f"a field named {name!r} is carried already")
         self.fields[name] = field
-        self._committed[name] = field.x.array.copy()
+        self._committed[name] = _values(field).copy()
 
     def commit(self) -> None:
         """The fields as they are now are the state to go on from."""
         for name, field in self.fields.items():
-            self._committed[name][:] = field.x.array
+            self._committed[name][...] = _values(field)
 
     def rollback(self) -> None:
         """Every field back to its last committed values (ghosts included: no scatter
         needed)."""
         for name, field in self.fields.items():
-            field.x.array[:] = self._committed[name]
+            _values(field)[...] = self._committed[name]
 
     def __contains__(self, name: str) -> bool:
         return name in self.fields

@@ -24,6 +24,7 @@ from ..laws import interface
 from ..laws import shell as st
 from ..mesh import FACET_TAGS, Domain
 from ..scene.scene import Scene
+from .history import History
 from .soil import SoilBlock
 
 __all__ = ["InterfaceBlock", "POLLUTION_WARNING", "OVERSTIFF_WARNING", "CONDITIONING_WARNING"]
@@ -98,6 +99,12 @@ class InterfaceBlock:
             (st.PLATE, st.WALL_EMBEDDED), metadata=self.qmeta)
         self._jump_forms = None
         self.was_separated = np.zeros(self.n_carrier, dtype=bool)
+        #: the carriers' states and the coefficients that realise them, and which were
+        #: separated at the stage's start: committed with a converged stage, rolled back
+        #: to start one again
+        self.history = History()
+        for name in ("status", "k_n", "k_s", "mu", "c_s", "was_separated"):
+            self.history.register(name, getattr(self, name))
 
     @property
     def mohr_coulomb(self) -> bool:
@@ -107,7 +114,7 @@ class InterfaceBlock:
     def begin_stage(self) -> None:
         """Start a load stage: the states so far are the starting guess, and the carriers
         separated now are the ones that can be reported ``rebonded`` later."""
-        self.was_separated = self.status == interface.SEPARATED
+        self.was_separated[:] = self.status == interface.SEPARATED
 
     def set_stuck(self) -> None:
         """Every carrier in contact stuck, with the elastic stiffnesses: the states of a

@@ -66,6 +66,15 @@ class UnloadingMemory:
             self._p_expr = fem.Expression(pressure, P.element.interpolation_points)
             self._dofs_P = _cell_dofs(P, n)
 
+    def carried(self) -> dict:
+        """What it remembers, by name, for the soil's history to commit and roll back."""
+        fields = {"peak_modulus": self.peak_modulus, "peak_nu": self.peak_nu,
+                  "unloading": self.unloading, "peak_u": self.peak_u,
+                  "peak_strain": self.peak_strain, "peak_stress": self.peak_stress}
+        if self.peak_p is not None:
+            fields["peak_p"] = self.peak_p
+        return fields
+
     @property
     def unloading_mask(self) -> np.ndarray:
         return self.unloading.x.array[self._dof_Q] > 0.5

@@ -60,6 +60,13 @@ class Model(Protocol):
     def begin_stage(self) -> None:
         """Start a load stage (the interface's states so far become the starting guess)."""
 
+    def commit(self) -> None:
+        """The state of every block's history now is the one to go on from
+        (:class:`tankfx.model.history.History`)."""
+
+    def rollback(self) -> None:
+        """Every block's history back to its last committed state."""
+
     def out_of_balance(self) -> float:
         """||A u - f|| / ||f|| of the current fields under the current coefficients."""
 

@@ -84,8 +84,9 @@ class SoilBlock:
         self.ringwall_cells, self.fill_cells = mat.ringwall_cells, mat.fill_cells
         self.n_materials = mat.n_materials
         self.E_s, self.gradient, self.nu, self.E = mat.E_s, mat.gradient, mat.nu, mat.E
-        #: the fields its law's iteration changes (tankfx.laws.soil_law.SoilLaw.state_fields),
-        #: committed when a stage converges and rolled back to start one again
+        #: the fields its law's iteration changes (tankfx.laws.soil_law.SoilLaw.state_fields)
+        #: and its unloading memory, committed when a stage converges and rolled back to
+        #: start one again
         self.history = History()
         for name in s.law.state_fields:
             self.history.register(name, getattr(self, name))
@@ -130,6 +131,8 @@ class SoilBlock:
         if s.unloading_modulus_ratio is not None:
             self.memory = UnloadingMemory(self.E, scene.mesh.degree, s.unloading_modulus_ratio,
                                           self._cell_pressure() if self.mixed else None)
+            for name, field in self.memory.carried().items():
+                self.history.register(name, field)
         if domain.has_void:
             # A zero term over the void: it puts the void's dofs in the sparsity pattern, so
             # that their Dirichlet rows get a diagonal (it adds nothing to any value).

@@ -294,6 +294,17 @@ class TankModel:
         :meth:`InterfaceBlock.begin_stage`)."""
         self.interface.begin_stage()
 
+    def commit(self) -> None:
+        """The state now (the soil's and the interface's histories) is the one to go on
+        from."""
+        self.soil.history.commit()
+        self.interface.history.commit()
+
+    def rollback(self) -> None:
+        """Back to the last committed state."""
+        self.soil.history.rollback()
+        self.interface.history.rollback()
+
     @cached_property
     def _out_of_balance(self) -> OutOfBalance:
         return OutOfBalance(self.a, self.L, self.unknowns, self.bcs, self.entity_maps)
