@@ -216,7 +216,7 @@ def describe(scene) -> list[str]:
     s, a = scene.soil, scene.foundation_radius
     out = [f"scene: {scene.title}"]
     if scene.consolidation is not None:
-        permeability, c_v = stratum_coefficients(scene)
+        permeability, c_v = stratum_coefficients(scene.consolidation, scene.soil.strata)
     for k, st in enumerate(s.strata):
         where = "from the surface" if k == 0 else f"from {st.depth:g} m"
         form = "mixed u-p form" if k in s.mixed_strata else "displacement form"

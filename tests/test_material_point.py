@@ -68,9 +68,10 @@ def column(p, confined, tolerance):
                 tolerance=tolerance, max_iterations=60)
     model = SimpleNamespace(
         soil=SimpleNamespace(u=u, E=E, r=r, linear_cells=np.zeros(n_cells, dtype=bool),
+                             setting=SimpleNamespace(soil=soil, embedment=0.0),
                              memory=None,             # (no load path: nothing to remember)
                              cell_strata=None),       # (one stratum: no per-cell constants)
-        scene=SimpleNamespace(soil=soil, embedment=0.0, foundation_radius=RADIUS),
+        scene=SimpleNamespace(foundation_radius=RADIUS),
         domain=SimpleNamespace(
             mesh=msh, cells=lambda name: np.arange(n_cells, dtype=np.int32),
             cell_midpoints=dmesh.compute_midpoints(

@@ -68,7 +68,7 @@ class HyperbolicIteration:
         self.dof_E = V.dofmap.list[:, 0]
         self.mid = model.domain.cell_midpoints
         #: the soil's law
-        self.law = model.scene.soil.law
+        self.law = model.soil.setting.soil.law
         if "nu" in self.law.state_fields:
             # a failed cell's Poisson's ratio, in the soil's per-cell field
             self.nu_field = soil.nu
@@ -96,7 +96,7 @@ class HyperbolicIteration:
     def begin_stage(self) -> None:
         """A new stage: the law's constants per cell as the iteration starts, and no
         history (the moduli themselves start from the last stage's)."""
-        s = self.model.scene.soil
+        s = self.model.soil.setting.soil
         self.start = self.law.secant_start(s, -self.mid[:, 1], self.model.soil.cell_strata)
         self.a, self.b = self.start["a"], self.start["b"]
         # (the law's strain measure reads the intact Poisson's ratio: a failed Duncan-Chang
@@ -120,14 +120,14 @@ class HyperbolicIteration:
         displacement update is small and the interface has settled. Returns its status
         (its results.json record ``record``); raises SoilFailure (or SolveError) with the
         history otherwise."""
-        m, s = self.model, self.model.scene.soil
+        m, s = self.model, self.model.soil.setting.soil
         comm = m.domain.mesh.comm
         tol, max_it = s.tolerance, s.max_iterations
         du_tol = DISPLACEMENT_TOLERANCE_RATIO * tol
         u = m.soil.u
         n_u = u.function_space.dofmap.index_map.size_local * u.function_space.dofmap.index_map_bs
         previous = u.x.array[:n_u].copy()
-        centre = np.array([[0.0, -m.scene.embedment]])
+        centre = np.array([[0.0, -m.soil.setting.embedment]])
         w0_hist = []
         own = np.flatnonzero(self.is_soil[: self.n_owned])
         log.info(self.law.start_text(s, tol))
@@ -309,7 +309,7 @@ class HyperbolicIteration:
         """Per cell, the modulus of its unloading line, by the law (``E``: the cells'
         current modulus)."""
         return self.law.unloading_modulus(
-            self.model.scene.soil, self.start, self.E_initial, E,
+            self.model.soil.setting.soil, self.start, self.E_initial, E,
             self._stress,
             self.memory.peak_stress, self.memory.ratio, self.is_soil)
 
@@ -357,7 +357,7 @@ class HyperbolicIteration:
         comm = self.model.domain.mesh.comm
         pts = np.concatenate(comm.allgather(self.mid[: self.n_owned][mask[: self.n_owned]]))
         a = self.model.scene.foundation_radius
-        D = self.model.scene.embedment
+        D = self.model.soil.setting.embedment
         r, z = pts[:, 0].mean(), -pts[:, 1].mean()
         place = "under the foundation's edge" if abs(r - a) < 0.5 * a else \
             ("under the foundation" if r < a else "beside the foundation")

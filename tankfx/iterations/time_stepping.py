@@ -156,7 +156,7 @@ class TimeStepping:
         scene = model.scene
         self.c = scene.consolidation
         self.soil = model.soil
-        _, c_v = stratum_coefficients(scene)
+        _, c_v = stratum_coefficients(scene.consolidation, scene.soil.strata)
         #: the surface soil's c_v, m^2/s
         self.c_v = c_v[0]
         a = scene.foundation_radius

@@ -43,14 +43,13 @@ def consolidation_coefficient(E, nu, permeability, water_unit_weight):
     return permeability * oedometric_modulus(E, nu) / water_unit_weight
 
 
-def stratum_coefficients(scene) -> tuple[list[float], list[float]]:
-    """Per stratum of a consolidating scene's ground, top down: its permeability k (m/s:
-    its own, else [consolidation]'s) and its c_v (m^2/s)."""
-    c = scene.consolidation
-    k = [c.permeability if st.permeability is None else st.permeability
-         for st in scene.soil.strata]
+def stratum_coefficients(consolidation, strata) -> tuple[list[float], list[float]]:
+    """Per stratum of a consolidating ground (``strata``, top down), its permeability k
+    (m/s: its own, else ``consolidation``'s) and its c_v (m^2/s)."""
+    c = consolidation
+    k = [c.permeability if st.permeability is None else st.permeability for st in strata]
     return k, [consolidation_coefficient(st.E, st.nu, k_i, c.water_unit_weight)
-               for st, k_i in zip(scene.soil.strata, k)]
+               for st, k_i in zip(strata, k)]
 
 
 def biot_forms(u, p, v, q, E, nu, conductance, r, dx):

@@ -17,7 +17,7 @@ from ..fem.blocks import OutOfBalance
 from ..fem.evaluate import assemble_scalar, evaluate_at, nodal_values_on_facets
 from ..mesh import FACET_TAGS, Domain
 from ..scene.scene import Scene
-from .soil import SoilBlock
+from .soil import SoilBlock, SoilSetting
 
 
 class FlexibleLoad:
@@ -26,7 +26,7 @@ class FlexibleLoad:
     def __init__(self, scene: Scene, domain: Domain):
         self.scene, self.domain = scene, domain
         self.warnings: list[str] = []           # (its set-up finds none)
-        self.soil = soil = SoilBlock(scene, domain)
+        self.soil = soil = SoilBlock(SoilSetting.of(scene), domain)
         # a consolidation's step changes only the flow terms (no interface here)
         self.a_split = soil.split_rows(soil.a) if soil.consolidating else None
         self.pressure = fem.Constant(domain.mesh, scene.load.pressure)

@@ -23,7 +23,7 @@ from ..fem.evaluate import allsum
 from ..laws import interface
 from ..laws import shell as st
 from ..mesh import FACET_TAGS, Domain
-from ..scene.scene import Scene
+from ..scene.sections import Interface
 from .history import History
 from .soil import SoilBlock
 
@@ -49,15 +49,20 @@ class InterfaceBlock:
     traction coefficients ``k_n``, ``k_s``, ``mu``, ``c_s`` (fields on the carriers' space
     ``S``) that realise the states in the forms, and the facet measures it acts on.
 
-    ``mesh`` is the structure's submesh, ``cell_tags`` its plate / wall tags, ``w`` the
-    structure's unknown (its displacement is the interface's structure side) and ``soil``
-    the soil block (its displacement, the soil side)."""
+    ``settings`` is the scene's [interface], ``plate_radius`` (m) the foundation's (the
+    scale of the penalty's pollution), ``embedded_wall`` whether a wall's outer face below
+    ground is in contact; ``mesh`` is the structure's submesh, ``cell_tags`` its plate /
+    wall tags, ``w`` the structure's unknown (its displacement is the interface's structure
+    side) and ``soil`` the soil block (its displacement, the soil side; its setting gives
+    the soil's modulus at the interface)."""
 
-    def __init__(self, scene: Scene, domain: Domain, soil: SoilBlock, sub, cell_tags,
-                 cell_midpoints, w: fem.Function, entity_maps: list):
-        self.scene, self.domain, self.soil = scene, domain, soil
+    def __init__(self, settings: Interface, plate_radius: float, embedded_wall: bool,
+                 domain: Domain, soil: SoilBlock, sub, cell_tags, cell_midpoints,
+                 w: fem.Function, entity_maps: list):
+        self.domain, self.soil = domain, soil
+        self.plate_radius, self.embedded_wall = plate_radius, embedded_wall
         self.entity_maps = entity_maps
-        self.settings = scene.interface
+        self.settings = settings
         self.mesh, self.cell_tags, self.cell_midpoints, self.w = sub, cell_tags, \
             cell_midpoints, w
         Q0 = fem.functionspace(sub, ("DG", 0))
@@ -65,11 +70,11 @@ class InterfaceBlock:
         # paper's Eqs. 11-12), or one per node of the soil's trace (DG_k with its nodes at the
         # k + 1 Gauss-Lobatto points of each facet, integrated by that rule: each state then
         # acts at exactly one quadrature point)
-        ifc = scene.interface
+        ifc = settings
         self.node_states = ifc.condition == "mohr_coulomb" and ifc.states == "node"
         self.carrier_name = "node" if self.node_states else "element"
         if self.node_states:
-            k = scene.mesh.degree
+            k = soil.setting.degree
             self.qmeta = {"quadrature_rule": "GLL", "quadrature_degree": 2 * k - 1}
             element = basix.ufl.element("Lagrange", sub.basix_cell(), k, discontinuous=True,
                                         lagrange_variant=basix.LagrangeVariant.gll_warped)
@@ -88,7 +93,7 @@ class InterfaceBlock:
         # the node on the axis and its neighbour in its element (see cell_averages)
         x = self.S.tabulate_dof_coordinates()[:, 0]
         self.axis_carriers = np.flatnonzero(self.node_states & (np.abs(x) < 1e-12
-                                                                * scene.plate.radius))
+                                                                * plate_radius))
         nearest = []
         for d in self.axis_carriers:
             others = [o for o in dofs[self.carrier_cell[d]] if o != d]
@@ -136,7 +141,7 @@ class InterfaceBlock:
     def _penalty(self, values):
         """Interface stiffnesses of the contact cells, per state carrier, and the traction
         coefficients (k_n, k_s, mu, c_s of :mod:`tankfx.laws.interface`) of their current state."""
-        s, sub = self.scene, self.mesh
+        s, sub = self.soil.setting, self.mesh
         cells = np.arange(len(values), dtype=np.int32)
         mid = self.cell_midpoints
         h = sub.h(1, cells)
@@ -152,7 +157,7 @@ class InterfaceBlock:
                               ring.fill_E or 0.0, E_soil)
         in_contact = (values == st.PLATE) | (values == st.WALL_EMBEDDED)
         default = interface.PENALTY_FACTOR * E_soil / h
-        ifc = s.interface
+        ifc = self.settings
         kn = np.full(len(values), ifc.normal_stiffness) if ifc.normal_stiffness else default
         ks = np.full(len(values), ifc.shear_stiffness) if ifc.shear_stiffness else kn
         self.warnings = self._penalty_warnings(E_soil, h, in_contact, kn, ks)
@@ -173,18 +178,18 @@ class InterfaceBlock:
         E / (k a) of the settlement p a / E (pollution); a stiffness far above the soil
         element's E / h over-constrains the structure to the soil's coarser trace, and costs
         about log10(k h / E) of the 16 digits of the solve."""
-        s, comm = self.scene, self.mesh.comm
+        comm = self.mesh.comm
         n_owned = self.mesh.topology.index_map(1).size_local
         on = in_contact[:n_owned]
         out = []
         for name, k in (("normal", stiffness_n), ("shear", stiffness_s)):
-            if s.interface.condition == "smooth" and name == "shear":
+            if self.settings.condition == "smooth" and name == "shear":
                 continue
             k = k[:n_owned][on]
             if comm.allreduce(len(k)) == 0:
                 continue
             E, hh = E_soil[:n_owned][on], h[:n_owned][on]
-            pollution = comm.allreduce(float(np.max(E / (k * s.plate.radius), initial=0.0)),
+            pollution = comm.allreduce(float(np.max(E / (k * self.plate_radius), initial=0.0)),
                                        op=MPI.MAX)
             contrast = comm.allreduce(float(np.max(k * hh / E, initial=0.0)), op=MPI.MAX)
             key = f"interface.{name}_stiffness"
@@ -213,8 +218,7 @@ class InterfaceBlock:
         dS = ufl.Measure("dS", domain=msh, subdomain_data=dom.facet_tags, metadata=self.qmeta)
         parts = []
         for name, (n, t) in _INTERFACE.items():
-            if name == "wall_embedded" and (self.scene.wall is None
-                                            or self.scene.embedment == 0.0):
+            if name == "wall_embedded" and not self.embedded_wall:
                 continue
             tag = FACET_TAGS[name]
             pieces = [(ds(tag), lambda f: f)]

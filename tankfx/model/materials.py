@@ -14,7 +14,6 @@ from dolfinx import fem
 from ..fem.blocks import cell_field
 from ..laws import elasticity as soil_forms
 from ..mesh import Domain
-from ..scene.scene import Scene
 
 __all__ = ["SoilMaterials", "soil_materials"]
 
@@ -46,17 +45,18 @@ class SoilMaterials:
         return self.ringwall_cells | self.fill_cells
 
 
-def soil_materials(scene: Scene, domain: Domain) -> SoilMaterials:
-    """The materials of a scene's soil on its mesh."""
+def soil_materials(setting, domain: Domain) -> SoilMaterials:
+    """The materials of a soil (``setting``: :class:`tankfx.model.soil.SoilSetting`) on its
+    mesh."""
     msh = domain.mesh
-    s = scene.soil
+    s = setting.soil
     h = soil_forms.depth(msh)
     strata = s.strata
     stratum = np.zeros(0, dtype=np.int32)     # per local cell (layered ground)
     cell_strata = None
     #: which local cells are a ringwall's, and its fill's (none without); the secant
     #: iteration leaves both (``linear_cells``) at their own modulus
-    ring = scene.ringwall
+    ring = setting.ringwall
     ringwall_cells = np.zeros(len(domain.cell_midpoints), dtype=bool)
     fill_cells = ringwall_cells.copy()
     # a ringwall's cells (and its fill's) are materials of their own: the last "strata"
@@ -71,8 +71,8 @@ def soil_materials(scene: Scene, domain: Domain) -> SoilMaterials:
         stratum = s.stratum_of(depth).astype(np.int32)
         values = cell_strata = s.at_depth(depth)
         if ring is not None:
-            ringwall_cells = ring.holds(*domain.cell_midpoints.T, scene.embedment)
-            fill_cells = ring.fill_holds(*domain.cell_midpoints.T, scene.embedment)
+            ringwall_cells = ring.holds(*domain.cell_midpoints.T, setting.embedment)
+            fill_cells = ring.fill_holds(*domain.cell_midpoints.T, setting.embedment)
             for k, (cells, E, nu) in enumerate(((ringwall_cells, ring.E, ring.nu),
                                                 (fill_cells, ring.fill_E, ring.fill_nu))):
                 stratum[cells] = len(strata) + k

@@ -30,14 +30,14 @@ class PorePressure:
         below the displacement, with the drained boundaries by Nitsche's method; the time
         step enters through ``conductance`` (dt k / gamma_w) and ``step_weights``, the
         earlier states through ``u_n``, ``u_nn``."""
-        scene = block.scene
-        c, deg = scene.consolidation, scene.mesh.degree
+        setting = block.setting
+        c, deg = setting.consolidation, setting.degree
         Q = fem.functionspace(msh, ("Lagrange", deg - 1))
         p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
         #: dt_eff / gamma_w (s m^3/N), times each stratum's permeability in the forms
         self.conductance = fem.Constant(msh, 0.0)
-        strata = scene.soil.strata
-        k, _ = cf.stratum_coefficients(scene)
+        strata = setting.soil.strata
+        k, _ = cf.stratum_coefficients(c, strata)
         # a ringwall (and its fill) has no pore pressure: k 0 there (its own materials
         # follow the ground's strata)
         k += [0.0] * (block.n_materials - len(strata))
@@ -55,7 +55,7 @@ class PorePressure:
                                             flow, block.r, dx_ground)
         a_uu = soil_forms.stiffness_form(block.trial, block.test, block.E, block.nu, block.r,
                                          block.dx)
-        drained = ["surface"] + (["contact"] if scene.plate is None else []) + \
+        drained = ["surface"] + (["contact"] if setting.contact_drains else []) + \
             (["bottom"] if c.drainage == "top_and_bottom" else [])
         ds = ufl.Measure("ds", domain=msh, subdomain_data=block.domain.facet_tags)
         a_pp += cf.drainage_form(p, q, flow, block.r,

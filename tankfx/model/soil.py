@@ -7,6 +7,7 @@ nonlinear soil's secant modulus of Eq. 19 is the DG0 field ``E``.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from functools import cached_property
 
 import dolfinx_solver  # noqa: F401  (loads MPI before dolfinx / petsc4py)
@@ -19,7 +20,7 @@ from ..fem.blocks import cell_field, empty_form
 from ..fem.solvers import mass_solve
 from ..laws import elasticity as soil_forms
 from ..mesh import CELL_TAGS, Domain
-from ..scene.scene import Scene
+from ..scene.sections import Consolidation, DomainSize, Ringwall, Soil
 from .history import History
 from .materials import soil_materials
 from .memory import UnloadingMemory
@@ -51,6 +52,27 @@ def far_supports(V, dom: Domain, domain, horizontal: tuple[int, ...],
     return bcs
 
 
+@dataclass(frozen=True)
+class SoilSetting:
+    """What the soil block reads of a scene: its resolved [soil], the mesh's Lagrange
+    ``degree``, the domain's ``extent`` (its supports), the foundation level
+    ``embedment`` (m), a ringwall and a consolidation where the scene has them, and whether
+    the loaded face drains (``contact_drains``: a flexible load, no plate on it)."""
+
+    soil: Soil
+    degree: int
+    extent: DomainSize
+    embedment: float = 0.0
+    ringwall: Ringwall | None = None
+    consolidation: Consolidation | None = None
+    contact_drains: bool = False
+
+    @classmethod
+    def of(cls, scene) -> "SoilSetting":
+        return cls(scene.soil, scene.mesh.degree, scene.domain, scene.embedment,
+                   scene.ringwall, scene.consolidation, scene.plate is None)
+
+
 class SoilBlock:
     """The soil field on the parent mesh: its space, modulus, stiffness forms and supports.
 
@@ -62,11 +84,11 @@ class SoilBlock:
     nu has a pressure of its own (``mixed_strata``), pinned outside its cells.
     ``stress(u)`` is the stress of either form."""
 
-    def __init__(self, scene: Scene, domain: Domain):
+    def __init__(self, setting: SoilSetting, domain: Domain):
         msh = domain.mesh
-        self.scene, self.domain = scene, domain
-        s = scene.soil
-        self.V = fem.functionspace(msh, ("Lagrange", scene.mesh.degree, (2,)))
+        self.setting, self.domain = setting, domain
+        s = setting.soil
+        self.V = fem.functionspace(msh, ("Lagrange", setting.degree, (2,)))
         self.u = fem.Function(self.V, name="u")
         self.r = soil_forms.radius(msh)
         strata = s.strata
@@ -79,7 +101,7 @@ class SoilBlock:
         self.mixed = bool(self.mixed_strata)
         #: the materials cell by cell (strata, a ringwall and its fill) and the modulus
         #: fields: E is a nonlinear soil's DG0 secant modulus (tankfx.model.materials)
-        self.materials = mat = soil_materials(scene, domain)
+        self.materials = mat = soil_materials(setting, domain)
         self.stratum, self.cell_strata = mat.stratum, mat.cell_strata
         self.ringwall_cells, self.fill_cells = mat.ringwall_cells, mat.fill_cells
         self.n_materials = mat.n_materials
@@ -98,7 +120,7 @@ class SoilBlock:
         #: the stratum of each pressure (pinned outside its cells)
         self.pressure_strata = list(self.mixed_strata)
         #: a consolidating soil's excess pore pressure is its one pressure (Biot)
-        self.consolidating = scene.consolidation is not None
+        self.consolidating = setting.consolidation is not None
         if self.consolidating:
             self.mixed_strata, self.mixed = [], True
         displacement_form = [i for i in range(self.n_materials) if i not in self.mixed_strata]
@@ -111,7 +133,7 @@ class SoilBlock:
         for i in self.mixed_strata:
             # a space of its own per pressure: Dirichlet conditions go to the blocks by
             # their space, and each pressure is pinned outside its own stratum
-            Q = fem.functionspace(msh, ("Lagrange", scene.mesh.degree - 1))
+            Q = fem.functionspace(msh, ("Lagrange", setting.degree - 1))
             p, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
             a_uu, a_up, a_pu, a_pp = soil_forms.mixed_stiffness_forms(
                 self.trial, p, self.test, q, self.E, self.nu, self.r, self.dx_strata([i]))
@@ -129,7 +151,7 @@ class SoilBlock:
         #: soil with an unloading modulus), else None
         self.memory = None
         if s.unloading_modulus_ratio is not None:
-            self.memory = UnloadingMemory(self.E, scene.mesh.degree, s.unloading_modulus_ratio,
+            self.memory = UnloadingMemory(self.E, setting.degree, s.unloading_modulus_ratio,
                                           self._cell_pressure() if self.mixed else None)
             for name, field in self.memory.carried().items():
                 self.history.register(name, field)
@@ -148,7 +170,7 @@ class SoilBlock:
         ``step_weights`` and the earlier states ``u_n``, ``u_nn``."""
         #: the ground's strata: where the pore water is (not a ringwall's concrete, nor
         #: its fill, which drains)
-        self.ground = tuple(range(len(self.scene.soil.strata)))
+        self.ground = tuple(range(len(self.setting.soil.strata)))
         pore = PorePressure(self, msh)
         self.conductance, self.permeability = pore.conductance, pore.permeability
         self.step_weights, self.u_n, self.u_nn = pore.step_weights, pore.u_n, pore.u_nn
@@ -191,7 +213,7 @@ class SoilBlock:
             tags = dmesh.meshtags(msh, 2, cells, tag)
             soil_ids = tuple(STRATUM_TAG + i for i in range(n_strata))
         self._dx_tagged = ufl.Measure("dx", domain=msh, subdomain_data=tags, metadata={
-            "quadrature_degree": soil_forms.quadrature_degree(self.scene.mesh.degree)})
+            "quadrature_degree": soil_forms.quadrature_degree(self.setting.degree)})
         self.dx = self._dx_tagged(soil_ids if n_strata > 1 else soil_ids[0])
         self.dx_void = ufl.Measure("dx", domain=msh, subdomain_data=tags)(CELL_TAGS["void"])
 
@@ -223,7 +245,7 @@ class SoilBlock:
         Vr = V.sub(0)
         axis = fem.locate_dofs_topological(Vr, fdim, dom.facets("axis"))
         bcs = [fem.dirichletbc(0.0, axis, Vr)]                 # symmetry: u_r = 0 on r = 0
-        bcs += far_supports(V, dom, self.scene.domain, horizontal=(0,), vertical=1)
+        bcs += far_supports(V, dom, self.setting.extent, horizontal=(0,), vertical=1)
         bcs += self.pins(V, [(pr.function_space, i) for i, (pr, _, _) in
                              zip(self.pressure_strata, self.pressures)])
         return bcs
@@ -390,7 +412,7 @@ class SoilBlock:
         the raw stress on the axis, a boundary of the meridian plane, are noisy for nearly
         incompressible soil; the projection is not."""
         msh = self.domain.mesh
-        Q = fem.functionspace(msh, ("Lagrange", self.scene.mesh.degree))
+        Q = fem.functionspace(msh, ("Lagrange", self.setting.degree))
         s, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
         sigma = -(self.stress() if stress is None else stress)[1, 1]
         out = fem.Function(Q, name=name)

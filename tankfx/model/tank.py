@@ -32,7 +32,7 @@ from ..mesh import FACET_TAGS, Domain
 from ..scene.scene import Scene
 from ..scene.sections import vertical_load, vertical_load_scale
 from .interface import InterfaceBlock
-from .soil import SoilBlock
+from .soil import SoilBlock, SoilSetting
 from .structure import ShellResultants
 
 #: the structure submesh's cell tag of each of the parent's facet tags it is made of
@@ -48,7 +48,7 @@ class TankModel:
     def __init__(self, scene: Scene, domain: Domain, face_offset: bool = True):
         self.scene, self.domain = scene, domain
         parent = domain.mesh
-        self.soil = soil = SoilBlock(scene, domain)
+        self.soil = soil = SoilBlock(SoilSetting.of(scene), domain)
 
         # ---- structure submesh and its cell tags (plate / wall / embedded wall)
         names = ["contact"] + (["wall", "wall_embedded"] if scene.wall is not None else [])
@@ -99,8 +99,10 @@ class TankModel:
         self.W = st.structure_space(sub, 3)
         self.w = fem.Function(self.W, name="structure")
         # ---- the interface: its state carriers, stiffnesses and states
-        self.interface = InterfaceBlock(scene, domain, soil, sub, self.cell_tags, mid, self.w,
-                                        self.entity_maps)
+        self.interface = InterfaceBlock(
+            scene.interface, scene.plate.radius,
+            scene.wall is not None and scene.embedment > 0.0, domain, soil, sub,
+            self.cell_tags, mid, self.w, self.entity_maps)
         self.warnings = self.interface.warnings
 
         # ---- spaces, unknowns, forms
