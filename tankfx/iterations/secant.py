@@ -15,7 +15,7 @@ from mpi4py import MPI
 from ..fem.evaluate import allsum, evaluate_at
 from ..fem.solvers import SolveError
 from ..laws import elasticity as soil_forms
-from ..laws.kondner import MODULUS_FLOOR, major_strain, principal_strains
+from ..laws.tensors import principal_strains
 from ..model.memory import MAX_SWITCHES, unloading_cells
 from .status import Failure, IterationStatus
 
@@ -196,7 +196,8 @@ class HyperbolicIteration:
         # cells below their most loaded state follow their unloading line: E_ur
         was = self.memory.unloading_mask
         unloading = self.is_soil & unloading_cells(
-            major_strain(eps_min, eps_max, self.nu_intact), self.memory.peak_strain, was, tol)
+            self.law.major_strain(eps_min, eps_max, self.nu_intact), self.memory.peak_strain,
+            was, tol)
         # (none on a line or going there, as while a path first loads: no E_ur to find,
         # which for Duncan & Chang's soil is a bisection over the cells)
         E_ur = self._unloading_modulus(E) if (unloading | was).any() else E
@@ -224,7 +225,7 @@ class HyperbolicIteration:
         if self.memory is not None:
             # the cells on the loading curve past their largest strain are at their most
             # loaded state so far (a held cell below it keeps its own)
-            eps_p = major_strain(eps_min, eps_max, self.nu_intact)
+            eps_p = self.law.major_strain(eps_min, eps_max, self.nu_intact)
             self.memory.commit(self.model.soil.u, eps_p, E, self.nu, self.is_soil & ~unloading &
                                (eps_p >= self.memory.peak_strain),
                                self._stress)
@@ -245,7 +246,7 @@ class HyperbolicIteration:
         outside the tolerance; that freezes a misfit of up to the tolerance, worth 2.5 % of
         w0 at the paper's 0.05 in the flexible-load test), floored, Anderson-accelerated."""
         comm = self.model.domain.mesh.comm
-        floor = MODULUS_FLOOR * self.E_initial
+        floor = self.law.modulus_floor * self.E_initial
         if switched is not None and comm.allreduce(int(switched[own].sum())):
             # the map itself changed: its history no longer fits it
             del self._x_hist[:], self._f_hist[:], self._g_hist[:]

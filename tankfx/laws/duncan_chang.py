@@ -18,10 +18,9 @@ from .kondner import (
     secant_modulus,
 )
 from .mohr_coulomb import deviator_strength
-from .soil_law import WATER_UNIT_WEIGHT
+# (p_a, the reference pressure of Duncan & Chang's modulus, is the atmosphere's by default)
+from .soil_law import ATMOSPHERIC_PRESSURE, WATER_UNIT_WEIGHT
 
-#: p_a, Pa: the reference pressure of Duncan & Chang's modulus (the default)
-ATMOSPHERIC_PRESSURE = 101325.0
 #: the constants a stratum must give, and why
 REQUIRED = {"modulus_number": "K: the initial modulus is K p_a (sigma_3 / p_a)^n",
             "modulus_exponent": "n, e.g. 0.5",

@@ -115,3 +115,4 @@ def by_stratum(indicators, inside, outside=None):
         return out
     chi = sum(indicators)
     return chi * inside if outside is None else (1.0 - chi) * outside + chi * inside
+

@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .tensors import principal_strains  # noqa: F401  (Kondner reads its strains)
 from .soil_law import SoilLaw
 
 #: Duncan & Chang's confining stress is held at this fraction of p_a at least: at the
@@ -63,14 +64,6 @@ MODULUS_FLOOR = 1e-4
 def kondner_deviator(eps_p, a, b):
     """(sigma_1 - sigma_3) = eps / (a + b eps) (Eq. 17)."""
     return eps_p / (a + b * eps_p)
-
-
-def principal_strains(e_rr, e_zz, e_rz, e_tt):
-    """(eps_min, eps_max) of axisymmetric strains (tension positive), per cell."""
-    centre = 0.5 * (e_rr + e_zz)
-    radius = np.sqrt((0.5 * (e_rr - e_zz)) ** 2 + e_rz**2)
-    eig = np.stack([centre - radius, centre + radius, e_tt])
-    return eig.min(axis=0), eig.max(axis=0)
 
 
 def major_strain(eps_min, eps_max, nu):
@@ -146,10 +139,28 @@ class Kondner(SoilLaw):
     remembers = unloads_on_curve = True
     reports = ("stress_level",)
     state_fields = ("E",)      # the secant modulus, per cell
+    #: the least secant modulus, a fraction of the initial 1/a (see MODULUS_FLOOR)
+    modulus_floor = MODULUS_FLOOR
+    #: the strain measure its deviator follows: eps_p of its principal strains and nu
+    major_strain = staticmethod(major_strain)
     #: the secant iteration reads the cells' stress (not only their strains)
     needs_stress = False
     #: depth of the Anderson acceleration of its secant update (0: plain Picard)
     anderson_depth = 3
+
+    @classmethod
+    def cell_reports(cls, soil, eps_min, eps_max, deviator, depth, converged=None,
+                     unloading=None):
+        """``stress_level``: the deviator the law gives each cell's strain (Eq. 17) over the
+        ultimate 1/b, 1 at failure; a cell on its unloading line, below its loading curve,
+        its deviator x b. The constants are those the iteration converged on (Duncan &
+        Chang's follow the stress), else those of the cell's stratum."""
+        a, b, nu = (converged["a"], converged["b"], converged["nu"]) if converged else \
+            kondner_parameters(soil, depth)
+        level = stress_level(eps_min, eps_max, nu, a, b)
+        if unloading is not None:
+            level = np.where(unloading, deviator * b, level)
+        return {"stress_level": level}
 
     @classmethod
     def stratum_text(cls, st):

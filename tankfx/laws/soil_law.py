@@ -15,6 +15,8 @@ from typing import Any, ClassVar
 
 #: gamma_w, N/m^3: the pore water's unit weight
 WATER_UNIT_WEIGHT = 9810.0
+#: the atmospheric pressure, Pa: Duncan & Chang's reference p_a by default
+ATMOSPHERIC_PRESSURE = 101325.0
 
 
 class SoilLaw:
@@ -119,6 +121,15 @@ class SoilLaw:
         """Each cell's initial modulus where it is not its stratum's E(h) (a numpy array at
         the cells' ``depth``, ``st`` their strata's constants); None: E(h), interpolated."""
         return None
+
+    @classmethod
+    def cell_reports(cls, soil, eps_min, eps_max, deviator, depth, converged=None,
+                     unloading=None) -> dict:
+        """The cell fields it reports (``reports``), by name, from each cell's principal
+        strains, deviator stress (Pa) and depth (m), the constants its iteration converged
+        on (``converged``, its status's data; None: its strata's) and which cells unload
+        (None without a memory)."""
+        return {}
 
     # -- the scene in words -------------------------------------------------------------
 

@@ -13,7 +13,7 @@ import ufl
 from dolfinx import fem
 
 from ..laws import elasticity as soil_forms
-from ..laws import kondner as hyperbolic
+from ..laws.tensors import principal_strains
 from ..laws.harmonic import cylindrical
 from ..laws.interface import ContactState
 
@@ -49,27 +49,24 @@ def soil_cell_fields(model, statuses=None) -> dict[str, fem.Function]:
 
     sig = cellwise(soil_forms.tensor_components(block.stress()), T)
     # principal_strains is the eigen-split of any axisymmetric tensor: here, of the stress
-    s_min, s_max = hyperbolic.principal_strains(sig[:, 0], sig[:, 1], sig[:, 2], sig[:, 3])
+    s_min, s_max = principal_strains(sig[:, 0], sig[:, 1], sig[:, 2], sig[:, 3])
     values = {"modulus": cellwise(block.E, Q0)[:, 0],
               "deviator": s_max - s_min,
               "mean_stress": -(sig[:, 0] + sig[:, 1] + sig[:, 3]) / 3.0}
-    if "stress_level" in s.law.reports:
+    if s.law.reports:
         eps = cellwise(soil_forms.tensor_components(soil_forms.strain(block.u, block.r)), T)
-        # Kondner's constants of each cell: as the iteration converged on them (Duncan &
-        # Chang's follow the stress), else those of its stratum
-        converged = getattr((statuses or {}).get("soil"), "data", None)
-        a, b, nu = (converged["a"], converged["b"], converged["nu"]) if converged else \
-            hyperbolic.kondner_parameters(s, cellwise(soil_forms.depth(msh), Q0)[:, 0])
-        eps_min, eps_max = hyperbolic.principal_strains(eps[:, 0], eps[:, 1], eps[:, 2],
-                                                        eps[:, 3])
-        # (Kondner's law is the soil's: nothing to say of a ringwall's concrete)
-        level = hyperbolic.stress_level(eps_min, eps_max, nu, a, b)
+        eps_min, eps_max = principal_strains(eps[:, 0], eps[:, 1], eps[:, 2], eps[:, 3])
+        unloading = None
         if block.memory is not None:
-            # a cell on its unloading line is below its loading curve: its deviator's
             unloading = cellwise(block.memory.unloading, Q0)[:, 0] > 0.5
-            level = np.where(unloading, (s_max - s_min) * b, level)
             values["unloading"] = unloading.astype(float)
-        values["stress_level"] = np.where(block.linear_cells, 0.0, level)
+        # the law's own fields, with the constants its iteration converged on
+        converged = getattr((statuses or {}).get("soil"), "data", None)
+        reported = s.law.cell_reports(s, eps_min, eps_max, s_max - s_min,
+                                      cellwise(soil_forms.depth(msh), Q0)[:, 0], converged,
+                                      unloading)
+        # (the soil's law: nothing to say of a ringwall's concrete)
+        values |= {name: np.where(block.linear_cells, 0.0, v) for name, v in reported.items()}
     if s.layers:
         # which stratum each cell is in (0: the surface soil, k: the k-th layer)
         values["stratum"] = block.stratum.astype(float)

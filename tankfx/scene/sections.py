@@ -11,8 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ..laws.duncan_chang import ATMOSPHERIC_PRESSURE
-from ..laws.soil_law import WATER_UNIT_WEIGHT, SoilLaw
+from ..laws.soil_law import ATMOSPHERIC_PRESSURE, WATER_UNIT_WEIGHT, SoilLaw
 from ..laws.soil_laws import SOIL_LAWS
 from .keys import NON_NEGATIVE, POSITIVE, Key, Limit, key
 

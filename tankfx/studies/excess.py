@@ -13,7 +13,6 @@ from ..fem.solvers import make_solver
 from ..iterations.secant import HyperbolicIteration
 from ..iterations.stage import LinearSolve
 from ..laws import elasticity as soil_forms
-from ..laws.kondner import major_strain
 from ..mesh import build_domain
 from ..model.build import build_model
 from ..scene.sections import MIXED_FROM_NU
@@ -73,7 +72,7 @@ def first_order_excess(scene, comm: MPI.Comm = MPI.COMM_WORLD) -> dict:
     for f in v:
         f.x.scatter_forward()
     # E_0^2 eps_p per cell (eps_p at the centroid, as the Picard iteration takes it)
-    eps_p = major_strain(*it.cell_principal_strains(), it.nu)
+    eps_p = it.law.major_strain(*it.cell_principal_strains(), it.nu)
     weight = fem.Function(it.modulus.function_space)
     a = scene.plate.radius if scene.wall is None else scene.foundation_radius
     corner = np.hypot(it.mid[:, 0] - a, it.mid[:, 1] + D) < EDGE_ZONE * a
