@@ -54,6 +54,43 @@ def test_the_check_finds_a_comparison(tmp_path):
     assert len(hits) == 2 and ":1:" in hits[0] and ":3:" in hits[1]
 
 
+#: names of flags once derived from the soil model and branched on (Soil.nonlinear,
+#: self.duncan_chang, dc, linear_soil, SoilBlock.kondner, the kondner module as hyperbolic)
+FLAGS = {"nonlinear", "duncan_chang", "dc", "linear_soil", "kondner", "hyperbolic"}
+
+
+def _flag_reads(path: Path) -> list[str]:
+    """Where such a flag is read: a name, not in a string, comment, import or definition,
+    and not an assignment's target."""
+    tokens = list(tokenize.generate_tokens(io.StringIO(path.read_text()).readline))
+    out = []
+    for i, tok in enumerate(tokens):
+        if tok.type != tokenize.NAME or tok.string not in FLAGS:
+            continue
+        if tok.line.lstrip().startswith(("import ", "from ", "def ", "class ")):
+            continue
+        after = tokens[i + 1].string if i + 1 < len(tokens) else ""
+        if after == "=" or (i and tokens[i - 1].string in ("def", "class", "as")):
+            continue
+        out.append(f"{path.name}:{tok.start[0]}: {tok.line.strip()}")
+    return out
+
+
+def test_nothing_outside_the_laws_reads_a_flag_of_the_soil_model():
+    """(43 reads on main 7827b1c, 12 of them in iterations/secant.py.)"""
+    found = [f"{path.parent.name}/{hit}" for path in sorted(PACKAGE.rglob("*.py"))
+             if "laws" not in path.relative_to(PACKAGE).parts for hit in _flag_reads(path)]
+    assert not found, "\n".join(found)
+
+
+def test_the_check_finds_a_flag_read(tmp_path):
+    code = tmp_path / "x.py"
+    code.write_text('nonlinear = soil.nonlinear\nif nonlinear:\n    pass\n'
+                    'from x import kondner\n# dc\nprint("dc")\n')
+    hits = _flag_reads(code)
+    assert len(hits) == 2 and ":1:" in hits[0] and ":2:" in hits[1]
+
+
 @pytest.mark.parametrize("word", list(SOIL_LAWS))
 def test_every_law_is_a_scene_word_with_keys_the_scene_declares(word):
     law = SOIL_LAWS[word]
