@@ -330,13 +330,14 @@ def _set_up(scene: Scene, first: Load, comm: MPI.Comm, timings: dict, nested: bo
     model = build_model(replace(scene, load=first), domain)
     # (a soil solved by one linear solve a stage keeps its stiffness)
     stiffness_fixed = scene.soil.law.iteration is None
-    mohr_coulomb = scene.interface.condition == "mohr_coulomb"
+    mohr_coulomb = scene.interface.has_states
     # one factorisation: a linear soil under a bonded or smooth interface (its load stages
     # share the matrix)
     one_shot = stiffness_fixed and not mohr_coulomb and scene.consolidation is None
     solver = make_solver(scene.solver, model.a, model.L, model.bcs, model.unknowns,
                          entity_maps=model.entity_maps, name="tank",
-                         symmetric=not mohr_coulomb, one_shot=one_shot,
+                         symmetric=not mohr_coulomb and scene.soil.law.symmetric_tangent(
+                             scene.soil), one_shot=one_shot,
                          # on a linear soil only a Mohr-Coulomb interface's states and a
                          # consolidation's time step change the matrix: the rest is kept
                          split=model.a_split if stiffness_fixed else None)

@@ -244,7 +244,7 @@ def describe(scene) -> list[str]:
     if scene.plate is not None:
         ifc = scene.interface
         law = ifc.condition + (f" (tan phi = {ifc.tan_phi:.4g}, c = {ifc.cohesion:g} Pa, "
-                               f"states per {ifc.states})" if ifc.condition == "mohr_coulomb"
+                               f"states per {ifc.states})" if ifc.has_states
                                else "")
         out.append(f"  interface: {law}")
     ld = scene.load

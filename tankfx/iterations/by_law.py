@@ -3,10 +3,11 @@
 up here, without knowing which soil they have."""
 from __future__ import annotations
 
+from .newton import NewtonIteration
 from .secant import HyperbolicIteration
 
 #: SoilLaw.iteration -> the iteration (None, a law solved by one linear solve, has none)
-SOIL_ITERATIONS = {"secant": HyperbolicIteration}
+SOIL_ITERATIONS = {"secant": HyperbolicIteration, "newton": NewtonIteration}
 
 
 def soil_iteration(law):

@@ -82,7 +82,7 @@ def stage_plan(scene) -> list[type]:
         plan.append(soil)
     elif scene.consolidation is not None:
         plan.append(TimeStepping)
-    if scene.plate is not None and scene.interface.condition == "mohr_coulomb":
+    if scene.plate is not None and scene.interface.has_states:
         plan.append(ActiveSet)
     plan.append(LinearSolve)
     return plan

@@ -44,6 +44,7 @@ from __future__ import annotations
 import numpy as np
 
 from .tensors import principal_strains  # noqa: F401  (Kondner reads its strains)
+from .geostatic import geostatic_stress  # noqa: F401  (Duncan & Chang's start)
 from .soil_law import SoilLaw
 
 #: Duncan & Chang's confining stress is held at this fraction of p_a at least: at the
@@ -78,23 +79,6 @@ def kondner_parameters(soil, depth):
     modulus 1/a grows with depth as the linear soil's, E_top (1 + lambda (h - top))."""
     st = soil.at_depth(depth)
     return 1.0 / st["E"], st["hyperbolic_b"], st["nu"]
-
-
-def geostatic_stress(soil, depth):
-    """(sigma_v, sigma_h), Pa, compression positive, of the ground at rest at ``depth`` (m;
-    none above the ground): the weight of the strata above, sum of gamma_i times the part of
-    each above the depth, less the pore pressure gamma_w (h - water table) below a water
-    table (effective stress), and K0 of the depth's stratum times it."""
-    h = np.maximum(np.asarray(depth, dtype=float), 0.0)
-    strata = soil.strata
-    tops = [st.depth for st in strata]
-    bottoms = tops[1:] + [np.inf]
-    sigma_v = sum(st.unit_weight * np.clip(h - top, 0.0, bottom - top)
-                  for st, top, bottom in zip(strata, tops, bottoms))
-    if soil.water_table is not None:
-        # effective: less the hydrostatic pore pressure below the water table
-        sigma_v = sigma_v - soil.water_unit_weight * np.maximum(h - soil.water_table, 0.0)
-    return sigma_v, soil.at_depth(h)["K0"] * sigma_v
 
 
 def stress_level(eps_min, eps_max, nu, a, b):

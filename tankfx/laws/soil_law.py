@@ -44,6 +44,9 @@ class SoilLaw:
     all_mixed : str or None
         Why every stratum is solved in the mixed u-p form whatever its nu (None: a stratum's
         nu decides).
+    displacement_form_only : bool
+        Every stratum is solved in the displacement form, whatever its nu (the law has no
+        mixed form; its checks bound nu).
     consolidates : bool
         The law takes a ``[consolidation]`` (its E and nu are the drained skeleton's).
     remembers : bool
@@ -70,6 +73,7 @@ class SoilLaw:
     layer_keys: ClassVar[tuple[str, ...]] = ()
     E_keys: ClassVar[tuple[str, ...]] = ()
     all_mixed: ClassVar[str | None] = None
+    displacement_form_only: ClassVar[bool] = False
     consolidates: ClassVar[bool] = False
     remembers: ClassVar[bool] = False
     unloads_on_curve: ClassVar[bool] = False
@@ -115,6 +119,17 @@ class SoilLaw:
         return {"E": table["E"]}
 
     # -- the numerics ---------------------------------------------------------------------
+
+    @classmethod
+    def scene_problems(cls, scene) -> list[str]:
+        """What of a resolved scene this law cannot take (messages naming the key, the
+        value and the fix); none for a linear soil."""
+        return []
+
+    @classmethod
+    def symmetric_tangent(cls, soil) -> bool:
+        """Whether its stiffness (or tangent) matrix is symmetric for this ``soil``."""
+        return True
 
     @classmethod
     def initial_modulus(cls, soil, depth, st):

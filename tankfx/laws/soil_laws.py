@@ -5,10 +5,12 @@ from __future__ import annotations
 
 from .duncan_chang import DuncanChang
 from .kondner import Kondner
+from .mohr_coulomb_soil import MohrCoulombSoil
 from .soil_law import LinearElastic, SoilLaw
 
 __all__ = ["SOIL_LAWS", "SoilLaw"]
 
 #: soil.model -> its law, in the order the scene reference lists them
 SOIL_LAWS: dict[str, type[SoilLaw]] = {law.word: law
-                                       for law in (LinearElastic, Kondner, DuncanChang)}
+                                       for law in (LinearElastic, Kondner, DuncanChang,
+                                                   MohrCoulombSoil)}

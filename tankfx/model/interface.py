@@ -71,7 +71,7 @@ class InterfaceBlock:
         # k + 1 Gauss-Lobatto points of each facet, integrated by that rule: each state then
         # acts at exactly one quadrature point)
         ifc = settings
-        self.node_states = ifc.condition == "mohr_coulomb" and ifc.states == "node"
+        self.node_states = ifc.has_states and ifc.states == "node"
         self.carrier_name = "node" if self.node_states else "element"
         if self.node_states:
             k = soil.setting.degree
@@ -114,7 +114,7 @@ class InterfaceBlock:
     @property
     def mohr_coulomb(self) -> bool:
         """Whether the interface has states to iterate (a Mohr-Coulomb interface)."""
-        return self.settings.condition == "mohr_coulomb"
+        return self.settings.has_states
 
     def begin_stage(self) -> None:
         """Start a load stage: the states so far are the starting guess, and the carriers

@@ -24,6 +24,7 @@ from ..scene.sections import Consolidation, DomainSize, Ringwall, Soil
 from .history import History
 from .materials import soil_materials
 from .memory import UnloadingMemory
+from .plastic import PlasticState, tensor
 from .pore_pressure import PorePressure
 
 #: Cell tags of the strata of layered ground (stratum i: STRATUM_TAG + i), clear of the
@@ -125,7 +126,14 @@ class SoilBlock:
             self.mixed_strata, self.mixed = [], True
         displacement_form = [i for i in range(self.n_materials) if i not in self.mixed_strata]
         self.a = 0
-        if self.consolidating:
+        #: an elastoplastic soil's stress and history at the forms' quadrature points
+        self.plastic = None
+        if getattr(s.law, "point_state", False):
+            self.plastic = PlasticState(self, s.law, s, setting.degree, setting.ringwall)
+            self.a = self.plastic.stiffness(self.trial, self.test, self.r, self.dx)
+            for name, field in self.plastic.carried().items():
+                self.history.register(name, field)
+        elif self.consolidating:
             self._pore_pressure(msh)
         elif displacement_form:
             self.a = soil_forms.stiffness_form(self.trial, self.test, self.E, self.nu, self.r,
@@ -282,6 +290,9 @@ class SoilBlock:
         """The soil stress (3 x 3, tension positive) of a displacement (default: the
         solution, with the stress its unloading cells keep), with the solution's pressure
         in the mixed form."""
+        if self.plastic is not None and u is None:
+            # (each cell's mean of its points' stress: the results' view of it)
+            return tensor(self.plastic.cell_stress())
         out = self.stress_of(soil_forms.strain(self.u if u is None else u, self.r),
                              [pr for pr, _, _ in self.pressures])
         if u is None and self.memory is not None:
@@ -384,6 +395,8 @@ class SoilBlock:
         """The soil's rows of a block load vector: [L_u] or, mixed, [L_u, L_p_1, ...]; the
         stress the unloading cells keep is a load of the displacement row."""
         L_p = [L for _, _, L in self.pressures]
+        if self.plastic is not None:
+            L_u = L_u + self.plastic.load(self.test, self.r, self.dx)
         if self.memory is not None:
             w = 2.0 * math.pi * self.r
             L_u = L_u - ufl.inner(self.initial_stress(),

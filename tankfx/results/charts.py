@@ -27,6 +27,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from ..laws.mohr_coulomb import shear_strength
+from ..scene.sections import STATES_CONDITION
 from .figure_choices import CHARTABLE, DEFAULT_CHARTS, numeric_axes
 from .report import MULTIPLES
 
@@ -196,7 +197,7 @@ def contact_chart(results: dict, title: str = "") -> Figure:
     sigma_n tan phi; slipping, separated and rebonded stations marked."""
     sc = results["scene"]
     ifc = sc.get("interface", {})
-    mc = ifc.get("condition") == "mohr_coulomb"
+    mc = ifc.get("condition") == STATES_CONDITION
     parts = [("plate", "r [m]", "r", "plate underside")]
     if "contact_status" in results["profiles"].get("wall", {}):
         parts.append(("wall", "height above the base z [m]", "z", "embedded wall face"))

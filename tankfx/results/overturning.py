@@ -104,7 +104,7 @@ def superpose(results: dict, amplitudes: dict, scene, sigma_zz=None,
                      "local_tension": bool(pulled.any()), "local_tension_r_range": span}
     warnings = []
     if onset < 1.0:
-        linear = scene.interface.condition != "mohr_coulomb"
+        linear = not scene.interface.has_states
         warnings.append(
             f"overturning: on the heel side the contact zone r = {first['r_min']:.4g}-"
             f"{first['r_max']:.4g} m is pulled as a whole (it lifts at {onset:.3g} x this "

@@ -9,6 +9,7 @@ import math
 from pathlib import Path
 
 from ..scene.reader import KEYS, LAYER_KEYS
+from ..scene.sections import STATES_CONDITION
 
 
 def summary_rows(results: dict) -> list[tuple[str, str, str]]:
@@ -210,7 +211,7 @@ def _iteration_rows(r: dict) -> list[tuple[str, str, str]]:
     """The interface's slipping and separated lengths, the iterations, equilibrium."""
     rows = []
     ifc = r.get("interface", {})
-    if ifc.get("condition") == "mohr_coulomb":
+    if ifc.get("condition") == STATES_CONDITION:
         parts = [p for p in ("plate", "wall") if p in r["profiles"]]
         for state, label in (("slip", "slipping"), ("separated", "separated")):
             rows.append((f"interface {label}", ", ".join(

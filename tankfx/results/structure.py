@@ -180,7 +180,7 @@ def interface_summary(block, status=None) -> dict:
     res = status.record if status is not None else {
         "converged": True, "iterations": 0, "history": [],
         "criterion": "linear interface: one solve"}
-    if block.settings.condition == "mohr_coulomb":
+    if block.settings.has_states:
         res = {**res, "states": block.settings.states}
     in_contact = block.stiffness_n[block.in_contact]
     return {"condition": block.settings.condition, **res, **lengths,

@@ -40,6 +40,7 @@ from .sections import (
     MIXED_FROM_NU,
     Interface,
     Layer,
+    STATES_CONDITION,
     SceneError,
     Soil,
     SolverOptions,
@@ -412,7 +413,7 @@ def check_interface(rd: Reader, interface: dict, data: dict) -> dict[str, str]:
     cond = rd.choice(interface, "interface", "condition", Interface.condition, CONDITIONS)
     if "tan_phi" in interface and "friction_angle" in interface:
         rd.bad("interface.tan_phi and interface.friction_angle: give one of them, not both")
-    if cond == "mohr_coulomb" and "tan_phi" not in interface \
+    if cond == STATES_CONDITION and "tan_phi" not in interface \
             and "friction_angle" not in interface:
         rd.bad("interface.tan_phi: missing for condition = \"mohr_coulomb\"; give tan_phi or "
                "friction_angle (degrees)")
@@ -422,7 +423,7 @@ def check_interface(rd: Reader, interface: dict, data: dict) -> dict[str, str]:
     states = rd.choice(interface, "interface", "states", Interface.states, STATES,
                        "\"element\": one state per interface element; \"node\": one per "
                        "node")
-    if cond != "mohr_coulomb":
+    if cond != STATES_CONDITION:
         for key in ("cohesion", "tan_phi", "friction_angle", "on_cycle", "states"):
             if key in interface:
                 rd.bad(f"interface.{key}: only used with condition = \"mohr_coulomb\"; remove "

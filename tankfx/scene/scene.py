@@ -234,7 +234,7 @@ class Scene:
                 del out["wall"]["courses"]
         if self.plate is None:
             del out["interface"]
-        elif self.interface.condition != "mohr_coulomb":
+        elif not self.interface.has_states:
             for key in ("cohesion", "tan_phi", "on_cycle", "states"):
                 out["interface"].pop(key, None)
         if self.stages:
@@ -352,7 +352,7 @@ def _build(data: dict[str, Any], secs: dict, layers: list, choices: dict[str, st
     interface = interface_of(secs["interface"] or {}, choices)
     a = plate.radius if plate is not None else secs["load"]["load_radius"]
     load = load_of(secs["load"], a)
-    if interface.condition == "mohr_coulomb":
+    if interface.has_states:
         net = vertical_load(load, plate, wall)
         if net <= 0.0:
             raise SceneError([f"[load]: the net vertical load is {net:.4g} N, upward (uplift): "
@@ -459,6 +459,9 @@ def load_scene(path: str | Path) -> Scene:
 def _parse_scene(data: dict[str, Any]) -> Scene:
     """A whole scene (:func:`_parse`), with the checks that need its load path."""
     scene = _parse(data)
+    problems = scene.soil.law.scene_problems(scene)
+    if problems:
+        raise SceneError(problems)
     ratio = scene.soil.unloading_modulus_ratio
     if ratio is not None and len(scene.stages) < 2:
         raise SceneError([f"soil.unloading_modulus_ratio = {ratio!r}: acts only along a load "

@@ -90,6 +90,8 @@ class SceneError(ValueError):
 #: (a layer's p_a is the soil's): their keys' units, limits, defaults and meanings, where
 #: "{its}" is the soil's or the layer's
 _DC = 'for model = "duncan_chang"'
+_MC = 'for model = "mohr_coulomb"'
+_DC_MC = 'for model = "duncan_chang" or "mohr_coulomb"'
 _DUNCAN_CHANG_KEYS: dict[str, Key] = {
     "modulus_number": Key(
         unit="-", limit=POSITIVE,
@@ -110,25 +112,44 @@ _DUNCAN_CHANG_KEYS: dict[str, Key] = {
                 "past q_f is perfectly plastic (R_f typically 0.7-0.9)"),
     "cohesion": Key(
         unit="Pa", limit=NON_NEGATIVE, default_doc="0",
-        meaning=f"{{its}} cohesion c, {_DC}: with `friction_angle` phi it makes a cell's "
+        meaning=f"{{its}} cohesion c, {_DC_MC}: with `friction_angle` phi it makes the "
                 "Mohr-Coulomb strength q_f = (2 c cos phi + 2 sigma_3 sin phi) / (1 - sin phi) "
-                "at confinement sigma_3; c or phi must be > 0"),
+                "at confinement sigma_3 (with phi = 0, Tresca's undrained strength s_u, q_f = "
+                "2 s_u); c or phi must be > 0"),
     "friction_angle": Key(
         unit="deg", limit=ANGLE, why="degrees", default_doc="0",
-        meaning=f"{{its}} friction angle phi (degrees), {_DC}: with `cohesion` c it makes the "
-                "strength q_f, which grows with the confinement as 2 sigma_3 sin phi / (1 - sin "
-                "phi); c or phi must be > 0; `K0` defaults to 1 - sin phi"),
+        meaning=f"{{its}} friction angle phi (degrees), {_DC_MC}: with `cohesion` c it makes "
+                "the strength q_f, which grows with the confinement as 2 sigma_3 sin phi / (1 - "
+                "sin phi); c or phi must be > 0; `K0` defaults to 1 - sin phi; 0 is Tresca's "
+                "soil, and mohr_coulomb takes less than 60"),
     "unit_weight": Key(
-        unit="N/m^3", limit=POSITIVE,
-        meaning=f"{{its}} unit weight gamma, {_DC} (required): the geostatic vertical stress "
-                "at a depth is the weight of the strata above it (less the pore pressure "
-                "below the soil's `water_table`, where gamma is the saturated unit weight), "
-                "the horizontal `K0` times it"),
+        unit="N/m^3", limit=NON_NEGATIVE, default_doc="required (duncan_chang); 0",
+        meaning=f"{{its}} unit weight gamma, {_DC_MC}: the geostatic vertical stress at a "
+                "depth is the weight of the strata above it (less the pore pressure below the "
+                "soil's `water_table`, where gamma is the saturated unit weight), the "
+                "horizontal `K0` times it; mohr_coulomb's soil carries its weight as a load "
+                "from that state (0: weightless)"),
     "K0": Key(
         unit="-", limit=POSITIVE, default_doc="1 - sin(phi)",
-        meaning=f"{{its}} coefficient of earth pressure at rest K0, {_DC}: the geostatic "
+        meaning=f"{{its}} coefficient of earth pressure at rest K0, {_DC_MC}: the geostatic "
                 "horizontal stress is K0 times the vertical one (from `unit_weight`); by "
-                "default Jaky's 1 - sin phi of {its} `friction_angle`"),
+                "default Jaky's 1 - sin phi of {its} `friction_angle`; mohr_coulomb refuses a "
+                "K0 that puts the ground at rest outside its yield surface"),
+    "dilation_angle": Key(
+        unit="deg", limit=ANGLE, why="degrees", default_doc="0",
+        meaning=f"{{its}} dilation angle psi (degrees), {_MC}: the plastic flow's volume "
+                "change, (sigma_1 - sigma_3) + (sigma_1 + sigma_3) sin psi its potential; "
+                "at most `friction_angle` (psi = phi: associated flow); 0: no volume change"),
+    "tensile_strength": Key(
+        unit="Pa", limit=NON_NEGATIVE, default_doc="none (the cone's apex, c cot phi)",
+        meaning=f"{{its}} tensile strength t, {_MC}: a Rankine cut-off, the largest "
+                "principal stress at most t (tension positive); beyond the Mohr-Coulomb "
+                "apex c cot phi it never acts"),
+    "cohesion_gradient": Key(
+        unit="Pa/m", limit=NON_NEGATIVE, default_doc="0",
+        meaning=f"{{its}} cohesion's growth with depth k, {_MC}: c = `cohesion` + k (h - "
+                "top), h the depth, top the stratum's top (0 for the surface soil): a normally "
+                "consolidated clay's undrained strength s_u0 + k z"),
 }
 
 
@@ -181,6 +202,9 @@ class Layer:
     friction_angle: float | None = duncan_chang_key("friction_angle", layer=True)
     unit_weight: float | None = duncan_chang_key("unit_weight", layer=True)
     K0: float | None = duncan_chang_key("K0", layer=True)
+    dilation_angle: float | None = duncan_chang_key("dilation_angle", layer=True)
+    tensile_strength: float | None = duncan_chang_key("tensile_strength", layer=True)
+    cohesion_gradient: float | None = duncan_chang_key("cohesion_gradient", layer=True)
     permeability: float | None = key(None, unit="m/s", limit=POSITIVE,
                                      default_doc="[consolidation] permeability",
                                      meaning="the layer's own Darcy k in a `[consolidation]` (e.g. "
@@ -250,7 +274,9 @@ class Soil:
                                      meaning="a nonlinear soil's secant (Picard) iterations at "
                                              "most, to reach the `tolerance`; not converged by then"
                                              " is an error (Duncan & Chang's failed zones settle "
-                                             "slowly: 10-64 iterations measured)")
+                                             "slowly: 10-64 iterations measured); for model = "
+                                             "\"mohr_coulomb\" the Newton iterations of one load "
+                                             "step, after which the step is halved")
     # Duncan & Chang's soil (model = "duncan_chang"): Kondner's law with the initial modulus
     # K p_a (sigma_3 / p_a)^n and the ultimate deviator (Mohr-Coulomb strength) / R_f of
     # each cell's confining stress: geostatic (unit weight, K0) plus the tank's
@@ -261,6 +287,9 @@ class Soil:
     friction_angle: float | None = duncan_chang_key("friction_angle")
     unit_weight: float | None = duncan_chang_key("unit_weight")
     K0: float | None = duncan_chang_key("K0")
+    dilation_angle: float | None = duncan_chang_key("dilation_angle")
+    tensile_strength: float | None = duncan_chang_key("tensile_strength")
+    cohesion_gradient: float | None = duncan_chang_key("cohesion_gradient")
     atmospheric_pressure: float | None = key(None, unit="Pa", limit=POSITIVE,
                                              default_doc=f"{ATMOSPHERIC_PRESSURE:g}",
                                              meaning=f"p_a, {_DC}: the reference pressure of the"
@@ -273,14 +302,14 @@ class Soil:
     water_table: float | None = key(None, unit="m", limit=NON_NEGATIVE,
                                     default_doc="below everything",
                                     meaning="the water table's depth below the ground surface, "
-                                            f"{_DC}: below it the confinement is effective, the "
+                                            f"{_DC_MC}: below it the stresses are effective, the "
                                             "geostatic stress less the pore pressure gamma_w (h - "
                                             "water_table), gamma_w the `water_unit_weight`; the "
                                             "strata there take their saturated unit weights")
     water_unit_weight: float | None = key(None, unit="N/m^3", limit=POSITIVE,
                                           default_doc=f"{WATER_UNIT_WEIGHT:g} (with a "
                                                       f"water_table)",
-                                          meaning=f"gamma_w, the pore water's unit weight, {_DC} "
+                                          meaning=f"gamma_w, the pore water's unit weight, {_DC_MC} "
                                                   "with a `water_table`: the pore pressure below "
                                                   "the table is gamma_w (h - water_table); each "
                                                   "stratum's unit weight there must exceed it")
@@ -321,6 +350,8 @@ class Soil:
         MIXED_FROM_NU, and every stratum of a law that is always mixed (Duncan & Chang's: a
         failed cell keeps its bulk modulus while its secant shear modulus falls: nu ->
         0.5)."""
+        if self.law.displacement_form_only:
+            return []
         return [i for i, st in enumerate(self.strata)
                 if self.law.all_mixed or st.nu > MIXED_FROM_NU]
 
@@ -547,6 +578,11 @@ class Ringwall:
                                                       self.inner_radius)
 
 
+#: the interface condition whose elements take states (the soil model of the same word is
+#: another thing: an elastoplastic soil)
+STATES_CONDITION = "mohr_coulomb"
+
+
 @dataclass(frozen=True)
 class Interface:
     """The contact between the structure (the plate's underside, and an embedded wall's
@@ -596,6 +632,12 @@ class Interface:
                               "points that then integrate the interface; agrees with the element "
                               "states to 0.3 %, in 1-6 times their solves; a node that changes "
                               "state 4 times is held in the weaker state: see Limitations)")
+
+    @property
+    def has_states(self) -> bool:
+        """Whether its elements take states (stick, slip, separation: the Mohr-Coulomb
+        interface of Eqs. 6-16; not the soil model of the same name)."""
+        return self.condition == STATES_CONDITION
 
 
 #: The keys a scene file may give instead of a field: a friction angle for tan phi

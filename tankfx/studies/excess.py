@@ -38,7 +38,7 @@ def first_order_excess(scene, comm: MPI.Comm = MPI.COMM_WORLD) -> dict:
     if not (scene.soil.law.fixed_constants and scene.soil.law.iteration == "secant"):
         raise ValueError("first_order_excess needs [soil] model = \"hyperbolic\" (Kondner's "
                          "constants fixed; Duncan & Chang's follow the stress)")
-    if scene.plate is None or scene.interface.condition == "mohr_coulomb":
+    if scene.plate is None or scene.interface.has_states:
         raise ValueError("first_order_excess needs a plate and a bonded or smooth interface")
     if scene.soil.max_nu > MIXED_FROM_NU:
         raise ValueError(f"first_order_excess needs every soil stratum's nu <= {MIXED_FROM_NU} "

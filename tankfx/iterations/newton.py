@@ -1,0 +1,197 @@
+"""Newton's method for the elastoplastic soil, in load steps: each stage's load is applied
+from the last converged state in steps that grow when Newton converges fast and halve when it
+does not (the state rolled back to the last converged step), until the stage's whole load is
+carried or the step falls below a floor, where the soil is said to fail.
+
+Each Newton iteration solves the block system with the current tangent (``inner()``: the
+linear solve, :class:`tankfx.model.plastic.PlasticState` puts the tangent and the stress into
+the soil's forms), updates the stress at every quadrature point from the committed state
+(the return of :mod:`tankfx.laws.plasticity`), and measures the out-of-balance force of the
+updated state; a step that raises it is shortened by a backtracking line search.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import fields, replace
+
+import numpy as np
+from mpi4py import MPI
+from ..fem.evaluate import evaluate_at
+from ..fem.solvers import SolveError
+from .secant import SoilFailure
+from .status import IterationStatus
+
+
+def scaled_between(start, end, f: float):
+    """The load a fraction ``f`` of the way from ``start`` to ``end`` (their float fields;
+    the radius and the flags are the end's)."""
+    return replace(end, **{fd.name: (1.0 - f) * getattr(start, fd.name) + f * getattr(
+        end, fd.name) for fd in fields(end) if isinstance(getattr(end, fd.name), float)
+        and fd.name != "load_radius"})
+
+
+class NewtonIteration:
+    """Load-stepped Newton iteration of a model whose soil block holds a plastic state."""
+
+    name = "soil"
+    quiet_inner = False
+    #: an active set inside it converges in every Newton iteration
+    one_update_inside = False
+    #: the out-of-balance force of a converged step, relative to the load vector
+    TOLERANCE = 1e-8
+    #: the first step's share of a stage's load, and the smallest step
+    FIRST_STEP, MIN_STEP = 0.25, 1.0 / 512
+    #: a step that converged in at most this many iterations lets the next grow by GROWTH
+    FAST, GROWTH = 6, 1.5
+    #: halvings of the line search
+    LINE_SEARCH = 5
+
+    @classmethod
+    def build(cls, model, solver, how) -> "NewtonIteration":
+        return cls(model)
+
+    @staticmethod
+    def describe(scene) -> str:
+        return ("Newton's method on the elastoplastic soil (the consistent tangent), in load "
+                "steps that halve where it does not converge")
+
+    def __init__(self, model):
+        self.model = model
+        self.plastic = model.soil.plastic
+        #: Newton iterations a step may take before it is cut back (soil.max_iterations)
+        self.max_iterations = model.soil.setting.soil.max_iterations
+        #: the load of the last converged state (nothing before the first stage: the ground
+        #: at rest)
+        self.converged_load = None
+        self.last: IterationStatus | None = None
+        self.history: list[dict] = []
+        self._centre = np.array([[0.0, -model.soil.setting.embedment]])
+
+    def begin_stage(self) -> None:
+        self.last = None
+        self.history = []
+
+    def _w0(self) -> float:
+        return float(-evaluate_at(self.model.soil.u, self._centre)[0, 1])
+
+    def run(self, inner, log) -> IterationStatus:
+        m = self.model
+        target = m.scene.load
+        # (the first stage starts from the ground at rest: no load)
+        start = self.converged_load if self.converged_load is not None else replace(
+            target, **{fd.name: 0.0 for fd in fields(target)
+                       if isinstance(getattr(target, fd.name), float)
+                       and fd.name != "load_radius"})
+        done, step = 0.0, self.FIRST_STEP
+        total_iterations = 0
+        log.info("elastoplastic soil: Newton in load steps (tolerance %g on the out-of-balance "
+                 "force)", self.TOLERANCE)
+        log.info("  step  load share   w0 (m)        Newton  out-of-balance  plastic pts  "
+                 "step     time s")
+        t_stage = time.perf_counter()
+        while done < 1.0:
+            share = min(1.0, done + step)
+            t0 = time.perf_counter()
+            m.set_loads(scaled_between(start, target, share))
+            ok, iterations, residual, reason = self._newton(inner)
+            total_iterations += iterations
+            if ok:
+                self.plastic.commit()
+                m.commit()
+                done = share
+                n_plastic = m.domain.mesh.comm.allreduce(self._plastic_points())
+                row = {"step": len(self.history) + 1, "load_share": share, "w0": self._w0(),
+                       "iterations": iterations, "out_of_balance": residual,
+                       "plastic_points": n_plastic, "step_size": step,
+                       "time_s": time.perf_counter() - t0}
+                self.history.append(row)
+                log.info("  %4d  %10.4f  %12.5e  %6d  %14.3e  %11d  %6.4f  %7.2f", row["step"],
+                         share, row["w0"], iterations, residual, n_plastic, step, row["time_s"])
+                if iterations <= self.FAST:
+                    step = min(step * self.GROWTH, 1.0)
+                continue
+            m.rollback()
+            log.info("        %10.4f  no convergence (%s): the step is halved", share, reason)
+            step *= 0.5
+            if step < self.MIN_STEP:
+                m.set_loads(scaled_between(start, target, done))
+                raise self._failure(start, target, done, share, reason)
+        self.converged_load = target
+        p, comm = self.plastic, m.domain.mesh.comm
+        own = m.domain.mesh.topology.index_map(2).size_local
+        self.last = IterationStatus.of({
+            "converged": True, "iterations": total_iterations, "history": self.history,
+            "steps": len(self.history),
+            "plastic_points": comm.allreduce(self._plastic_points()),
+            "max_plastic_shear_strain": comm.allreduce(
+                float(p.plastic_shear_strain()[:own * p.n_points].max(initial=0.0)),
+                op=MPI.MAX),
+            "criterion": f"the whole load carried in {len(self.history)} load steps, each to an "
+                         f"out-of-balance force <= {self.TOLERANCE:g} of the load vector",
+            "time_s": time.perf_counter() - t_stage},
+            # (per cell, for the fields and figures: yielding, and tau / tau_f)
+            data={"plastic": p.cell_average(p.plastic, 1)[:, 0],
+                  "stress_level": p.cell_mobilised()})
+        return self.last
+
+    def _plastic_points(self) -> int:
+        own = self.model.domain.mesh.topology.index_map(2).size_local * self.plastic.n_points
+        return int(np.sum(self.plastic.code[:own] != -1))
+
+    def _newton(self, inner) -> tuple[bool, int, float, str]:
+        """Newton from the committed state under the loads set: (converged, iterations,
+        the last out-of-balance force, why not)."""
+        m = self.model
+        previous = m.out_of_balance()
+        for it in range(1, self.max_iterations + 1):
+            before = [u.x.array.copy() for u in m.unknowns]
+            try:
+                inner()
+            except SolveError as e:
+                return False, it, previous, f"the linear solve failed: {e}"
+            after = [u.x.array.copy() for u in m.unknowns]
+            alpha = 1.0
+            for _ in range(self.LINE_SEARCH + 1):
+                self.plastic.update()
+                residual = m.out_of_balance()
+                if residual < (1.0 - 1e-4 * alpha) * previous or residual <= self.TOLERANCE:
+                    break
+                alpha *= 0.5
+                for u, a, b in zip(m.unknowns, before, after):
+                    u.x.array[:] = a + alpha * (b - a)
+            if not math.isfinite(residual):
+                return False, it, residual, "the out-of-balance force is not finite"
+            if residual <= self.TOLERANCE:
+                return True, it, residual, ""
+            previous = residual
+        return False, self.max_iterations, residual, (
+            f"out-of-balance force {residual:.2e} after {self.max_iterations} iterations")
+
+    def _failure(self, start, target, done: float, tried: float, reason: str) -> SoilFailure:
+        """The soil cannot carry the stage's load: the last share carried and where the
+        soil yields, in physical terms."""
+        m = self.model
+        P = m.applied_load
+        a = m.scene.foundation_radius
+        where = self._yielding_zone()
+        return SoilFailure(
+            f"the soil cannot carry the load: the load steps fell below {self.MIN_STEP:.4g} of "
+            f"the stage's load at {done:.4g} of it (the vertical load {P / 1e6:.4g} MN, a mean "
+            f"bearing pressure of {P / (math.pi * a ** 2) / 1e3:.4g} kPa on the foundation of "
+            f"radius {a:g} m), and {tried:.4g} of it was not carried ({reason}); {where}",
+            self.history)
+
+    def _yielding_zone(self) -> str:
+        """Where the soil yields, in words (gathered over the ranks)."""
+        comm = self.model.domain.mesh.comm
+        p = self.plastic
+        own = self.model.domain.mesh.topology.index_map(2).size_local
+        flag = p.cell_average(p.plastic, 1)[:own, 0] > 0.5
+        mid = self.model.domain.cell_midpoints[:own]
+        pts = np.concatenate(comm.allgather(mid[flag]))
+        if len(pts) == 0:
+            return "no point of the soil had yet yielded"
+        depth = -pts[:, 1]
+        return (f"{len(pts)} cells yield, from r = {pts[:, 0].min():.3g} to "
+                f"{pts[:, 0].max():.3g} m and down to {depth.max():.3g} m below the ground")

@@ -1,0 +1,209 @@
+"""The elastoplastic soil's state at the quadrature points of the soil's forms, and the forms
+that read it.
+
+Newton's method in the form the block system solves: with the tangent C and the stress sigma
+of the current iterate u_k at the points, the soil's block is
+
+    a(du, v) = int eps(du) . C eps(v) 2 pi r dx,
+    L(v)     = f(v) - int (sigma - C eps(u_k)) . eps(v) 2 pi r dx,
+
+so that a linear solve gives u_{k+1} = u_k - K_t^-1 R(u_k) (the same system the other soils
+solve: the structure, the interface and the loads are unchanged), and a(u, v) - L(v) at the
+updated state is the true residual. Vectors are Mandel's (rr, zz, sqrt 2 rz, theta): the
+products are dot products. The soil's weight is the load that equilibrates its geostatic
+stress: before anything is loaded the residual is zero and the displacement stays zero.
+
+The state (:class:`tankfx.model.history.History`): the committed stress, strain, plastic
+strain and plastic flag, and the tangent of the committed state; a load step commits it when
+it converges and rolls back to it when it is cut back.
+"""
+from __future__ import annotations
+
+import math
+
+import basix
+import numpy as np
+import ufl
+from dolfinx import fem
+
+from ..laws import elasticity as soil_forms
+from ..laws.plasticity import (
+    ELASTIC,
+    elastic_matrix,
+    mobilised_strength,
+    principal,
+    stress_update,
+)
+from .history import quadrature_space
+
+
+def _rule_degree(degree: int) -> int:
+    """The quadrature degree of the soil's forms (and of its points' space)."""
+    return soil_forms.quadrature_degree(degree)
+
+
+def mandel(t):
+    """(rr, zz, sqrt 2 rz, theta) of an axisymmetric tensor (UFL)."""
+    return ufl.as_vector([t[0, 0], t[1, 1], math.sqrt(2.0) * t[0, 1], t[2, 2]])
+
+
+def tensor(s):
+    """The 3 x 3 tensor (r, z, theta) of a Mandel vector (UFL)."""
+    rz = s[2] / math.sqrt(2.0)
+    return ufl.as_tensor([[s[0], rz, 0.0], [rz, s[1], 0.0], [0.0, 0.0, s[3]]])
+
+
+class PlasticState:
+    """The stress, tangent and history of an elastoplastic soil at its forms' quadrature
+    points (``block``: the soil block, whose space, radius and measure it shares; ``law``,
+    ``soil``: the law and the resolved [soil]; ``ring``: a ringwall whose cells stay elastic
+    and unbroken, or None)."""
+
+    def __init__(self, block, law, soil, degree: int, ring=None):
+        msh = block.domain.mesh
+        self.block, self.law = block, law
+        self.S4 = quadrature_space(msh, degree, (4,))
+        self.S44 = quadrature_space(msh, degree, (4, 4))
+        self.S1 = quadrature_space(msh, degree)
+        f = fem.Function
+        #: the current iterate's stress and tangent, and sigma - C eps(u) (the load's part)
+        self.stress, self.tangent = f(self.S4, name="stress"), f(self.S44, name="tangent")
+        self.offset = f(self.S4, name="stress_offset")
+        #: the committed state's stress, strain, plastic strain and plastic flag (1: yielding)
+        self.stress_n = f(self.S4, name="committed_stress")
+        self.strain = f(self.S4, name="strain")
+        self.plastic_strain = f(self.S4, name="plastic_strain")
+        self.plastic = f(self.S1, name="plastic")
+        #: the geostatic stress, at rest (its load equilibrates it)
+        self.geostatic = f(self.S4, name="geostatic_stress")
+        imap = msh.topology.index_map(2)
+        self.cells = np.arange(imap.size_local + imap.num_ghosts, dtype=np.int32)
+        points = self.S4.element.interpolation_points
+        self.n_points = len(points)
+        x = fem.Expression(ufl.SpatialCoordinate(msh), points).eval(msh, self.cells)
+        x = x.reshape(-1, 2)
+        depth = -x[:, 1]
+        #: per point: E, nu, cohesion, sin phi, sin psi, the tension cut-off
+        self.constants = law.point_constants(soil, depth)
+        if ring is not None:
+            # a ringwall's (and its fill's) points: its own elasticity, never yielding
+            in_ring = np.repeat(block.ringwall_cells, self.n_points)
+            in_fill = np.repeat(block.fill_cells, self.n_points)
+            for mask, E, nu in ((in_ring, ring.E, ring.nu), (in_fill, ring.fill_E, ring.fill_nu)):
+                if mask.any():
+                    self.constants["E"] = np.where(mask, E, self.constants["E"])
+                    self.constants["nu"] = np.where(mask, nu, self.constants["nu"])
+                    self.constants["cohesion"] = np.where(mask, np.inf,
+                                                          self.constants["cohesion"])
+        # the dofs of each point's values, in point order (cell by cell)
+        dofs = self.S1.dofmap.list[self.cells].reshape(-1)
+        self._dofs4 = (4 * dofs[:, None] + np.arange(4)).reshape(-1)
+        self._dofs16 = (16 * dofs[:, None] + np.arange(16)).reshape(-1)
+        self._dofs1 = dofs
+        self._strain_expr = fem.Expression(mandel(soil_forms.strain(block.u, block.r)), points)
+        self.D = elastic_matrix(self.constants["E"], self.constants["nu"])
+        sigma0 = law.initial_stress(soil, depth)
+        self._put(self.geostatic, sigma0, self._dofs4)
+        self._put(self.stress, sigma0, self._dofs4)
+        self._put(self.stress_n, sigma0, self._dofs4)
+        self._put(self.tangent, self.D.reshape(-1, 16), self._dofs16)
+        self._put(self.offset, sigma0, self._dofs4)
+        self.code = np.full(len(depth), ELASTIC)
+        # the rule's weights (the points' own: quadrature_space's default scheme)
+        points_, self.weights = basix.make_quadrature(msh.basix_cell(), _rule_degree(degree))
+        assert np.allclose(points_, points), "the rule's points are not the space's"
+        T = fem.functionspace(msh, ("DG", 0, (4,)))
+        self._cell_stress = fem.Function(T, name="cell_stress")
+        self._cell_dofs = (4 * T.dofmap.list[self.cells, 0][:, None] + np.arange(4)).reshape(-1)
+        self._trial = None
+
+    @staticmethod
+    def _put(field, values, dofs):
+        field.x.array[dofs] = np.asarray(values).reshape(-1)
+
+    def _get(self, field, dofs, width):
+        return field.x.array[dofs].reshape(-1, width)
+
+    def carried(self) -> dict:
+        """What a stage carries, for the soil's history."""
+        return {"stress": self.stress, "tangent": self.tangent, "stress_offset": self.offset,
+                "committed_stress": self.stress_n, "strain": self.strain, "plastic_strain": self.plastic_strain,
+                "plastic": self.plastic}
+
+    # ---- the forms ---------------------------------------------------------------------
+    def stiffness(self, trial, test, r, dx):
+        """a(du, v): the tangent's."""
+        C = ufl.as_matrix([[self.tangent[i, j] for j in range(4)] for i in range(4)])
+        return ufl.inner(C * mandel(soil_forms.strain(trial, r)),
+                         mandel(soil_forms.strain(test, r))) * 2.0 * math.pi * r * dx
+
+    def load(self, test, r, dx):
+        """-int (sigma - C eps(u_k)) . eps(v) 2 pi r dx, and the soil's weight: the load
+        that equilibrates the geostatic stress, int sigma_0 . eps(v) 2 pi r dx."""
+        return -ufl.inner(self.offset - self.geostatic, mandel(soil_forms.strain(test, r))) \
+            * 2.0 * math.pi * r * dx
+
+    def stress_tensor(self):
+        """The current stress (3 x 3, UFL, tension positive), at the quadrature points."""
+        return tensor(self.stress)
+
+    # ---- the update --------------------------------------------------------------------
+    def update(self) -> dict:
+        """The stress and tangent of the current displacement from the committed state, at
+        every point (the return of :func:`tankfx.laws.plasticity.stress_update`), and the
+        offset sigma - C eps(u) the next solve's load reads. Returns the counts of plastic
+        points by kind."""
+        eps = self._strain_expr.eval(self.block.domain.mesh, self.cells).reshape(-1, 4)
+        k = self.constants
+        sigma, C, code, d_eps_p = stress_update(
+            eps - self._get(self.strain, self._dofs4, 4), self._get(self.stress_n, self._dofs4, 4),
+            k["E"],
+            k["nu"], k["cohesion"], k["sin_phi"], k["sin_psi"], k["tension"])
+        self._put(self.stress, sigma, self._dofs4)
+        self._put(self.tangent, C.reshape(-1, 16), self._dofs16)
+        self._put(self.offset, sigma - np.einsum("nij,nj->ni", C, eps), self._dofs4)
+        self.code = code
+        self._trial = (eps, d_eps_p)
+        return {"plastic_points": int(np.sum(code != ELASTIC))}
+
+    def commit(self) -> None:
+        """The current iterate is converged: its strain, stress, plastic strain and flag are
+        the state to go on from."""
+        eps, d_eps_p = self._trial
+        self._put(self.strain, eps, self._dofs4)
+        self.stress_n.x.array[:] = self.stress.x.array
+        self._put(self.plastic_strain, self._get(self.plastic_strain, self._dofs4, 4) + d_eps_p,
+                  self._dofs4)
+        self._put(self.plastic, (self.code != ELASTIC).astype(float), self._dofs1)
+
+    def cell_average(self, field, width: int) -> np.ndarray:
+        """Each local cell's mean of a field over its points (the rule's weights), N x
+        width, in cell order."""
+        values = self._get(field, {4: self._dofs4, 1: self._dofs1}[width], width)
+        values = values.reshape(len(self.cells), self.n_points, width)
+        return np.einsum("cpw,p->cw", values, self.weights) / self.weights.sum()
+
+    def cell_stress(self) -> fem.Function:
+        """The stress as a DG0 Mandel field (each cell's mean): what the results read."""
+        self._cell_stress.x.array[self._cell_dofs] = \
+            self.cell_average(self.stress, 4).reshape(-1)
+        return self._cell_stress
+
+    def plastic_shear_strain(self) -> np.ndarray:
+        """eps_1^p - eps_3^p per point: the committed plastic strain's largest shear."""
+        vals = principal(self._get(self.plastic_strain, self._dofs4, 4))[0]
+        return vals.max(axis=1) - vals.min(axis=1)
+
+    def cell_mobilised(self) -> np.ndarray:
+        """tau / tau_f of each local cell's mean stress (its strength at its mean depth)."""
+        k = self.constants
+        n = self.n_points
+        mean = self.cell_average(self.stress, 4)
+        c = k["cohesion"].reshape(-1, n).mean(axis=1)
+        return mobilised_strength(mean, c, k["sin_phi"].reshape(-1, n)[:, 0])
+
+    def mobilised(self) -> np.ndarray:
+        """tau / tau_f per point of the current stress (1 on the yield surface)."""
+        k = self.constants
+        return mobilised_strength(self._get(self.stress, self._dofs4, 4), k["cohesion"],
+                                  k["sin_phi"])

@@ -1,0 +1,126 @@
+"""The elastoplastic Mohr-Coulomb / Tresca soil (soil.model = "mohr_coulomb") in the block
+system: its scene refused where it cannot be solved, the ground at rest, the linear soil's
+numbers below yield, and the bearing capacity of a rigid circular footing against the exact
+values."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+from conftest import COARSE
+from tankfx import Scene, SceneError, analyse
+
+C_U = 10e3      # Pa: Tresca's undrained strength of the footing tests
+
+
+def plastic_scene(soil=None, **sections) -> dict:
+    """A rigid 1 m footing (Kp = 1000) on a weightless Tresca soil, s_u = 10 kPa."""
+    d = {"soil": {"model": "mohr_coulomb", "E": 10e6, "nu": 0.3, "cohesion": C_U},
+         "plate": {"radius": 1.0, "Kp": 1000.0, "E": 30e9, "nu": 0.2},
+         "interface": {"condition": "smooth"}, "load": {"pressure": 20e3},
+         "mesh": COARSE}
+    d["soil"].update(soil or {})
+    for k, v in sections.items():
+        d[k] = v
+    return d
+
+
+@pytest.mark.parametrize("soil,sections,says", [
+    ({"cohesion": 0.0}, {}, "soil.cohesion, soil.friction_angle: the soil has no strength"),
+    ({"friction_angle": 20.0, "dilation_angle": 25.0}, {},
+     "soil.dilation_angle = 25.0 exceeds soil.friction_angle = 20.0"),
+    ({"friction_angle": 60.0}, {}, "soil.friction_angle = 60.0: at most 60"),
+    ({"tensile_strength": -1.0}, {}, "soil.tensile_strength"),
+    ({"nu": 0.495}, {}, "soil.nu = 0.495: at most 0.49"),
+    ({"unit_weight": 18e3, "K0": 3.0}, {},
+     "soil: the ground at rest lies outside the yield surface"),
+    ({}, {"consolidation": {"permeability": 1e-9, "times": [86400.0]}},
+     "[consolidation] with soil.model = 'mohr_coulomb'"),
+    ({}, {"interface": {"condition": "mohr_coulomb", "friction_angle": 20.0}},
+     "interface.condition = \"mohr_coulomb\": the interface's active set is not yet"),
+    ({}, {"plate": {"radius": 1.0, "Kp": 10.0, "E": 30e9, "nu": 0.2, "embedment": 0.5}},
+     "plate.embedment = 0.5: an embedded foundation"),
+    ({}, {"load": {"pressure": 20e3, "overturning_moment": 1e4}},
+     "load.overturning_moment, load.base_shear"),
+])
+def test_what_the_plastic_soil_cannot_take_is_refused_before_any_mesh(soil, sections, says):
+    with pytest.raises(SceneError) as e:
+        Scene.from_dict(plastic_scene(soil, **sections))
+    assert says in str(e.value), str(e.value)
+
+
+def test_a_normally_consolidated_clay_starts_inside_its_yield_surface():
+    """s_u = 5 kPa + 1.5 kPa/m, gamma' = 7 kN/m^3 (a water table at the surface) and K0 =
+    0.6: the deviator at rest, 0.4 x 7 z / 2 = 1.4 z kPa, stays below 5 + 1.5 z: taken; a
+    K0 of 0.2 (2.8 z > 5 + 1.5 z below 3.8 m) is refused with its depth."""
+    clay = {"cohesion": 5e3, "cohesion_gradient": 1.5e3, "unit_weight": 16.81e3,
+            "water_table": 0.0, "K0": 0.6}
+    Scene.from_dict(plastic_scene(clay))
+    with pytest.raises(SceneError) as e:
+        Scene.from_dict(plastic_scene(clay | {"K0": 0.2}))
+    assert "outside the yield surface from 3.8" in str(e.value), str(e.value)
+
+
+class _Quiet:
+    def info(self, *args):
+        pass
+
+    debug = warning = info
+
+
+def _model(data):
+    """A built model of a scene dict, its solver and its chain of iterations."""
+    from tankfx.fem.solvers import make_solver
+    from tankfx.iterations.stage import StageIterations
+    from tankfx.mesh import build_domain
+    from tankfx.model.build import build_model
+
+    scene = Scene.from_dict(data)
+    model = build_model(scene, build_domain(scene))
+    solver = make_solver(scene.solver, model.a, model.L, model.bcs, model.unknowns,
+                         entity_maps=model.entity_maps, name="plastic", symmetric=True)
+    return scene, model, StageIterations.of(scene, model, solver)
+
+
+def test_the_ground_at_rest_stays_at_rest():
+    """A heavy layered clay with a water table, at rest (nothing on the footing): the
+    displacement stays zero, the stress is the geostatic one exactly at every point, and the
+    out-of-balance force vanishes."""
+    from dataclasses import fields, replace
+
+    clay = {"cohesion": 5e3, "cohesion_gradient": 1.5e3, "unit_weight": 17e3,
+            "water_table": 1.5, "K0": 0.7}
+    data = plastic_scene(clay, domain={"radius": 5.0, "depth": 5.0})
+    data["soil"]["layers"] = [{"depth": 2.0, "E": 20e6, "nu": 0.3, "cohesion": 12e3,
+                               "unit_weight": 19e3, "K0": 0.8}]
+    scene, model, chain = _model(data)
+    nothing = replace(scene.load, **{f.name: 0.0 for f in fields(scene.load)
+                                     if isinstance(getattr(scene.load, f.name), float)
+                                     and f.name != "load_radius"})
+    model.set_loads(nothing)
+    model.begin_stage()
+    chain.begin_stage()
+    chain.run(_Quiet())
+    p = model.soil.plastic
+    u = np.concatenate([f.x.array for f in model.unknowns])
+    assert np.abs(u).max() < 1e-12
+    np.testing.assert_allclose(p.stress.x.array, p.geostatic.x.array, rtol=0, atol=1e-6)
+    assert model.out_of_balance() < 1e-12
+    # the weight is there: 17 kN/m^3 x 1.5 m + (17 - 9.81) x 0.5 m above the layer
+    sz = p.cell_average(p.stress, 4)[:, 1]
+    assert -sz.min() > 17e3 * 1.5 + 7.19e3 * 0.5
+
+
+def test_below_yield_the_plastic_soil_is_the_linear_one():
+    """A strength far above the load's stresses: every number the linear soil gives, to
+    1e-8 of its scale."""
+    data = plastic_scene({"cohesion": 9e5})
+    linear = plastic_scene()
+    linear["soil"] = {"E": 10e6, "nu": 0.3}
+    a, b = analyse(Scene.from_dict(data)).results, analyse(Scene.from_dict(linear)).results
+    assert a["soil"]["plastic_points"] == 0
+    for key in ("w0", "w_edge", "wd"):
+        assert a[key] == pytest.approx(b[key], rel=1e-8), key
+    np.testing.assert_allclose(a["profiles"]["surface"]["w"], b["profiles"]["surface"]["w"],
+                               rtol=0, atol=1e-8 * abs(b["w0"]))
