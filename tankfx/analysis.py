@@ -198,6 +198,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
             with heartbeat("solving" + (f" load stage {k + 1}" if len(stages) > 1 else "")):
                 stage_scene, statuses = _solve_stage(scene, load, model, iterations)
         except SoilFailure as e:
+            e.dofs = solver.matrix_size        # (what the failed run cost)
             if search:
                 _search_carried(e, scene, load, model, iterations)
             elif len(stages) > 1:
@@ -368,7 +369,7 @@ def _solve_stage(scene: Scene, load: Load, model: Model,
     """Solve one stage of the path by the scene's chain of iterations. Returns the stage's
     scene (a consolidation's: its load at the last reported time, which on a load path may
     lie between stages) and the iterations' statuses by name."""
-    if model.soil.memory is not None:
+    if model.soil.remembers:
         # a remembering soil's path may unload to nothing: its equilibrium errors are
         # relative to the path's largest load so far
         model.path_load_scale = model.load_scale

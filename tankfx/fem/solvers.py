@@ -116,6 +116,8 @@ class SolveError(RuntimeError):
         #: a single load's search for the largest fraction of it carried (see
         #: tankfx.analysis), None where not searched
         self.carried: dict | None = None
+        #: the unknowns of the system that failed (set by the analysis), or None
+        self.dofs: int | None = None
 
 
 class _LinearSolver:

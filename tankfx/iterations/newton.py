@@ -19,6 +19,7 @@ import numpy as np
 from mpi4py import MPI
 from ..fem.evaluate import evaluate_at
 from ..fem.solvers import SolveError
+from ..scene.sections import vertical_load
 from .secant import SoilFailure
 from .status import IterationStatus
 
@@ -143,14 +144,15 @@ class NewtonIteration:
         """Newton from the committed state under the loads set: (converged, iterations,
         the last out-of-balance force, why not)."""
         m = self.model
+        unknowns = m.unknowns if isinstance(m.unknowns, list) else [m.unknowns]
         previous = m.out_of_balance()
         for it in range(1, self.max_iterations + 1):
-            before = [u.x.array.copy() for u in m.unknowns]
+            before = [u.x.array.copy() for u in unknowns]
             try:
                 inner()
             except SolveError as e:
                 return False, it, previous, f"the linear solve failed: {e}"
-            after = [u.x.array.copy() for u in m.unknowns]
+            after = [u.x.array.copy() for u in unknowns]
             alpha = 1.0
             for _ in range(self.LINE_SEARCH + 1):
                 self.plastic.update()
@@ -158,7 +160,7 @@ class NewtonIteration:
                 if residual < (1.0 - 1e-4 * alpha) * previous or residual <= self.TOLERANCE:
                     break
                 alpha *= 0.5
-                for u, a, b in zip(m.unknowns, before, after):
+                for u, a, b in zip(unknowns, before, after):
                     u.x.array[:] = a + alpha * (b - a)
             if not math.isfinite(residual):
                 return False, it, residual, "the out-of-balance force is not finite"
@@ -175,12 +177,20 @@ class NewtonIteration:
         P = m.applied_load
         a = m.scene.foundation_radius
         where = self._yielding_zone()
-        return SoilFailure(
+        sc = m.scene
+        P_failed = vertical_load(scaled_between(start, target, tried), sc.plate, sc.wall,
+                                 sc.ringwall)
+        error = SoilFailure(
             f"the soil cannot carry the load: the load steps fell below {self.MIN_STEP:.4g} of "
             f"the stage's load at {done:.4g} of it (the vertical load {P / 1e6:.4g} MN, a mean "
             f"bearing pressure of {P / (math.pi * a ** 2) / 1e3:.4g} kPa on the foundation of "
             f"radius {a:g} m), and {tried:.4g} of it was not carried ({reason}); {where}",
             self.history)
+        area = math.pi * a ** 2
+        error.carried = {"fraction_carried": done, "fraction_failed": tried,
+                         "mean_bearing_pressure_carried": P / area,
+                         "mean_bearing_pressure_failed": P_failed / area}
+        return error
 
     def _yielding_zone(self) -> str:
         """Where the soil yields, in words (gathered over the ranks)."""

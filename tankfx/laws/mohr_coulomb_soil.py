@@ -46,6 +46,8 @@ class MohrCoulombSoil(SoilLaw):
     point_state = True
     #: the displacement form only: a stratum's nu at most MAX_NU
     displacement_form_only = True
+    #: its plastic strain stays when the load comes off
+    keeps_permanent_strain = True
 
     @classmethod
     def stratum_text(cls, st):

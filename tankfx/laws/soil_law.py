@@ -47,6 +47,9 @@ class SoilLaw:
     displacement_form_only : bool
         Every stratum is solved in the displacement form, whatever its nu (the law has no
         mixed form; its checks bound nu).
+    keeps_permanent_strain : bool
+        Unloaded, it keeps a permanent strain of its own (plastic flow): a stage of a load
+        path may take every load off.
     consolidates : bool
         The law takes a ``[consolidation]`` (its E and nu are the drained skeleton's).
     remembers : bool
@@ -74,6 +77,7 @@ class SoilLaw:
     E_keys: ClassVar[tuple[str, ...]] = ()
     all_mixed: ClassVar[str | None] = None
     displacement_form_only: ClassVar[bool] = False
+    keeps_permanent_strain: ClassVar[bool] = False
     consolidates: ClassVar[bool] = False
     remembers: ClassVar[bool] = False
     unloads_on_curve: ClassVar[bool] = False

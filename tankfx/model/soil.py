@@ -170,6 +170,12 @@ class SoilBlock:
         self.bcs = self._supports()
         self.supported_facets = domain.facets("far_side", "bottom")
 
+    @property
+    def remembers(self) -> bool:
+        """Whether it keeps a state of its own from one stage to the next (an unloading
+        memory, a plastic strain): a load path may then take every load off."""
+        return self.memory is not None or self.plastic is not None
+
     def _pore_pressure(self, msh) -> None:
         """Biot's blocks for the excess pore pressure (:class:`PorePressure`): the block's
         displacement form and its one pressure, continuous over the strata (its flux too,

@@ -382,9 +382,11 @@ def _parse_stages(data: dict[str, Any], raw, scene: Scene) -> tuple[Load, ...]:
     for k, stage in enumerate(raw, start=1):
         try:
             # (a stage may have no load along a consolidation's path, and where the soil
-            # remembers: the tank emptied, the soil keeping what it keeps)
-            remembers = isinstance(data.get("soil"), dict) and \
+            # remembers: the tank emptied, the soil keeping what it keeps, by its memory or
+            # its plastic strain)
+            remembers = isinstance(data.get("soil"), dict) and (
                 data["soil"].get("unloading_modulus_ratio") is not None
+                or scene.soil.law.keeps_permanent_strain)
             load = _parse({**data, "load": {**data.get("load", {}), **stage}},
                           empty_load="consolidation" in data or remembers).load
         except SceneError as e:
