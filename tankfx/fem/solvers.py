@@ -145,6 +145,12 @@ class _LinearSolver:
         its preconditioner only if PETSc sees a changed matrix.)"""
         self._matrix_kept = True
 
+    def solve_again(self):
+        """Solve for the current right-hand side with the matrix of the last solve (its
+        factorisation kept: a second load on the same system, as a settlement-controlled
+        step needs)."""
+        return self.solve()
+
     @property
     def matrix_size(self) -> int:
         return self.problem.A.getSize()[0]
@@ -264,6 +270,14 @@ class DirectSolver(_LinearSolver):
                 return u
             except SolveError:
                 u = self._rescale()
+        self.relative_residual = self._checked()
+        return u
+
+    def solve_again(self):
+        """Solve for the current right-hand side with the last solve's matrix and its
+        factorisation (only the right-hand side is assembled)."""
+        self.solves += 1
+        u = self._solve_keeping(None)
         self.relative_residual = self._checked()
         return u
 

@@ -116,12 +116,12 @@ def principal_return(sigma_tr, E, nu, cohesion, sin_phi, sin_psi, tension=None):
     tol = 1e-10 * scale
     # (a cut-off at or beyond the apex c cot phi never acts)
     has_cut = np.isfinite(t)
-    phi_tr = np.einsum("nkj,nj->nk", a, sigma_tr) - b
+    phi_tr = (a @ sigma_tr[..., None])[..., 0] - b
     code = np.full(n, ELASTIC)
     sigma = sigma_tr.copy()
     P = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
     todo = np.any(phi_tr > tol[:, None], axis=1)
-    Df = np.einsum("nij,nkj->nki", D, f)                  # D n_k, per plane
+    Df = f @ D                                           # D n_k, per plane (D symmetric)
     for k, J in enumerate(CANDIDATES):
         if not todo.any():
             break
@@ -133,22 +133,21 @@ def principal_return(sigma_tr, E, nu, cohesion, sin_phi, sin_psi, tension=None):
         if len(idx) == 0:
             continue
         aJ, DfJ = a[idx][:, J], Df[idx][:, J]              # (m, k, 3)
-        M = np.einsum("mki,mli->mkl", aJ, DfJ)             # a_k . D n_l
+        M = aJ @ np.swapaxes(DfJ, 1, 2)                    # a_k . D n_l
         det = np.linalg.det(M)
         ok = np.abs(det) > 1e-12 * np.abs(np.einsum("mkk->m", M)) ** len(J)
         idx, aJ, DfJ, M = idx[ok], aJ[ok], DfJ[ok], M[ok]
         if len(idx) == 0:
             continue
         dgamma = np.linalg.solve(M, phi_tr[idx][:, J][..., None])[..., 0]
-        s = sigma_tr[idx] - np.einsum("mk,mki->mi", dgamma, DfJ)
-        residual = np.einsum("mkj,mj->mk", a[idx], s) - b[idx]
+        s = sigma_tr[idx] - (dgamma[:, None, :] @ DfJ)[:, 0]
+        residual = (a[idx] @ s[..., None])[..., 0] - b[idx]
         valid = np.all(dgamma * (2.0 * G[idx, None]) >= -tol[idx, None], axis=1) & \
             np.all(residual <= tol[idx, None], axis=1)
         hit = idx[valid]
         sigma[hit] = s[valid]
         # P = I - D N (A^T D N)^-1 A^T
-        P[hit] = np.eye(3) - np.einsum("mki,mkl,mlj->mij", DfJ[valid],
-                                       np.linalg.inv(M[valid]), aJ[valid])
+        P[hit] = np.eye(3) - np.swapaxes(DfJ[valid], 1, 2) @ np.linalg.inv(M[valid]) @ aJ[valid]
         code[hit] = k
         todo[hit] = False
     if todo.any():
@@ -172,41 +171,63 @@ def compliance(E, nu) -> np.ndarray:
             * np.outer(IDENTITY, IDENTITY))
 
 
-def stress_update(d_eps, sigma_n, E, nu, cohesion, sin_phi, sin_psi, tension=None):
+def stress_update(d_eps, sigma_n, E, nu, cohesion, sin_phi, sin_psi, tension=None, D=None):
     """The stress after a strain increment ``d_eps`` from the committed stress ``sigma_n``
     (Mandel, N x 4), elastic predictor and return: (sigma (N x 4), the consistent tangent
     C = d sigma / d eps (N x 4 x 4), the return's code (N) and the plastic strain increment
-    D^-1 (sigma_tr - sigma) (N x 4)). The material constants are floats or per point."""
+    D^-1 (sigma_tr - sigma) (N x 4)). The material constants are floats or per point;
+    ``D``, the elastic matrices (N x 4 x 4), where the caller keeps them. Only the points
+    whose trial stress leaves the yield surface are returned; the others keep the trial
+    and the elastic tangent."""
     n = len(d_eps)
-    E, nu = (np.broadcast_to(np.asarray(v, dtype=float), (n,)) for v in (E, nu))
-    D = elastic_matrix(E, nu)
-    s_tr = sigma_n + np.einsum("nij,nj->ni", D, d_eps)
+    E, nu, c, sp, sq = (np.broadcast_to(np.asarray(v, dtype=float), (n,))
+                        for v in (E, nu, cohesion, sin_phi, sin_psi))
+    t = np.full(n, np.inf) if tension is None else np.broadcast_to(
+        np.asarray(tension, dtype=float), (n,))
+    if D is None:
+        D = elastic_matrix(E, nu)
+    s_tr = sigma_n + (D @ d_eps[..., None])[..., 0]
+    sigma, C = s_tr.copy(), D.copy()
+    code = np.full(n, ELASTIC)
+    d_eps_p = np.zeros_like(s_tr)
+    # (which points leave the surface: the largest Mohr circle and the largest stress)
     vals, proj = principal(s_tr)
+    top, bottom = vals.max(axis=1), vals.min(axis=1)
+    cos_phi = np.sqrt(1.0 - sp * sp)
+    f = (top - bottom) + (top + bottom) * sp - 2.0 * c * cos_phi
+    scale = np.max(np.abs(vals), axis=1) + c + 1.0
+    out = np.flatnonzero((f > 1e-10 * scale) | (top > t + 1e-10 * scale))
+    if len(out) == 0:
+        return sigma, C, code, d_eps_p
+    vals, proj, Dp = vals[out], proj[out], D[out]
     order = np.argsort(-vals, axis=1, kind="stable")
     back = np.argsort(order, axis=1)
-    s_sorted, P_sorted, code = principal_return(
-        np.take_along_axis(vals, order, axis=1), E, nu, cohesion, sin_phi, sin_psi, tension)
+    s_sorted, P_sorted, code_p = principal_return(
+        np.take_along_axis(vals, order, axis=1), E[out], nu[out], c[out], sp[out], sq[out],
+        t[out])
     s_p = np.take_along_axis(s_sorted, back, axis=1)
     # P in the (I, II, theta) order: P[a, b] = P_sorted[back[a], back[b]]
     P = np.take_along_axis(np.take_along_axis(P_sorted, back[:, :, None], axis=1),
                            back[:, None, :], axis=2)
-    sigma = np.einsum("na,nai->ni", s_p, proj)
-    T = np.einsum("nab,nai,nbj->nij", P, proj, proj)
+    projT = np.swapaxes(proj, 1, 2)
+    sigma_p = (projT @ s_p[..., None])[..., 0]
+    T = projT @ P @ proj
     # the in-plane eigenvectors' turn: (sigma_I - sigma_II) / (sigma_tr_I - sigma_tr_II),
     # whose limit at equal values is d sigma_I / d sigma_tr_I - d sigma_I / d sigma_tr_II
     split = vals[:, 0] - vals[:, 1]
-    scale = np.max(np.abs(vals), axis=1) + 1.0
-    apart = split > 1e-9 * scale
+    apart = split > 1e-9 * (np.max(np.abs(vals), axis=1) + 1.0)
     ratio = np.where(apart, (s_p[:, 0] - s_p[:, 1]) / np.where(apart, split, 1.0),
                      P[:, 0, 0] - P[:, 0, 1])
-    S = np.diag([1.0, 1.0, 1.0, 0.0]) - np.einsum("ni,nj->nij", proj[:, 0], proj[:, 0]) \
-        - np.einsum("ni,nj->nij", proj[:, 1], proj[:, 1])
-    C = np.einsum("nij,njk->nik", T + ratio[:, None, None] * S, D)
-    elastic = code == ELASTIC
-    sigma[elastic] = s_tr[elastic]
-    C[elastic] = D[elastic]
-    d_eps_p = np.einsum("nij,nj->ni", compliance(E, nu), s_tr - sigma)
-    d_eps_p[elastic] = 0.0
+    in_plane = proj[:, :2]
+    S = np.diag([1.0, 1.0, 1.0, 0.0]) - np.swapaxes(in_plane, 1, 2) @ in_plane
+    sigma[out] = sigma_p
+    C[out] = (T + ratio[:, None, None] * S) @ Dp
+    code[out] = code_p
+    plastic = code_p != ELASTIC
+    # (a point whose surface test and return disagree by round-off stays elastic)
+    sigma[out[~plastic]] = s_tr[out[~plastic]]
+    C[out[~plastic]] = Dp[~plastic]
+    d_eps_p[out] = (compliance(E[out], nu[out]) @ (s_tr[out] - sigma[out])[..., None])[..., 0]
     return sigma, C, code, d_eps_p
 
 

@@ -158,13 +158,22 @@ class PlasticState:
         sigma, C, code, d_eps_p = stress_update(
             eps - self._get(self.strain, self._dofs4, 4), self._get(self.stress_n, self._dofs4, 4),
             k["E"],
-            k["nu"], k["cohesion"], k["sin_phi"], k["sin_psi"], k["tension"])
+            k["nu"], k["cohesion"], k["sin_phi"], k["sin_psi"], k["tension"], D=self.D)
         self._put(self.stress, sigma, self._dofs4)
         self._put(self.tangent, C.reshape(-1, 16), self._dofs16)
-        self._put(self.offset, sigma - np.einsum("nij,nj->ni", C, eps), self._dofs4)
+        self._put(self.offset, sigma - (C @ eps[..., None])[..., 0], self._dofs4)
         self.code = code
         self._trial = (eps, d_eps_p)
         return {"plastic_points": int(np.sum(code != ELASTIC))}
+
+    def elastic_predictor(self) -> None:
+        """The next solve with the elastic stiffness from the committed state (offset
+        sigma_n - D eps_n): exact where the step unloads, which the committed state's
+        plastic tangent is not."""
+        self._put(self.tangent, self.D.reshape(-1, 16), self._dofs16)
+        sigma_n = self._get(self.stress_n, self._dofs4, 4)
+        eps_n = self._get(self.strain, self._dofs4, 4)
+        self._put(self.offset, sigma_n - (self.D @ eps_n[..., None])[..., 0], self._dofs4)
 
     def commit(self) -> None:
         """The current iterate is converged: its strain, stress, plastic strain and flag are
