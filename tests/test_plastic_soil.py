@@ -170,3 +170,23 @@ def test_serial_and_two_ranks_give_the_same_plastic_footing():
     assert parallel["soil"]["plastic_points"] == serial["soil"]["plastic_points"] > 0
     for key in ("w0", "w_edge", "wd"):
         assert parallel[key] == pytest.approx(serial[key], rel=1e-8), key
+
+
+@pytest.mark.parametrize("condition,exact", [("smooth", 5.69), ("bonded", 6.05)])
+def test_a_rigid_footing_on_tresca_soil_collapses_at_its_exact_bearing_capacity(condition,
+                                                                                exact):
+    """N_c = q_ult / s_u of a rigid circular footing on weightless Tresca soil: 5.69 smooth
+    (Shield 1955), 6.05 rough (Eason & Shield 1960). Followed by settlement control to w0 =
+    0.1 a, the load reaches its plateau (it rises by less than 0.1 % from 0.075 a) at N_c
+    within 1 % (measured, quadratic elements, 7.2k unknowns: +0.82 % smooth, +0.83 % rough;
+    the finite element limit lies above the exact one, as it must).
+    benchmarks/bearing_capacity.py tabulates degrees and meshes."""
+    from tankfx.verification.footing import collapse_curve, footing_scene
+
+    curve = collapse_curve(footing_scene(condition), comm=MPI.COMM_SELF)
+    N, w = np.array(curve["factor"]), np.array(curve["w0"])
+    assert np.all(np.diff(N) > -1e-9 * N[-1]), "the load falls: not perfect plasticity"
+    plateau = N[-1]
+    assert plateau - N[w >= 0.075 - 1e-9][0] < 1e-3 * plateau
+    assert plateau == pytest.approx(exact, rel=0.01)
+    assert plateau > exact
