@@ -190,3 +190,28 @@ def test_a_rigid_footing_on_tresca_soil_collapses_at_its_exact_bearing_capacity(
     assert plateau - N[w >= 0.075 - 1e-9][0] < 1e-3 * plateau
     assert plateau == pytest.approx(exact, rel=0.01)
     assert plateau > exact
+
+
+def test_a_thick_cylinder_yields_as_hills_closed_form():
+    """A thick cylinder (a = 1 m, b = 2 m, plane strain) of Tresca soil under internal
+    pressure: at Hill's pressure for a plastic radius rho, p = k (1 - rho^2 / b^2 +
+    2 ln(rho / a)), the yielding points reach rho to within one cell (1/80 m), from rho =
+    1.1 to 1.9 m; Newton takes at most 6 iterations a load (quadratic convergence); the
+    cylinder carries 99.9 % of the fully plastic 2 k ln(b / a) and not 101 % of it."""
+    from tankfx.verification.cylinder import ThickCylinder
+    from tankfx.verification.reference import thick_cylinder_tresca_pressure as hill
+
+    k, a, b = 10e3, 1.0, 2.0
+    soil = Scene.from_dict({"soil": {"model": "mohr_coulomb", "E": 10e6, "nu": 0.3,
+                                     "cohesion": k},
+                            "load": {"pressure": 1e3, "load_radius": 1.0}}).soil
+    cyl = ThickCylinder(soil, a, b, cells=(80, 2), degree=2, comm=MPI.COMM_SELF)
+    for rho in np.linspace(1.1, 1.9, 5):
+        iterations = cyl.load(hill(rho, a, b, k))
+        assert iterations <= 6
+        assert rho - 1.0 / 80 < cyl.plastic_radius() <= rho + 1e-9, rho
+    limit = 2.0 * k * np.log(b / a)
+    cyl.load(0.999 * limit)
+    assert cyl.plastic_radius() > 1.9
+    with pytest.raises(Exception):
+        cyl.load(1.01 * limit)

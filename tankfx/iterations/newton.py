@@ -24,6 +24,11 @@ from .secant import SoilFailure
 from .status import IterationStatus
 
 
+#: a load's amounts, which a stage's first step starts from zero (a unit weight is no amount)
+AMOUNTS = ("pressure", "liquid_height", "roof_weight", "gas_pressure", "overturning_moment",
+           "base_shear")
+
+
 def scaled_between(start, end, f: float):
     """The load a fraction ``f`` of the way from ``start`` to ``end`` (their float fields;
     the radius and the flags are the end's)."""
@@ -73,17 +78,21 @@ class NewtonIteration:
         self.last = None
         self.history = []
 
+    def _start(self, target):
+        """The load a stage starts from: the last converged one, or before the first stage
+        none (the ground at rest): the target's with its amounts zero (its unit weights
+        kept, so that a tank filling from empty loads in proportion to its height)."""
+        if self.converged_load is not None:
+            return self.converged_load
+        return replace(target, **{name: 0.0 for name in AMOUNTS})
+
     def _w0(self) -> float:
         return float(-evaluate_at(self.model.soil.u, self._centre)[0, 1])
 
     def run(self, inner, log) -> IterationStatus:
         m = self.model
         target = m.scene.load
-        # (the first stage starts from the ground at rest: no load)
-        start = self.converged_load if self.converged_load is not None else replace(
-            target, **{fd.name: 0.0 for fd in fields(target)
-                       if isinstance(getattr(target, fd.name), float)
-                       and fd.name != "load_radius"})
+        start = self._start(target)
         # a stage that takes load off starts each step elastically: the committed plastic
         # tangent predicts an unloading badly (measured: a floor on Tresca clay emptied from
         # 4 s_u, 25 failed iterations at the whole step, six halvings; elastically, one step)
@@ -157,10 +166,7 @@ class NewtonIteration:
         not converge is halved, to 1/64 of the first; then SoilFailure."""
         m = self.model
         target = m.scene.load
-        start = self.converged_load if self.converged_load is not None else replace(
-            target, **{fd.name: 0.0 for fd in fields(target)
-                       if isinstance(getattr(target, fd.name), float)
-                       and fd.name != "load_radius"})
+        start = self._start(target)
         unknowns = m.unknowns if isinstance(m.unknowns, list) else [m.unknowns]
         w_start = self._w0()
         dw = (settlement - w_start) / steps

@@ -85,6 +85,14 @@ class PlasticState:
         depth = -x[:, 1]
         #: per point: E, nu, cohesion, sin phi, sin psi, the tension cut-off
         self.constants = law.point_constants(soil, depth)
+        # the points of the cells that carry no soil (an excavation, the tank's inside)
+        # never yield: their strains are no soil's
+        void = np.ones(len(self.cells), dtype=bool)
+        void[block.domain.cells("soil")] = False
+        #: per point, whether it is the soil's (not the void's)
+        self.in_soil = np.repeat(~void, self.n_points)
+        self.constants["cohesion"] = np.where(self.in_soil, self.constants["cohesion"],
+                                              np.inf)
         if ring is not None:
             # a ringwall's (and its fill's) points: its own elasticity, never yielding
             in_ring = np.repeat(block.ringwall_cells, self.n_points)

@@ -75,6 +75,8 @@ def stage_summary(r: dict) -> dict:
            "surface": {k: r["profiles"]["surface"][k] for k in ("r", "w")}}
     if "unloading_cells" in r["soil"]:
         out["unloading_cells"] = r["soil"]["unloading_cells"]
+    if "plastic_points" in r["soil"]:
+        out["plastic_points"] = r["soil"]["plastic_points"]
     if "interface" in r:
         out["interface"] = {k: v for k, v in r["interface"].items()
                             if k.endswith("_length") or k in ("converged", "iterations")}

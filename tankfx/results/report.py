@@ -219,6 +219,11 @@ def _iteration_rows(r: dict) -> list[tuple[str, str, str]]:
     soil = r.get("soil", {})
     note = (f"cells at the ultimate: {soil['cells_at_ultimate']}"
             if "cells_at_ultimate" in soil else "")
+    if "plastic_points" in soil:
+        # (an elastoplastic soil: where it yields, and how far)
+        rows.append(("soil yielding", f"{soil['plastic_points']} quadrature points",
+                     f"largest plastic shear strain {soil['max_plastic_shear_strain']:.2e}"))
+        note = f"{soil['steps']} load steps"
     rows.append(("iterations: soil, interface (solves)", f"{soil.get('iterations', 0)}, "
                  f"{ifc.get('iterations', 0)} ({r['linear_solves']})", note))
     eq = r["equilibrium"]

@@ -45,11 +45,12 @@ def soil_of(soil: dict, layers: list) -> Soil:
     or K p_a), an iterated soil's tolerance and iterations, the layers."""
     law = SOIL_LAWS[soil.get("model", Soil.model)]
     ground = law.resolve_ground(soil)
-    iterated = law.iteration is not None
+    # (the keys of its iteration, where it has them)
     return given(Soil, soil, **law.resolve_stratum(soil, ground), **ground,
-                 tolerance=soil.get("tolerance", DEFAULT_TOLERANCE) if iterated else None,
+                 tolerance=(soil.get("tolerance", DEFAULT_TOLERANCE)
+                            if "tolerance" in law.iteration_keys else None),
                  max_iterations=(soil.get("max_iterations", law.max_iterations)
-                                 if iterated else None),
+                                 if "max_iterations" in law.iteration_keys else None),
                  layers=tuple(read_layer(x, law, ground) for x in layers))
 
 

@@ -678,3 +678,12 @@ def gradient_surface_settlement(p, a, r, E_s, lam, nu, steps=200, k_max=None,
                               lambda k: gradient_surface_compliance(k, E_s, lam, nu, steps),
                               k_min=1e-4 / a, k_max=k_max, graded=300, panels_per_period=2,
                               points=points)
+
+
+def thick_cylinder_tresca_pressure(rho, a, b, k):
+    """The internal pressure of a thick cylinder (inner radius a, outer b, plane strain) of
+    Tresca material (shear strength k, sigma_theta - sigma_r = 2 k where plastic) whose
+    plastic zone reaches the radius ``rho`` (a <= rho <= b): p = k (1 - rho^2 / b^2 +
+    2 ln(rho / a)) (Hill, The Mathematical Theory of Plasticity, 1950, V.3); fully plastic
+    (rho = b) p = 2 k ln(b / a)."""
+    return k * (1.0 - rho ** 2 / b ** 2 + 2.0 * np.log(rho / a))
