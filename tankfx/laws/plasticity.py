@@ -171,14 +171,20 @@ def compliance(E, nu) -> np.ndarray:
             * np.outer(IDENTITY, IDENTITY))
 
 
-def stress_update(d_eps, sigma_n, E, nu, cohesion, sin_phi, sin_psi, tension=None, D=None):
+def stress_update(d_eps, sigma_n, E, nu, cohesion, sin_phi, sin_psi, tension=None, D=None,
+                  reference=None):
     """The stress after a strain increment ``d_eps`` from the committed stress ``sigma_n``
     (Mandel, N x 4), elastic predictor and return: (sigma (N x 4), the consistent tangent
     C = d sigma / d eps (N x 4 x 4), the return's code (N) and the plastic strain increment
     D^-1 (sigma_tr - sigma) (N x 4)). The material constants are floats or per point;
     ``D``, the elastic matrices (N x 4 x 4), where the caller keeps them. Only the points
     whose trial stress leaves the yield surface are returned; the others keep the trial
-    and the elastic tangent."""
+    and the elastic tangent.
+
+    With a ``reference`` stress (N x 4: the ground at rest), ``sigma_n`` and the stress
+    returned are changes from it: an elastic point's change is then D d_eps added to its
+    change, exact, where its total (a deep point's, of gigapascals in a half-space of
+    kilometres) would carry the reference's round-off into the out-of-balance force."""
     n = len(d_eps)
     E, nu, c, sp, sq = (np.broadcast_to(np.asarray(v, dtype=float), (n,))
                         for v in (E, nu, cohesion, sin_phi, sin_psi))
@@ -186,8 +192,9 @@ def stress_update(d_eps, sigma_n, E, nu, cohesion, sin_phi, sin_psi, tension=Non
         np.asarray(tension, dtype=float), (n,))
     if D is None:
         D = elastic_matrix(E, nu)
-    s_tr = sigma_n + (D @ d_eps[..., None])[..., 0]
-    sigma, C = s_tr.copy(), D.copy()
+    change = sigma_n + (D @ d_eps[..., None])[..., 0]
+    s_tr = change if reference is None else reference + change
+    sigma, C = change.copy(), D.copy()
     code = np.full(n, ELASTIC)
     d_eps_p = np.zeros_like(s_tr)
     # (which points leave the surface: the largest Mohr circle and the largest stress)
@@ -220,14 +227,15 @@ def stress_update(d_eps, sigma_n, E, nu, cohesion, sin_phi, sin_psi, tension=Non
                      P[:, 0, 0] - P[:, 0, 1])
     in_plane = proj[:, :2]
     S = np.diag([1.0, 1.0, 1.0, 0.0]) - np.swapaxes(in_plane, 1, 2) @ in_plane
-    sigma[out] = sigma_p
     C[out] = (T + ratio[:, None, None] * S) @ Dp
     code[out] = code_p
-    plastic = code_p != ELASTIC
+    plastic = out[code_p != ELASTIC]
     # (a point whose surface test and return disagree by round-off stays elastic)
-    sigma[out[~plastic]] = s_tr[out[~plastic]]
-    C[out[~plastic]] = Dp[~plastic]
-    d_eps_p[out] = (compliance(E[out], nu[out]) @ (s_tr[out] - sigma[out])[..., None])[..., 0]
+    C[out[code_p == ELASTIC]] = Dp[code_p == ELASTIC]
+    sigma[plastic] = sigma_p[code_p != ELASTIC] - (0.0 if reference is None
+                                                   else reference[plastic])
+    d_eps_p[plastic] = (compliance(E[plastic], nu[plastic])
+                        @ (change[plastic] - sigma[plastic])[..., None])[..., 0]
     return sigma, C, code, d_eps_p
 
 

@@ -1,17 +1,18 @@
 """The elastoplastic soil's state at the quadrature points of the soil's forms, and the forms
 that read it.
 
-Newton's method in the form the block system solves: with the tangent C and the stress sigma
-of the current iterate u_k at the points, the soil's block is
+Newton's method in the form the block system solves: with the tangent C and the stress
+sigma of the current iterate u_k at the points, held as its change from the ground at rest
+sigma_0 (its weight equilibrates sigma_0, so only the change enters the forms),
 
     a(du, v) = int eps(du) . C eps(v) 2 pi r dx,
-    L(v)     = f(v) - int (sigma - C eps(u_k)) . eps(v) 2 pi r dx,
+    L(v)     = f(v) - int (sigma - sigma_0 - C eps(u_k)) . eps(v) 2 pi r dx,
 
 so that a linear solve gives u_{k+1} = u_k - K_t^-1 R(u_k) (the same system the other soils
 solve: the structure, the interface and the loads are unchanged), and a(u, v) - L(v) at the
 updated state is the true residual. Vectors are Mandel's (rr, zz, sqrt 2 rz, theta): the
-products are dot products. The soil's weight is the load that equilibrates its geostatic
-stress: before anything is loaded the residual is zero and the displacement stays zero.
+products are dot products. Before anything is loaded the residual is zero and the
+displacement stays zero.
 
 The state (:class:`tankfx.model.history.History`): the committed stress, strain, plastic
 strain and plastic flag, and the tangent of the committed state; a load step commits it when
@@ -66,7 +67,10 @@ class PlasticState:
         self.S44 = quadrature_space(msh, degree, (4, 4))
         self.S1 = quadrature_space(msh, degree)
         f = fem.Function
-        #: the current iterate's stress and tangent, and sigma - C eps(u) (the load's part)
+        #: the current iterate's stress (its change from the ground at rest: a deep point's
+        #: total, of gigapascals in a half-space of kilometres, would carry its round-off
+        #: into the out-of-balance force) and tangent, and the change - C eps(u) (the load's
+        #: part)
         self.stress, self.tangent = f(self.S4, name="stress"), f(self.S44, name="tangent")
         self.offset = f(self.S4, name="stress_offset")
         #: the committed state's stress, strain, plastic strain and plastic flag (1: yielding)
@@ -112,10 +116,7 @@ class PlasticState:
         self.D = elastic_matrix(self.constants["E"], self.constants["nu"])
         sigma0 = law.initial_stress(soil, depth)
         self._put(self.geostatic, sigma0, self._dofs4)
-        self._put(self.stress, sigma0, self._dofs4)
-        self._put(self.stress_n, sigma0, self._dofs4)
         self._put(self.tangent, self.D.reshape(-1, 16), self._dofs16)
-        self._put(self.offset, sigma0, self._dofs4)
         self.code = np.full(len(depth), ELASTIC)
         # the rule's weights (the points' own: quadrature_space's default scheme)
         points_, self.weights = basix.make_quadrature(msh.basix_cell(), _rule_degree(degree))
@@ -146,14 +147,14 @@ class PlasticState:
                          mandel(soil_forms.strain(test, r))) * 2.0 * math.pi * r * dx
 
     def load(self, test, r, dx):
-        """-int (sigma - C eps(u_k)) . eps(v) 2 pi r dx, and the soil's weight: the load
-        that equilibrates the geostatic stress, int sigma_0 . eps(v) 2 pi r dx."""
-        return -ufl.inner(self.offset - self.geostatic, mandel(soil_forms.strain(test, r))) \
+        """-int (sigma - sigma_0 - C eps(u_k)) . eps(v) 2 pi r dx: the stress's change from
+        the ground at rest sigma_0, whose own forces the soil's weight equilibrates."""
+        return -ufl.inner(self.offset, mandel(soil_forms.strain(test, r))) \
             * 2.0 * math.pi * r * dx
 
     def stress_tensor(self):
         """The current stress (3 x 3, UFL, tension positive), at the quadrature points."""
-        return tensor(self.stress)
+        return tensor(self.stress + self.geostatic)
 
     # ---- the update --------------------------------------------------------------------
     def update(self) -> dict:
@@ -166,7 +167,8 @@ class PlasticState:
         sigma, C, code, d_eps_p = stress_update(
             eps - self._get(self.strain, self._dofs4, 4), self._get(self.stress_n, self._dofs4, 4),
             k["E"],
-            k["nu"], k["cohesion"], k["sin_phi"], k["sin_psi"], k["tension"], D=self.D)
+            k["nu"], k["cohesion"], k["sin_phi"], k["sin_psi"], k["tension"], D=self.D,
+            reference=self._get(self.geostatic, self._dofs4, 4))
         self._put(self.stress, sigma, self._dofs4)
         self._put(self.tangent, C.reshape(-1, 16), self._dofs16)
         self._put(self.offset, sigma - (C @ eps[..., None])[..., 0], self._dofs4)
@@ -202,8 +204,8 @@ class PlasticState:
 
     def cell_stress(self) -> fem.Function:
         """The stress as a DG0 Mandel field (each cell's mean): what the results read."""
-        self._cell_stress.x.array[self._cell_dofs] = \
-            self.cell_average(self.stress, 4).reshape(-1)
+        self._cell_stress.x.array[self._cell_dofs] = (
+            self.cell_average(self.stress, 4) + self.cell_average(self.geostatic, 4)).reshape(-1)
         return self._cell_stress
 
     def plastic_shear_strain(self) -> np.ndarray:
@@ -215,12 +217,13 @@ class PlasticState:
         """tau / tau_f of each local cell's mean stress (its strength at its mean depth)."""
         k = self.constants
         n = self.n_points
-        mean = self.cell_average(self.stress, 4)
+        mean = self.cell_average(self.stress, 4) + self.cell_average(self.geostatic, 4)
         c = k["cohesion"].reshape(-1, n).mean(axis=1)
         return mobilised_strength(mean, c, k["sin_phi"].reshape(-1, n)[:, 0])
 
     def mobilised(self) -> np.ndarray:
         """tau / tau_f per point of the current stress (1 on the yield surface)."""
         k = self.constants
-        return mobilised_strength(self._get(self.stress, self._dofs4, 4), k["cohesion"],
+        return mobilised_strength(self._get(self.stress, self._dofs4, 4)
+                                  + self._get(self.geostatic, self._dofs4, 4), k["cohesion"],
                                   k["sin_phi"])
