@@ -41,6 +41,8 @@ class MohrCoulombSoil(SoilLaw):
                   "cohesion_gradient", "unit_weight", "K0")
     keys = (*layer_keys, "water_table", "water_unit_weight")
     reports = ("plastic", "stress_level")
+    #: its stress level is the mobilised shear strength
+    stress_level_label = "tau / tau_f"
     #: its state lives at the forms' quadrature points (stress, plastic strain, the
     #: plastic flag): the soil block holds it for the Newton iteration
     point_state = True

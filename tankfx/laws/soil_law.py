@@ -82,6 +82,8 @@ class SoilLaw:
     remembers: ClassVar[bool] = False
     unloads_on_curve: ClassVar[bool] = False
     reports: ClassVar[tuple[str, ...]] = ()
+    #: the stress level's label in the figures (its ratio of what to what)
+    stress_level_label: ClassVar[str] = "q / q_ult"
     state_fields: ClassVar[tuple[str, ...]] = ()
     fixed_constants: ClassVar[bool] = True
 

@@ -9,6 +9,9 @@ free of them.
 """
 from __future__ import annotations
 
+from ..laws.soil_law import words
+from ..laws.soil_laws import SOIL_LAWS
+
 #: The figures ``write_figures`` may write (which ones depends on the scene).
 FIGURES = ("section.png", "stress_level.png", "settlement.png", "moments.png", "profiles.png",
            "contact.png", "load_path.png", "overturning.png", "overturning_wall.png",
@@ -27,8 +30,9 @@ def section_problem(scene, quantity: str) -> str | None:
     if quantity not in SECTION_QUANTITIES:
         return (f"--section {quantity}: one of {', '.join(SECTION_QUANTITIES)}")
     if quantity == "stress_level" and "stress_level" not in scene.soil.law.reports:
-        return ("--section stress_level: a stress level is a nonlinear soil's (soil.model = "
-                "\"hyperbolic\" or \"duncan_chang\"); choose sigma_zz or deviator")
+        return (f"--section stress_level: a stress level is a nonlinear soil's (soil.model = "
+                f"{words(SOIL_LAWS.values(), lambda law: 'stress_level' in law.reports)}); "
+                f"choose sigma_zz or deviator")
     if quantity == "pore_pressure" and scene.consolidation is None:
         return ("--section pore_pressure: an excess pore pressure needs a [consolidation]; "
                 "choose sigma_zz or deviator")

@@ -541,6 +541,8 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
                "layer_depths": [layer.depth for layer in scene.soil.layers],
                "outlines": ringwall_outline(scene)}
     label, factor = SECTION_QUANTITIES[section_quantity]
+    if section_quantity == "stress_level":
+        label = scene.soil.law.stress_level_label
     figures = [(plot_section, (solution.u, section_field(solution, section_quantity),
                                directory / "section.png"),
                 section | {"label": label, "scalar_scale": factor})]
@@ -556,7 +558,8 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
     if "stress_level" in scene.soil.law.reports and section_quantity != "stress_level":
         level = soil_cell_fields(solution.model, solution.statuses)["stress_level"]
         figures.append((plot_section, (solution.u, level, directory / "stress_level.png"),
-                        {**section, "label": "q / q_ult", "scalar_scale": 1.0}))
+                        {**section, "label": scene.soil.law.stress_level_label,
+                         "scalar_scale": 1.0}))
     if "stages" in r:
         figures.append((plot_load_path, (r, directory / "load_path.png"), {"title": title}))
     figures.append((plot_settlement, (r, directory / "settlement.png"), {"title": title}))
