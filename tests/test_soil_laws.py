@@ -39,9 +39,14 @@ def _compared_words(path: Path) -> list[str]:
     return out
 
 
+def _outside_the_laws(find) -> list[str]:
+    """What ``find`` finds in every module of tankfx outside ``laws/``."""
+    return [f"{path.parent.name}/{hit}" for path in sorted(PACKAGE.rglob("*.py"))
+            if "laws" not in path.relative_to(PACKAGE).parts for hit in find(path)]
+
+
 def test_nothing_outside_the_laws_compares_the_soil_model():
-    found = [f"{path.parent.name}/{hit}" for path in sorted(PACKAGE.rglob("*.py"))
-             if "laws" not in path.relative_to(PACKAGE).parts for hit in _compared_words(path)]
+    found = _outside_the_laws(_compared_words)
     assert not found, "\n".join(found)
 
 
@@ -78,8 +83,7 @@ def _flag_reads(path: Path) -> list[str]:
 
 def test_nothing_outside_the_laws_reads_a_flag_of_the_soil_model():
     """(43 reads on main 7827b1c, 12 of them in iterations/secant.py.)"""
-    found = [f"{path.parent.name}/{hit}" for path in sorted(PACKAGE.rglob("*.py"))
-             if "laws" not in path.relative_to(PACKAGE).parts for hit in _flag_reads(path)]
+    found = _outside_the_laws(_flag_reads)
     assert not found, "\n".join(found)
 
 

@@ -13,13 +13,13 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import fields, replace
+from dataclasses import replace
 
 import numpy as np
 from mpi4py import MPI
 from ..fem.evaluate import evaluate_at
 from ..fem.solvers import SolveError
-from ..scene.sections import vertical_load
+from ..scene.sections import load_between, vertical_load
 from .secant import SoilFailure
 from .status import IterationStatus
 
@@ -27,14 +27,6 @@ from .status import IterationStatus
 #: a load's amounts, which a stage's first step starts from zero (a unit weight is no amount)
 AMOUNTS = ("pressure", "liquid_height", "roof_weight", "gas_pressure", "overturning_moment",
            "base_shear")
-
-
-def scaled_between(start, end, f: float):
-    """The load a fraction ``f`` of the way from ``start`` to ``end`` (their float fields;
-    the radius and the flags are the end's)."""
-    return replace(end, **{fd.name: (1.0 - f) * getattr(start, fd.name) + f * getattr(
-        end, fd.name) for fd in fields(end) if isinstance(getattr(end, fd.name), float)
-        and fd.name != "load_radius"})
 
 
 class NewtonIteration:
@@ -109,7 +101,7 @@ class NewtonIteration:
         while done < 1.0:
             share = min(1.0, done + step)
             t0 = time.perf_counter()
-            m.set_loads(scaled_between(start, target, share))
+            m.set_loads(load_between(start, target, base=target, f=share))
             if unloads:
                 self.plastic.elastic_predictor()
             ok, iterations, residual, reason = self._newton(inner)
@@ -133,7 +125,7 @@ class NewtonIteration:
             log.info("        %10.4f  no convergence (%s): the step is halved", share, reason)
             step *= 0.5
             if step < self.MIN_STEP:
-                m.set_loads(scaled_between(start, target, done))
+                m.set_loads(load_between(start, target, base=target, f=done))
                 raise self._failure(start, target, done, share, reason)
         self.converged_load = target
         p, comm = self.plastic, m.domain.mesh.comm
@@ -184,7 +176,7 @@ class NewtonIteration:
             total += its
             if not ok:
                 m.rollback()
-                m.set_loads(scaled_between(start, target, factor))
+                m.set_loads(load_between(start, target, base=target, f=factor))
                 size *= 0.5
                 log.info("         %12.5e  no convergence: the settlement step is halved",
                          w_target)
@@ -220,12 +212,12 @@ class NewtonIteration:
         lam = factor
         residual = math.inf
         for it in range(1, self.max_iterations + 1):
-            m.set_loads(scaled_between(start, target, lam))
+            m.set_loads(load_between(start, target, base=target, f=lam))
             try:
                 inner()
                 a = [u.x.array.copy() for u in unknowns]
                 w_a = self._w0()
-                m.set_loads(scaled_between(start, target, lam + 1.0))
+                m.set_loads(load_between(start, target, base=target, f=lam + 1.0))
                 solver.solve_again()
             except SolveError:
                 return False, it, residual, lam
@@ -237,7 +229,7 @@ class NewtonIteration:
             for u, x, dx in zip(unknowns, a, d):
                 u.x.array[:] = x + step * dx
             lam += step
-            m.set_loads(scaled_between(start, target, lam))
+            m.set_loads(load_between(start, target, base=target, f=lam))
             self.plastic.update()
             residual = m.out_of_balance()
             if not math.isfinite(residual):
@@ -288,8 +280,8 @@ class NewtonIteration:
         a = m.scene.foundation_radius
         where = self._yielding_zone()
         sc = m.scene
-        P_failed = vertical_load(scaled_between(start, target, tried), sc.plate, sc.wall,
-                                 sc.ringwall)
+        P_failed = vertical_load(load_between(start, target, base=target, f=tried), sc.plate,
+                                 sc.wall, sc.ringwall)
         error = SoilFailure(
             f"the soil cannot carry the load: the load steps fell below {self.MIN_STEP:.4g} of "
             f"the stage's load at {done:.4g} of it (the vertical load {P / 1e6:.4g} MN, a mean "

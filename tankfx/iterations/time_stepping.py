@@ -14,6 +14,7 @@ from mpi4py import MPI
 from ..fem.evaluate import evaluate_at, nodal_values_on_facets
 from ..fem.solvers import SolveError
 from ..laws.biot import stratum_coefficients
+from ..scene.sections import load_between
 from .status import CONVERGED, IterationStatus
 
 
@@ -53,14 +54,9 @@ def load_path(scene) -> list[tuple[float, object]]:
 def load_at(path, t: float):
     """The Load at time t > 0 (s) on a path of :func:`load_path`: its limit from before t
     (where the path jumps at t, the load before the jump: the jump is a step of its own)."""
-    from dataclasses import fields, replace
-
     for (t0, a), (t1, b) in zip(path, path[1:]):
         if t0 < t <= t1:
-            f = (t - t0) / (t1 - t0)
-            return replace(a, **{fd.name: (1.0 - f) * getattr(a, fd.name) + f * getattr(
-                b, fd.name) for fd in fields(a) if isinstance(getattr(a, fd.name), float)
-                and fd.name != "load_radius"})
+            return load_between(a, b, (t - t0) / (t1 - t0))
     return path[-1][1]
 
 

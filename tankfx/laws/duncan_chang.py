@@ -17,6 +17,7 @@ from .kondner import (
     principal_strains,
     secant_modulus,
 )
+from .geostatic import lighter_than_water
 from .mohr_coulomb import deviator_strength
 # (p_a, the reference pressure of Duncan & Chang's modulus, is the atmosphere's by default)
 from .soil_law import ATMOSPHERIC_PRESSURE, WATER_UNIT_WEIGHT
@@ -190,6 +191,9 @@ class DuncanChang(Kondner):
         no E_gradient."""
         out = [f"{name}.{key}: missing for model = \"duncan_chang\"; add it ({why})"
                for key, why in REQUIRED.items() if key not in table]
+        if table.get("unit_weight") == 0.0:
+            out.append(f"{name}.unit_weight = 0.0: Duncan & Chang's soil takes its confinement "
+                       f"from its weight; give its unit weight (N/m^3, > 0)")
         phi = table.get("friction_angle")
         if not table.get("cohesion", 0.0) > 0.0 and not (phi or 0.0) > 0.0:
             out.append(f"{name}.cohesion, {name}.friction_angle: Duncan & Chang's soil needs a "
@@ -208,21 +212,8 @@ class DuncanChang(Kondner):
     def check_ground(cls, soil, layers):
         """Below the water table a stratum must be heavier than water: its effective
         weight gamma - gamma_w carries the confinement."""
-        if "water_table" not in soil:
-            return []
-        gamma_w = soil.get("water_unit_weight", WATER_UNIT_WEIGHT)
-        tops = [0.0] + [x.get("depth", 0.0) for x in layers]
-        bottoms = tops[1:] + [math.inf]
-        out = []
-        for k, (part, bottom) in enumerate(zip([soil, *layers], bottoms)):
-            g = part.get("unit_weight")
-            if isinstance(g, float) and bottom > soil["water_table"] and g <= gamma_w:
-                where = "soil" if k == 0 else f"soil.layers[{k}]"
-                out.append(f"{where}.unit_weight = {g!r}: below the water table "
-                           f"(soil.water_table = {soil['water_table']!r} m) a stratum's unit "
-                           f"weight must exceed water's ({gamma_w:g} N/m^3); give its saturated "
-                           f"unit weight")
-        return out
+        return lighter_than_water(soil, layers,
+                                  soil.get("water_unit_weight", WATER_UNIT_WEIGHT))
 
     @classmethod
     def resolve_ground(cls, soil):

@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from .geostatic import geostatic_stress
+from .geostatic import geostatic_stress, lighter_than_water
 from .soil_law import WATER_UNIT_WEIGHT, SoilLaw
 
 #: the largest friction angle taken, degrees: beyond it no real soil, and the Mohr-Coulomb
@@ -102,24 +102,10 @@ class MohrCoulombSoil(SoilLaw):
 
     @classmethod
     def check_ground(cls, soil, layers):
-        """Below the water table a stratum heavier than water."""
-        gamma_w = soil.get("water_unit_weight", WATER_UNIT_WEIGHT)
-        out = []
-        parts = [soil, *layers]
-        tops = [0.0] + [x.get("depth", 0.0) for x in layers]
-        if not all(isinstance(t, float) for t in tops):
-            return out
-        wt = soil.get("water_table")
-        for k, part in enumerate(parts):
-            g = part.get("unit_weight", 0.0) or 0.0
-            bottom = tops[k + 1] if k + 1 < len(tops) else math.inf
-            if wt is not None and bottom > wt and 0.0 < g <= gamma_w:
-                where = "soil" if k == 0 else f"soil.layers[{k}]"
-                out.append(f"{where}.unit_weight = {g!r}: below the water table "
-                           f"(soil.water_table = {wt!r} m) a stratum's unit weight must "
-                           f"exceed water's ({gamma_w:g} N/m^3); give its saturated unit "
-                           f"weight")
-        return out
+        """Below the water table a stratum heavier than water (or weightless)."""
+        return lighter_than_water(soil, layers,
+                                  soil.get("water_unit_weight", WATER_UNIT_WEIGHT),
+                                  weightless=True)
 
     @classmethod
     def resolve_ground(cls, soil):

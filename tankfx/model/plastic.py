@@ -38,11 +38,6 @@ from ..laws.plasticity import (
 from .history import quadrature_space
 
 
-def _rule_degree(degree: int) -> int:
-    """The quadrature degree of the soil's forms (and of its points' space)."""
-    return soil_forms.quadrature_degree(degree)
-
-
 def mandel(t):
     """(rr, zz, sqrt 2 rz, theta) of an axisymmetric tensor (UFL)."""
     return ufl.as_vector([t[0, 0], t[1, 1], math.sqrt(2.0) * t[0, 1], t[2, 2]])
@@ -116,10 +111,13 @@ class PlasticState:
         self.D = elastic_matrix(self.constants["E"], self.constants["nu"])
         sigma0 = law.initial_stress(soil, depth)
         self._put(self.geostatic, sigma0, self._dofs4)
+        #: the same, per point (the update's reference: read once, not at every update)
+        self._sigma0 = sigma0
         self._put(self.tangent, self.D.reshape(-1, 16), self._dofs16)
         self.code = np.full(len(depth), ELASTIC)
         # the rule's weights (the points' own: quadrature_space's default scheme)
-        points_, self.weights = basix.make_quadrature(msh.basix_cell(), _rule_degree(degree))
+        points_, self.weights = basix.make_quadrature(msh.basix_cell(),
+                                                      soil_forms.quadrature_degree(degree))
         assert np.allclose(points_, points), "the rule's points are not the space's"
         T = fem.functionspace(msh, ("DG", 0, (4,)))
         self._cell_stress = fem.Function(T, name="cell_stress")
@@ -168,7 +166,7 @@ class PlasticState:
             eps - self._get(self.strain, self._dofs4, 4), self._get(self.stress_n, self._dofs4, 4),
             k["E"],
             k["nu"], k["cohesion"], k["sin_phi"], k["sin_psi"], k["tension"], D=self.D,
-            reference=self._get(self.geostatic, self._dofs4, 4))
+            reference=self._sigma0)
         self._put(self.stress, sigma, self._dofs4)
         self._put(self.tangent, C.reshape(-1, 16), self._dofs16)
         self._put(self.offset, sigma - (C @ eps[..., None])[..., 0], self._dofs4)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from typing import Any
 
 import numpy as np
@@ -844,6 +844,15 @@ def load_breakdown(load: Load, plate: Plate | None, wall: Wall | None,
         if ringwall is not None:
             out["self_weight"] += ringwall.unit_weight * ringwall.volume
     return out
+
+
+def load_between(a: Load, b: Load, f: float, base: Load | None = None) -> Load:
+    """The load a fraction ``f`` of the way from ``a`` to ``b``: their amounts (the float
+    fields but the loaded radius) interpolated, the rest ``base``'s (default ``a``'s)."""
+    return replace(base or a, **{
+        fd.name: (1.0 - f) * getattr(a, fd.name) + f * getattr(b, fd.name)
+        for fd in fields(Load) if isinstance(getattr(a, fd.name), float)
+        and fd.name != "load_radius"})
 
 
 def vertical_load(load: Load, plate: Plate | None, wall: Wall | None,
