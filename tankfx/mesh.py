@@ -176,7 +176,7 @@ CELL_AREA = 0.40
 
 #: nodes per cell of a Lagrange space on a triangle mesh (vertices ~ cells / 2, edges ~
 #: 3 cells / 2, one interior node per cell at degree 3)
-NODES_PER_CELL = {1: 0.5, 2: 2.0, 3: 4.5}
+NODES_PER_CELL = {1: 0.5, 2: 2.0, 3: 4.5, 4: 8.0}
 
 
 #: bytes per unknown of a direct solve (MUMPS's factors, the matrix, the forms, Python):

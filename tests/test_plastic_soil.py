@@ -43,6 +43,7 @@ def plastic_scene(soil=None, **sections) -> dict:
      "plate.embedment = 0.5: an embedded foundation"),
     ({}, {"load": {"pressure": 20e3, "overturning_moment": 1e4}},
      "load.overturning_moment, load.base_shear"),
+    ({}, {"mesh": {**COARSE, "degree": 1}}, "mesh.degree = 1: linear triangles lock"),
 ])
 def test_what_the_plastic_soil_cannot_take_is_refused_before_any_mesh(soil, sections, says):
     with pytest.raises(SceneError) as e:

@@ -42,6 +42,9 @@ class NewtonIteration:
     FIRST_STEP, MIN_STEP = 0.25, 1.0 / 512
     #: a step that converged in at most this many iterations lets the next grow by GROWTH
     FAST, GROWTH = 6, 1.5
+    #: a settlement-controlled step whose out-of-balance force grows past this multiple of
+    #: its first iteration's is cut back at once
+    DIVERGING = 4.0
     #: halvings of the line search
     LINE_SEARCH = 5
 
@@ -197,7 +200,7 @@ class NewtonIteration:
             log.info("  %4d  %12.5e  %12.6f  %6d  %14.3e  %11d  %7.2f", row["step"], w_done,
                      factor, its, residual, n_plastic, row["time_s"])
             if its <= self.FAST:
-                size = min(size * self.GROWTH, dw)
+                size = min(size * self.GROWTH, 2.0 * dw)
         self.last = IterationStatus.of({
             "converged": True, "iterations": total, "history": self.history,
             "steps": len(self.history),
@@ -236,6 +239,11 @@ class NewtonIteration:
                 return False, it, residual, lam
             if residual <= self.TOLERANCE:
                 return True, it, residual, lam
+            first = residual if it == 1 else first
+            if residual > self.DIVERGING * first:
+                # (no line search here: a step whose out-of-balance force has grown so far
+                # has left Newton's basin; measured, none came back)
+                return False, it, residual, lam
         return False, self.max_iterations, residual, lam
 
     def _plastic_points(self) -> int:

@@ -493,7 +493,7 @@ def check_discretisation(rd: Reader, mesh: dict, solver: dict, soil: dict,
     # decides its error, and there that is on the efficient front (docs/performance.md)
     deg = mesh.get("degree", FLEXIBLE_DEGREE if flexible else 2)
     if deg not in KEYS["mesh"]["degree"].choices:
-        rd.bad(f"mesh.degree = {deg!r}: must be 1, 2 or 3 (the default: 2 under a plate, 3 "
+        rd.bad(f"mesh.degree = {deg!r}: must be 1, 2, 3 or 4 (the default: 2 under a plate, 3 "
                f"for a flexible load)")
     nus = [x.get("nu") for x in [soil, *layers]]
     nus = [v for v in nus if isinstance(v, (int, float))]
@@ -517,8 +517,8 @@ def check_discretisation(rd: Reader, mesh: dict, solver: dict, soil: dict,
                f"that GAMG cannot take; use method = \"direct\"")
     if deg == 1 and nu_s is not None and nu_s > MIXED_FROM_NU:
         rd.bad(f"mesh.degree = 1 with {mixed_why}: a nearly incompressible soil is "
-               f"solved in the mixed (Taylor-Hood) form, which needs degree 2 or 3; use "
-               f"degree 2 or 3")
+               f"solved in the mixed (Taylor-Hood) form, which needs degree 2 to 4; use "
+               f"degree 2, 3 or 4")
     return deg, method
 
 

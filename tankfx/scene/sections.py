@@ -782,9 +782,9 @@ class DomainSize:
 
 @dataclass(frozen=True)
 class MeshOptions:
-    degree: int = key(2, unit="-", choices=(1, 2, 3), custom=True,
+    degree: int = key(2, unit="-", choices=(1, 2, 3, 4), custom=True,
                       default_doc="2 (3 for a flexible load)",
-                      meaning="the Lagrange degree of the soil's displacement (1, 2 or 3; 2 or 3 "
+                      meaning="the Lagrange degree of the soil's displacement (1 to 4; 2 to 4 "
                               "for a mixed soil or a consolidation); the structure is always "
                               "cubic")
     edge_size: float = key(0.0, unit="m", limit=POSITIVE,
