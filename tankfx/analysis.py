@@ -34,7 +34,7 @@ from .model.build import build_model
 from .model.overturning import RockingModel
 from .model.protocol import Model
 from .results.consolidation import consolidation_record
-from .results.contract import results_of, stage_summary, versions
+from .results.contract import results_of, settlement_kept, stage_summary, versions
 from .results.overturning import superpose
 from .results.validity import validity
 from .scene.plausible import geometry_warnings
@@ -230,7 +230,10 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                                   harmonic=rocking if load.overturning else None,
                                   statuses=statuses))
     if len(solutions) > 1:
-        solutions[-1].results["stages"] = [stage_summary(s.results) for s in solutions]
+        summaries = [stage_summary(s.results) for s in solutions]
+        if scene.soil.law.keeps_permanent_strain:
+            settlement_kept(summaries)
+        solutions[-1].results["stages"] = summaries
     return solutions
 
 

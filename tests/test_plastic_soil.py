@@ -10,6 +10,8 @@ from mpi4py import MPI
 
 from conftest import COARSE
 from tankfx import Scene, SceneError, analyse
+from tankfx.results.contract import settlement_kept
+from tankfx.results.report import summary_table
 
 C_U = 10e3      # Pa: Tresca's undrained strength of the footing tests
 
@@ -44,6 +46,7 @@ def plastic_scene(soil=None, **sections) -> dict:
     ({}, {"load": {"pressure": 20e3, "overturning_moment": 1e4}},
      "load.overturning_moment, load.base_shear"),
     ({}, {"mesh": {**COARSE, "degree": 1}}, "mesh.degree = 1: linear triangles lock"),
+    ({}, {"stages": [{"pressure": 0.0}]}, "stages: no stage applies any load"),
 ])
 def test_what_the_plastic_soil_cannot_take_is_refused_before_any_mesh(soil, sections, says):
     with pytest.raises(SceneError) as e:
@@ -152,6 +155,28 @@ def test_a_hydrotest_on_plastic_clay_keeps_a_permanent_settlement():
         np.array(full["profiles"]["surface"]["w"]) - empty["profiles"]["surface"]["w"],
         elastic["profiles"]["surface"]["w"], rtol=0, atol=1e-4 * elastic["w0"])
     assert empty["w0"] > 0.1 * elastic["w0"]
+    # the path names it: the settlement kept, back at no load
+    kept = empty["stages"][1]["settlement_kept"]
+    assert kept["since"] == 0 and kept["w0"] == empty["w0"]
+    assert "settlement_kept" not in empty["stages"][0]
+    assert "stage 2: settlement kept" in summary_table(empty)
+
+
+def test_the_settlement_kept_is_measured_from_the_same_load():
+    """Back at an earlier stage's load, the settlement kept is counted from that stage (a
+    tank's own weight, filled, emptied: from the first); back at no load, from the start;
+    a stage loaded more than before keeps nothing to report."""
+    def stage(k, load, P, w0):
+        return {"stage": k, "load": load, "applied_load": P, "w0": w0, "w_mean": 0.5 * w0}
+
+    own, full = {"liquid_height": 0.0}, {"liquid_height": 10.0}
+    path = [stage(1, own, 1.0, 0.01), stage(2, full, 5.0, 0.10), stage(3, own, 1.0, 0.04),
+            stage(4, {"pressure": 0.0}, 0.0, 0.03)]
+    settlement_kept(path)
+    assert "settlement_kept" not in path[0] and "settlement_kept" not in path[1]
+    assert path[2]["settlement_kept"] == pytest.approx({"since": 1, "w0": 0.03,
+                                                        "w_mean": 0.015})
+    assert path[3]["settlement_kept"] == {"since": 0, "w0": 0.03, "w_mean": 0.015}
 
 
 def analyse_path_of(data):
@@ -165,27 +190,42 @@ def analyse_path_of(data):
 def test_serial_and_two_ranks_give_the_same_plastic_footing():
     """The footing at 90 % of its capacity, plastic under its edge: the same numbers on
     one rank and on all."""
+    from tankfx.results.fields import soil_cell_fields
+    from tankfx.results.figures import gather_grid
+
     scene = Scene.from_dict(plastic_scene(load={"pressure": 0.9 * 5.69 * C_U}))
-    parallel = analyse(scene, MPI.COMM_WORLD).results
+    solution = analyse(scene, MPI.COMM_WORLD)
+    parallel = solution.results
     serial = analyse(scene, MPI.COMM_SELF).results
     assert parallel["dofs"] == serial["dofs"]
     assert parallel["soil"]["plastic_points"] == serial["soil"]["plastic_points"] > 0
     for key in ("w0", "w_edge", "wd"):
         assert parallel[key] == pytest.approx(serial[key], rel=1e-8), key
+    # the section figure's yielding cells, gathered from every rank: each cell once
+    plastic = soil_cell_fields(solution.model, solution.statuses)["plastic"]
+    owned = solution.domain.mesh.topology.index_map(2).size_local
+    yielding = MPI.COMM_WORLD.allreduce(int(np.sum(plastic.x.array[
+        plastic.function_space.dofmap.list[:owned, 0]] > 0.0)))
+    grid = gather_grid({"u": solution.u}, cell_fields={"marked": plastic})
+    if MPI.COMM_WORLD.rank == 0:
+        assert 0 < int(np.sum(grid.cell_data["marked"] > 0.0)) == yielding
 
 
-@pytest.mark.parametrize("condition,exact", [("smooth", 5.69), ("bonded", 6.05)])
+@pytest.mark.parametrize("condition,exact,mesh", [
+    ("smooth", 5.69, (2, 0.005, 0.2)), ("bonded", 6.05, (2, 0.005, 0.2)),
+    ("smooth", 5.69, (4, 0.04, 0.4))])
 def test_a_rigid_footing_on_tresca_soil_collapses_at_its_exact_bearing_capacity(condition,
-                                                                                exact):
+                                                                                exact, mesh):
     """N_c = q_ult / s_u of a rigid circular footing on weightless Tresca soil: 5.69 smooth
     (Shield 1955), 6.05 rough (Eason & Shield 1960). Followed by settlement control to w0 =
     0.1 a, the load reaches its plateau (it rises by less than 0.1 % from 0.075 a) at N_c
     within 1 % (measured, quadratic elements, 7.2k unknowns: +0.82 % smooth, +0.83 % rough;
-    the finite element limit lies above the exact one, as it must).
+    quartic, 8.1k: +0.56 % smooth; the finite element limit lies above the exact one, as it
+    must).
     benchmarks/bearing_capacity.py tabulates degrees and meshes."""
     from tankfx.verification.footing import collapse_curve, footing_scene
 
-    curve = collapse_curve(footing_scene(condition), comm=MPI.COMM_SELF)
+    curve = collapse_curve(footing_scene(condition, *mesh), comm=MPI.COMM_SELF)
     N, w = np.array(curve["factor"]), np.array(curve["w0"])
     assert np.all(np.diff(N) > -1e-9 * N[-1]), "the load falls: not perfect plasticity"
     plateau = N[-1]

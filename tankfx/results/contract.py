@@ -83,6 +83,27 @@ def stage_summary(r: dict) -> dict:
     return out
 
 
+def settlement_kept(summaries: list[dict]) -> None:
+    """Mark, on a load path of a soil that keeps a permanent strain, the settlement kept by
+    each stage that returns to an earlier load after a larger one: ``settlement_kept`` =
+    {"since": j, "w0": w0 - w0 of stage j, "w_mean": likewise}, j the first earlier stage
+    with the same load (0: the start, where the stage's load is nothing). What the ground
+    gave back elastically is out of it; what it keeps is its plastic strain's doing (a
+    hydrotest's emptied tank: the permanent settlement)."""
+    peak = 0.0
+    for k, st in enumerate(summaries):
+        load = abs(st["applied_load"])
+        if peak > 0.0 and load < peak * (1.0 - 1e-9):
+            same = [j for j in range(k) if summaries[j]["load"] == st["load"]]
+            if same:
+                before = summaries[same[0]]
+                st["settlement_kept"] = {"since": before["stage"],
+                                         **{w: st[w] - before[w] for w in ("w0", "w_mean")}}
+            elif load <= 1e-12 * peak:
+                st["settlement_kept"] = {"since": 0, "w0": st["w0"], "w_mean": st["w_mean"]}
+        peak = max(peak, load)
+
+
 def axis_pore_pressure(model, domain: Domain, z_axis, sigma_zz) -> dict:
     """A consolidating soil's excess pore pressure down the axis and the effective vertical
     stress sigma_zz - p (both compression positive; the total sigma_zz less the pore

@@ -49,9 +49,11 @@ def save_figure(plotter, path, section_view: bool = False) -> Path:
     return path
 
 
-def gather_grid(fields: dict[str, fem.Function], cells: np.ndarray | None = None):
+def gather_grid(fields: dict[str, fem.Function], cells: np.ndarray | None = None,
+                cell_fields: dict[str, fem.Function] | None = None):
     """A PyVista grid on rank 0 (None elsewhere) of the owned cells of all ranks, carrying the
-    given fields interpolated to the mesh vertices (P1)."""
+    given fields interpolated to the mesh vertices (P1), and ``cell_fields`` (scalar DG0)
+    as the cells' data."""
     first = next(iter(fields.values()))
     msh = first.function_space.mesh
     comm = msh.comm
@@ -70,17 +72,21 @@ def gather_grid(fields: dict[str, fem.Function], cells: np.ndarray | None = None
         g = fem.Function(V1)
         g.interpolate(f)
         data[name] = g.x.array.reshape(len(x), -1)
-    parts = comm.gather((topology, cell_types, x, data), root=0)
+    per_cell = {name: f.x.array[f.function_space.dofmap.list[cells, 0]]
+                for name, f in (cell_fields or {}).items()}
+    parts = comm.gather((topology, cell_types, x, data, per_cell), root=0)
     if comm.rank != 0:
         return None
     pv = offscreen_pyvista()
     grids = []
-    for topo, types, pts, vals in parts:
+    for topo, types, pts, vals, per_cell in parts:
         if len(types) == 0:
             continue
         grid = pv.UnstructuredGrid(topo, types, pts)
         for name, v in vals.items():
             grid.point_data[name] = v if v.shape[1] > 1 else v[:, 0]
+        for name, v in per_cell.items():
+            grid.cell_data[name] = v
         grids.append(grid)
     return grids[0].merge(grids[1:]) if len(grids) > 1 else grids[0]
 
@@ -136,7 +142,8 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
                  depth_offset: float = 0.0, label: str = "sigma_zz [kPa]",
                  scalar_scale: float = 1e-3, title: str = "", soil_cells=None,
                  structure: dict | None = None, layer_depths=(), outlines=(),
-                 r_min: float = 0.0, mesh_lines: bool = False) -> Path | None:
+                 r_min: float = 0.0, mesh_lines: bool = False,
+                 marked: tuple[fem.Function, str] | None = None) -> Path | None:
     """The (r, z) section within ``extent`` of the foundation centre, deformed (the scale is
     printed on the figure) and coloured by ``scalar``; ``structure`` (a gathered
     results dict) adds the plate and wall as thick lines, ``layer_depths`` the soil layers'
@@ -145,9 +152,11 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
     r_min <= r <= extent, as deep as it is wide, instead (e.g. around a wall's foot). The
     colours are COLOUR_BANDS filled bands over :func:`colour_range` (the singular peak at
     the foundation's edge marked over-range, not setting it); ``mesh_lines`` draws the
-    cells' edges. The whole structure is in view, at equal scales, with ticks at round
-    numbers. Returns the PNG path on rank 0."""
-    grid = gather_grid({"u": u, "s": scalar}, soil_cells)
+    cells' edges; ``marked`` = (a DG0 field, its words) dots the cells where the field is
+    positive (an elastoplastic soil's yielding cells). The whole structure is in view, at
+    equal scales, with ticks at round numbers. Returns the PNG path on rank 0."""
+    grid = gather_grid({"u": u, "s": scalar}, soil_cells,
+                       {"marked": marked[0]} if marked is not None else None)
     if grid is None:
         return None
     pv = offscreen_pyvista()
@@ -208,8 +217,15 @@ def plot_section(u: fem.Function, scalar: fem.Function, path: str | Path, *, ext
         p.add_mesh(pv.lines_from_points(pts), color="black", line_width=6)
     for pts in tops:
         p.add_mesh(pv.lines_from_points(pts), color="white", line_width=3)
+    marks = ""
+    if marked is not None:
+        centres = near.cell_centers().points[near.cell_data["marked"] > 0.0]
+        if len(centres):
+            p.add_mesh(pv.PolyData(centres), color="red", point_size=4,
+                       render_points_as_spheres=True)
+        marks = f"; red dots: {marked[1]} ({len(centres)} cells in view)"
     p.add_text(f"{title}\ndisplacements x {scale:.3g}; colours: {COLOUR_PERCENTILES[0]:g}-"
-               f"{COLOUR_PERCENTILES[1]:g} % of the area (magenta above, cyan below)",
+               f"{COLOUR_PERCENTILES[1]:g} % of the area (magenta above, cyan below){marks}",
                font_size=11)
     return save_section(p, path, np.concatenate(points))
 
@@ -543,9 +559,15 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
     label, factor = SECTION_QUANTITIES[section_quantity]
     if section_quantity == "stress_level":
         label = scene.soil.law.stress_level_label
+    level_view = {"label": scene.soil.law.stress_level_label, "scalar_scale": 1.0}
+    if "plastic" in scene.soil.law.reports:
+        # (an elastoplastic soil: its yielding cells over its stress level)
+        level_view["marked"] = (soil_cell_fields(solution.model, solution.statuses)["plastic"],
+                                "yielding cells")
     figures = [(plot_section, (solution.u, section_field(solution, section_quantity),
                                directory / "section.png"),
-                section | {"label": label, "scalar_scale": factor})]
+                section | ({"label": label, "scalar_scale": factor}
+                           if section_quantity != "stress_level" else level_view))]
     ring = scene.ringwall
     if ring is not None:
         # the ringwall is small beside the tank: a window around it too
@@ -558,8 +580,7 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
     if "stress_level" in scene.soil.law.reports and section_quantity != "stress_level":
         level = soil_cell_fields(solution.model, solution.statuses)["stress_level"]
         figures.append((plot_section, (solution.u, level, directory / "stress_level.png"),
-                        {**section, "label": scene.soil.law.stress_level_label,
-                         "scalar_scale": 1.0}))
+                        section | level_view))
     if "stages" in r:
         figures.append((plot_load_path, (r, directory / "load_path.png"), {"title": title}))
     figures.append((plot_settlement, (r, directory / "settlement.png"), {"title": title}))

@@ -244,6 +244,13 @@ def _stage_rows(r: dict) -> list[tuple[str, str, str]]:
             note = ", ".join(x for x in (note, f"{st['unloading_cells']} soil cells unloading")
                              if x)
         rows.append((f"stage {st['stage']}: w0", f"{1e3 * st['w0']:.2f} mm", note))
+        if "settlement_kept" in st:
+            # (back to an earlier load: what the ground did not give back)
+            kept = st["settlement_kept"]
+            since = (f"stage {kept['since']}'s load" if kept["since"] else
+                     "no load, as at the start")
+            rows.append((f"stage {st['stage']}: settlement kept", f"{1e3 * kept['w0']:.2f} mm",
+                         f"permanent: back to {since} (mean {1e3 * kept['w_mean']:.2f} mm)"))
     return rows
 
 

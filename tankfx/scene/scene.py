@@ -398,6 +398,10 @@ def _parse_stages(data: dict[str, Any], raw, scene: Scene) -> tuple[Load, ...]:
                             f"load's circle is meshed once ({scene.load.load_radius!r} m in "
                             f"[load]); analyse another radius as another scene")
         loads.append(load)
+    if not problems and "consolidation" not in data and all(ld.nothing for ld in loads):
+        problems.append("stages: no stage applies any load (the path is the [[stages]] "
+                        "alone, each the [load] with its keys changed); begin it with an "
+                        "empty '[[stages]]' table, which is the [load] itself")
     if problems:
         raise SceneError(problems)
     return tuple(loads)

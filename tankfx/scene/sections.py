@@ -719,6 +719,13 @@ class Load:
         """Whether the load has a first-harmonic part (an overturning moment or shear)."""
         return bool(self.overturning_moment or self.base_shear)
 
+    @property
+    def nothing(self) -> bool:
+        """Whether the load applies nothing at all (an emptied tank without its weight)."""
+        return not (self.pressure or self.liquid_height * self.liquid_unit_weight
+                    or self.self_weight or self.roof_weight or self.gas_pressure
+                    or self.overturning)
+
 
 @dataclass(frozen=True)
 class Consolidation:
