@@ -189,6 +189,17 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     search = bool(scene.soil.law.state_fields) and len(stages) == 1
     if search:
         model.commit()
+    excavation = None
+    if model.soil.pit is not None:
+        # (an elastoplastic soil's embedded foundation: its pit is dug first)
+        try:
+            with heartbeat("excavating the pit"):
+                excavation = iterations.excavate(log)
+        except SolveError as e:
+            e.dofs = solver.matrix_size
+            raise
+        log.info("the pit is dug: its bottom heaved %.4g m, %d points yield", 
+                 excavation.record["heave"], excavation.record["plastic_points"])
     for k, load in enumerate(stages):
         if k > 0:
             log.info("load stage %d of %d", k + 1, len(stages))
@@ -218,6 +229,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         timings["total"] = time.perf_counter() - t_start
         _record_stage(results, scene, solver, dofs, timings, comm, warnings,
                       k + 1 if len(stages) > 1 else None, statuses)
+        if excavation is not None:
+            results["excavation"] = excavation.record
         # (a consolidation's: the load at its last reported time, on the state then)
         load = stage_scene.load
         if load.overturning:

@@ -161,9 +161,11 @@ def cmd_run(args) -> int:
     r = solution.results
     log = logging.getLogger("tankfx")
     log.info("w0 = %.6g m, w_edge = %.6g m, wd = %.6g m", r["w0"], r["w_edge"], r["wd"])
-    log.info("equilibrium: reaction %.6g N for %.6g N applied (relative error %.1e)",
-             r["equilibrium"]["reaction"], r["equilibrium"]["applied_load"],
-             r["equilibrium"]["relative_error"])
+    eq = r["equilibrium"]
+    log.info("equilibrium: reaction %.6g N for %.6g N applied%s (relative error %.1e)",
+             eq["reaction"], eq["applied_load"],
+             f" less {eq['excavation_relief']:.6g} N the pit's excavation relieved"
+             if "excavation_relief" in eq else "", eq["relative_error"])
     log.info("summary:\n%s", summary_table(r))
     # results.json is written last but the report: a run stopped before it leaves nothing
     # that reads as a finished analysis

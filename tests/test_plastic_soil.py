@@ -41,8 +41,9 @@ def plastic_scene(soil=None, **sections) -> dict:
      "[consolidation] with soil.model = 'mohr_coulomb'"),
     ({}, {"interface": {"condition": "mohr_coulomb", "friction_angle": 20.0}},
      "interface.condition = \"mohr_coulomb\": the interface's active set is not yet"),
-    ({}, {"plate": {"radius": 1.0, "Kp": 10.0, "E": 30e9, "nu": 0.2, "embedment": 0.5}},
-     "plate.embedment = 0.5: an embedded foundation"),
+    ({"unit_weight": 18e3, "water_table": 0.2},
+     {"plate": {"radius": 1.0, "Kp": 10.0, "E": 30e9, "nu": 0.2, "embedment": 0.5}},
+     "soil.water_table = 0.2 is above the pit's bottom (plate.embedment = 0.5)"),
     ({}, {"load": {"pressure": 20e3, "overturning_moment": 1e4}},
      "load.overturning_moment, load.base_shear"),
     ({}, {"mesh": {**COARSE, "degree": 1}}, "mesh.degree = 1: linear triangles lock"),
@@ -284,3 +285,85 @@ def test_a_steel_tank_on_heavy_soft_clay_in_the_default_half_space():
     assert full["soil"]["plastic_points"] > 1000 and full["soil"]["steps"] <= 4
     assert 0.0 < empty["w0"] < 0.5 * full["w0"]
     assert full["equilibrium"]["relative_error"] < 1e-8
+
+
+def embedded_tank(soil, wall: bool = True, depth: float = 2.0) -> dict:
+    """A 10 m concrete tank (or plate alone) ``depth`` m deep in clay of 18 kN/m^3,
+    filled with 9 m of water (a plate alone: 90 kPa), on a coarse mesh."""
+    d = {"soil": {"E": 10e6, "nu": 0.3, **soil},
+         "plate": {"radius": 10.0, "Kp": 1.0, "E": 30e9, "nu": 0.2, "embedment": depth},
+         "interface": {"condition": "bonded"},
+         "mesh": {"edge_size": 0.2, "near_size": 2.0, "growth": 0.3},
+         "domain": {"radius": 60.0, "depth": 40.0}}
+    if wall:
+        d["wall"] = {"radius": 10.0, "Kt": 0.1, "height": 10.0, "E": 30e9, "nu": 0.2}
+        d["load"] = {"liquid_unit_weight": 9810.0, "liquid_height": 9.0}
+    else:
+        d["load"] = {"pressure": 90e3}
+    return d
+
+
+@pytest.mark.parametrize("wall", [True, False])
+def test_an_embedded_foundations_pit_is_dug_before_it_is_built(wall):
+    """The pit of an embedded foundation is excavated first (its faces relieved of the
+    stress at rest), then the structure is built on it free of strain. The supports lose
+    exactly the weight taken out, sigma'_v(D) pi a^2 (the pit under a wall, inside the tank's
+    void: interior facets; a plate alone: the domain's boundary); in a ground that does not
+    yield, the tank's settlement and moments are then the linear soil's, to the Newton
+    tolerance, whatever the heave before it."""
+    import ufl
+    from dolfinx import fem
+
+    gamma, depth, a = 18e3, 2.0, 10.0
+    strong = {"model": "mohr_coulomb", "cohesion": 1e6, "unit_weight": gamma, "K0": 0.7}
+    solution = analyse(Scene.from_dict(embedded_tank(strong, wall)))
+    r, pit = solution.results, solution.model.soil.pit
+    # the side's relief, summed radially: -int K0 gamma z 2 pi a dz = -K0 gamma D^2 pi a
+    radial = fem.assemble_scalar(fem.form(pit.load(ufl.as_vector([1.0, 0.0]))))
+    assert radial == pytest.approx(-0.7 * gamma * depth ** 2 * np.pi * a, rel=1e-9)
+    ex = r["excavation"]
+    released = gamma * depth * np.pi * a ** 2
+    assert ex["released_load"] == pytest.approx(released, rel=1e-9)
+    assert ex["reaction"] == pytest.approx(-released, rel=1e-8)
+    assert ex["plastic_points"] == 0 and ex["heave"] > 0.0
+    assert r["equilibrium"]["excavation_relief"] == pytest.approx(released, rel=1e-9)
+    assert r["equilibrium"]["relative_error"] < 1e-8
+    linear = analyse(Scene.from_dict(embedded_tank({}, wall))).results
+    for key in ("w0", "w_edge", "M0"):
+        # (measured: 4e-10 on M0, the structure's stand-by stiffness's doing)
+        assert r[key] == pytest.approx(linear[key], rel=1e-7), key
+    assert "excavation of the pit: heave" in summary_table(r)
+
+
+def test_a_pit_too_deep_for_its_clay_gives_way():
+    """An unsupported 8 m pit in clay of s_u = 10 kPa: its sides are four times the height
+    a vertical cut in it stands (3.85 s_u / gamma = 2.1 m), and its bottom is relieved of
+    gamma D = 14 s_u, beyond the 6-9 s_u a circular pit's bottom holds (Bjerrum & Eide
+    1956): the excavation fails (measured: at 0.35 of the relief, 5 s_u), said in physical
+    terms, before anything is built."""
+    from tankfx.iterations.secant import SoilFailure
+
+    soft = {"model": "mohr_coulomb", "cohesion": 10e3, "unit_weight": 18e3, "K0": 1.0,
+            "max_iterations": 10}
+    with pytest.raises(SoilFailure) as e:
+        analyse(Scene.from_dict(embedded_tank(soft, wall=False, depth=8.0)))
+    assert "the pit cannot be excavated" in str(e.value)
+    assert "sigma'_v = 144 kPa at its bottom, 8 m deep" in str(e.value)
+
+
+@pytest.mark.mpi
+def test_serial_and_two_ranks_dig_the_same_pit():
+    """A pit dug in clay that yields around it (s_u = 40 kPa + 2 kPa/m), then the tank
+    filled: the same heave, yielding points and settlement on one rank and on all (the
+    pit's faces are interior facets beside the tank's void, split between the ranks)."""
+    clay = {"model": "mohr_coulomb", "cohesion": 40e3, "cohesion_gradient": 2e3,
+            "unit_weight": 18e3, "K0": 0.7}
+    scene = Scene.from_dict(embedded_tank(clay))
+    parallel = analyse(scene, MPI.COMM_WORLD).results
+    serial = analyse(scene, MPI.COMM_SELF).results
+    assert parallel["excavation"]["plastic_points"] == serial["excavation"]["plastic_points"] > 0
+    assert parallel["excavation"]["heave"] == pytest.approx(serial["excavation"]["heave"],
+                                                            rel=1e-8)
+    assert parallel["soil"]["plastic_points"] == serial["soil"]["plastic_points"]
+    for key in ("w0", "w_edge", "M0"):
+        assert parallel[key] == pytest.approx(serial[key], rel=1e-7), key

@@ -94,17 +94,77 @@ class NewtonIteration:
         sc = m.scene
         unloads = vertical_load(target, sc.plate, sc.wall, sc.ringwall) < vertical_load(
             start, sc.plate, sc.wall, sc.ringwall)
-        done, step = 0.0, self.FIRST_STEP
-        total_iterations = 0
         log.info("elastoplastic soil: Newton in load steps (tolerance %g on the out-of-balance "
                  "force)", self.TOLERANCE)
+
+        def fail(done, share, reason):
+            m.set_loads(load_between(start, target, base=target, f=done))
+            return self._failure(start, target, done, share, reason)
+
+        self.last = self._steps(
+            inner, log, lambda share: m.set_loads(load_between(start, target, base=target,
+                                                               f=share)),
+            unloads, fail, f"the whole load carried in {{steps}} load steps, each to an "
+                           f"out-of-balance force <= {self.TOLERANCE:g} of the load vector")
+        self.converged_load = target
+        return self.last
+
+    def excavate(self, inner, log) -> IterationStatus:
+        """The excavation of an embedded foundation's pit, before anything is built: the
+        ground at rest loses the support of the soil taken out (the pit's faces are
+        relieved of their stress at rest, in load steps), the structure standing by without
+        stiffness; then the displacements are set to zero, the excavated ground's stress
+        and plastic strain kept, and the structure is built on it free of strain. The
+        status's record: the heave of the pit's bottom at its centre, the plastic points,
+        the steps."""
+        m, pit = self.model, self.model.soil.pit
+        log.info("elastoplastic soil: the pit's excavation, in load steps")
+
+        def fail(done, share, reason):
+            pit.share.value = done
+            a = m.scene.foundation_radius
+            sv = pit.bottom_stress
+            return SoilFailure(
+                f"the pit cannot be excavated: the ground around it gives way (its bottom "
+                f"heaving, or its sides sliding in) beyond {done:.4g} of the relief of its "
+                f"stress at rest ({share:.4g} was not carried: {reason}); relieved in full "
+                f"it would be sigma'_v = {sv / 1e3:.4g} kPa at its bottom, {m.scene.embedment:g} "
+                f"m deep over a radius of {a:g} m; {self._yielding_zone()}; a shallower pit "
+                f"(plate.embedment), a stronger soil, or a supported pit (not modelled)",
+                self.history)
+
+        target = m.scene.load
+        m.set_loads(self._start(target))        # (nothing built yet: nothing on it)
+        with m.structure_absent():
+            status = self._steps(inner, log, lambda share: setattr(pit.share, "value", share),
+                                 False, fail, "the pit's stress at rest relieved in {steps} "
+                                              "load steps")
+        heave = -status.history[-1]["w0"]
+        reaction, released = m.excavation_equilibrium()
+        m.place_structure()
+        m.set_loads(target)
+        record = {**status.record, "heave": heave, "released_load": released,
+                  "reaction": reaction,
+                  "relative_error": abs(reaction + released) / max(abs(released), 1e-300)}
+        self.last = replace(status, record=record)
+        return self.last
+
+    def _steps(self, inner, log, apply, unloads: bool, fail, criterion: str
+               ) -> IterationStatus:
+        """Load steps of ``apply(share)`` from 0 to 1 (the share of what the stage changes),
+        each solved by Newton from the last converged one; a step that does not converge
+        is halved, to MIN_STEP, where ``fail(done, tried, reason)`` is raised."""
+        m = self.model
+        done, step = 0.0, self.FIRST_STEP
+        total_iterations = 0
+        self.history = []
         log.info("  step  load share   w0 (m)        Newton  out-of-balance  plastic pts  "
                  "step     time s")
         t_stage = time.perf_counter()
         while done < 1.0:
             share = min(1.0, done + step)
             t0 = time.perf_counter()
-            m.set_loads(load_between(start, target, base=target, f=share))
+            apply(share)
             if unloads:
                 self.plastic.elastic_predictor()
             ok, iterations, residual, reason = self._newton(inner)
@@ -128,25 +188,21 @@ class NewtonIteration:
             log.info("        %10.4f  no convergence (%s): the step is halved", share, reason)
             step *= 0.5
             if step < self.MIN_STEP:
-                m.set_loads(load_between(start, target, base=target, f=done))
-                raise self._failure(start, target, done, share, reason)
-        self.converged_load = target
+                raise fail(done, share, reason)
         p, comm = self.plastic, m.domain.mesh.comm
         own = m.domain.mesh.topology.index_map(2).size_local
-        self.last = IterationStatus.of({
+        return IterationStatus.of({
             "converged": True, "iterations": total_iterations, "history": self.history,
             "steps": len(self.history),
             "plastic_points": comm.allreduce(self._plastic_points()),
             "max_plastic_shear_strain": comm.allreduce(
                 float(p.plastic_shear_strain()[:own * p.n_points].max(initial=0.0)),
                 op=MPI.MAX),
-            "criterion": f"the whole load carried in {len(self.history)} load steps, each to an "
-                         f"out-of-balance force <= {self.TOLERANCE:g} of the load vector",
+            "criterion": criterion.format(steps=len(self.history)),
             "time_s": time.perf_counter() - t_stage},
             # (per cell, for the fields and figures: yielding, and tau / tau_f)
             data={"plastic": p.cell_average(p.plastic, 1)[:, 0],
                   "stress_level": p.cell_mobilised()})
-        return self.last
 
     def run_to_settlement(self, inner, solver, log, settlement: float,
                           steps: int = 20) -> IterationStatus:

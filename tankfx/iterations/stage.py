@@ -117,6 +117,12 @@ class StageIterations:
         self._call(0, log)()
         return {it.name: it.last for it in self.iterations}
 
+    def excavate(self, log) -> IterationStatus:
+        """An embedded foundation's pit dug before the first stage, by the soil's iteration
+        (the elastoplastic soil's: its ``excavate``), with the rest of the chain inside."""
+        self.begin_stage()
+        return self.iterations[0].excavate(self._call(1, log), log)
+
     def _call(self, k: int, log):
         """``inner`` of the k-th iteration's caller: a call of its ``run``."""
         if k == len(self.iterations):

@@ -138,8 +138,9 @@ class MohrCoulombSoil(SoilLaw):
     @classmethod
     def scene_problems(cls, scene) -> list[str]:
         """What the elastoplastic soil does not take yet: an overturning load (solved as a
-        harmonic about a linear state), a Mohr-Coulomb interface, an embedded foundation
-        (its pit's excavation stage)."""
+        harmonic about a linear state), a Mohr-Coulomb interface, a pit dug below the water
+        table; and what it refuses: linear triangles, a ground at rest outside the yield
+        surface."""
         out = []
         for k, ld in enumerate((scene.load, *scene.stages)):
             if ld.overturning:
@@ -161,10 +162,13 @@ class MohrCoulombSoil(SoilLaw):
                        "volume change (Tresca, or zero dilation; Sloan & Randolph 1982) and "
                        "overestimate the collapse load by 15-35 %; use degree 2 (the "
                        "default), 3 or 4")
-        if scene.plate is not None and scene.embedment > 0.0:
-            out.append(f"plate.embedment = {scene.embedment!r}: an embedded foundation needs "
-                       f"its pit's excavation as a stage of the plastic soil, not built yet; "
-                       f"put the plate on the surface (embedment = 0)")
+        wt = scene.soil.water_table
+        if scene.plate is not None and scene.embedment > 0.0 and wt is not None \
+                and wt < scene.embedment:
+            out.append(f"soil.water_table = {wt!r} is above the pit's bottom (plate.embedment "
+                       f"= {scene.embedment!r}): its excavation would need the pit dewatered "
+                       f"and the seepage into it, which are not modelled; give a water table "
+                       f"at or below {scene.embedment!r} m")
         return out
 
     @staticmethod

@@ -193,6 +193,15 @@ class PlasticState:
                   self._dofs4)
         self._put(self.plastic, (self.code != ELASTIC).astype(float), self._dofs1)
 
+    def restart_strain(self) -> None:
+        """The displacement is set to zero with the stress kept (a structure built on an
+        excavated ground): the committed strain is zero, and the current state is the
+        committed one, with its offset sigma - C eps(0) = sigma."""
+        self.strain.x.array[:] = 0.0
+        self.stress.x.array[:] = self.stress_n.x.array
+        self.offset.x.array[:] = self.stress_n.x.array
+        self._trial = (np.zeros((len(self.code), 4)), np.zeros((len(self.code), 4)))
+
     def cell_average(self, field, width: int) -> np.ndarray:
         """Each local cell's mean of a field over its points (the rule's weights), N x
         width, in cell order."""

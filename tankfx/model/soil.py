@@ -21,6 +21,7 @@ from ..fem.solvers import mass_solve
 from ..laws import elasticity as soil_forms
 from ..mesh import CELL_TAGS, Domain
 from ..scene.sections import Consolidation, DomainSize, Ringwall, Soil
+from .excavation import PitRelease
 from .history import History
 from .materials import soil_materials
 from .memory import UnloadingMemory
@@ -126,13 +127,16 @@ class SoilBlock:
             self.mixed_strata, self.mixed = [], True
         displacement_form = [i for i in range(self.n_materials) if i not in self.mixed_strata]
         self.a = 0
-        #: an elastoplastic soil's stress and history at the forms' quadrature points
-        self.plastic = None
+        #: an elastoplastic soil's stress and history at the forms' quadrature points,
+        #: and its embedded foundation's pit's relief (tankfx.model.excavation)
+        self.plastic = self.pit = None
         if getattr(s.law, "point_state", False):
             self.plastic = PlasticState(self, s.law, s, setting.degree, setting.ringwall)
             self.a = self.plastic.stiffness(self.trial, self.test, self.r, self.dx)
             for name, field in self.plastic.carried().items():
                 self.history.register(name, field)
+            if setting.embedment > 0.0:
+                self.pit = PitRelease(self, s, setting.embedment)
         elif self.consolidating:
             self._pore_pressure(msh)
         elif displacement_form:
@@ -403,6 +407,8 @@ class SoilBlock:
         L_p = [L for _, _, L in self.pressures]
         if self.plastic is not None:
             L_u = L_u + self.plastic.load(self.test, self.r, self.dx)
+        if self.pit is not None:
+            L_u = L_u + self.pit.load(self.test)
         if self.memory is not None:
             w = 2.0 * math.pi * self.r
             L_u = L_u - ufl.inner(self.initial_stress(),

@@ -16,6 +16,7 @@ system of UFL forms), and Eq. 23's p (``reference_pressure``).
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from dataclasses import replace
 from functools import cached_property
 
@@ -26,6 +27,7 @@ from dolfinx import mesh as dmesh
 
 from ..fem.blocks import OutOfBalance, empty_form
 from ..fem.evaluate import allsum, evaluate_at
+from ..fem.solvers import reaction_force
 from ..laws import interface
 from ..laws import shell as st
 from ..mesh import FACET_TAGS, Domain
@@ -306,6 +308,46 @@ class TankModel:
         """Back to the last committed state."""
         self.soil.history.rollback()
         self.interface.history.rollback()
+
+    # ------------------------------------------------------------------ an excavation
+    #: the structure's stiffness and its interface's while its pit is dug, relative to
+    #: their own: it stands by, following the pit's faces without holding them. Both are
+    #: scaled: the interface alone would still press the soil's faces towards the smooth
+    #: shape the shell's Kirchhoff constraint allows (measured on a 10 m plate 2 m deep in
+    #: clay: its moment 9e-6 off the linear soil's afterwards, whatever the shell's
+    #: stiffness; both scaled by 1e-9, 4e-10 off, by 1e-12, 8e-13, the heave the same to
+    #: 2e-9); 0 would make the matrix singular.
+    ABSENT = 1e-9
+
+    @contextmanager
+    def structure_absent(self):
+        """The structure and its interface without stiffness (and without loads) for the
+        time of the block: a pit's excavation, before it is built."""
+        held = [f.x.array.copy() for f in (self.E, self.interface.k_n, self.interface.k_s)]
+        for f, values in zip((self.E, self.interface.k_n, self.interface.k_s), held):
+            f.x.array[:] = self.ABSENT * values
+        self.commit()           # (a step cut back rolls back to these)
+        try:
+            yield
+        finally:
+            for f, values in zip((self.E, self.interface.k_n, self.interface.k_s), held):
+                f.x.array[:] = values
+
+    def excavation_equilibrium(self) -> tuple[float, float]:
+        """(the supports' vertical reaction, the pit's relief's upward resultant), N: at an
+        excavated state in equilibrium the reaction is the relief's, downward."""
+        reaction = reaction_force(self.soil_residual(), self.soil.V, 1,
+                                  self.soil.supported_facets, entity_maps=self.entity_maps)
+        return reaction, self.soil.pit.released()
+
+    def place_structure(self) -> None:
+        """The structure is built on the excavated ground, free of strain: every
+        displacement is set to zero (what follows is measured from here), the ground's
+        stress and plastic strain are kept, and the state is committed."""
+        for u in self.unknowns:
+            u.x.array[:] = 0.0
+        self.soil.plastic.restart_strain()
+        self.commit()
 
     @cached_property
     def _out_of_balance(self) -> OutOfBalance:

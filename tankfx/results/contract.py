@@ -139,6 +139,9 @@ def results_of(scene: Scene, domain: Domain, model, sigma_zz, statuses=None) -> 
                      cells=domain.cells("soil"))[:, 0]
 
     applied = model.applied_load
+    # (an excavated pit: the ground lost the support of the soil taken out, upward)
+    pit = model.soil.pit
+    relieved = pit.released() if pit is not None and pit.share.value > 0.0 else 0.0
     reaction = reaction_force(model.soil_residual(), model.soil.V, 1,
                               model.soil.supported_facets, entity_maps=model.entity_maps)
     out = {
@@ -152,7 +155,8 @@ def results_of(scene: Scene, domain: Domain, model, sigma_zz, statuses=None) -> 
                      "axis": {"z": z_axis.tolist(), "sigma_zz": sz.tolist(),
                               **axis_pore_pressure(model, domain, z_axis, sz)}},
         "equilibrium": {"applied_load": applied, "reaction": reaction,
-                        "relative_error": abs(reaction - applied) / model.load_scale},
+                        "relative_error": abs(reaction - applied + relieved) / model.load_scale,
+                        **({"excavation_relief": relieved} if relieved else {})},
         "conventions": CONVENTIONS,
         "scene": scene.to_dict(resolved=True),
     }

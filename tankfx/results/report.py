@@ -219,6 +219,13 @@ def _iteration_rows(r: dict) -> list[tuple[str, str, str]]:
     soil = r.get("soil", {})
     note = (f"cells at the ultimate: {soil['cells_at_ultimate']}"
             if "cells_at_ultimate" in soil else "")
+    if "excavation" in r:
+        # (an embedded foundation on the elastoplastic soil: its pit dug first)
+        ex = r["excavation"]
+        rows.append(("excavation of the pit: heave", f"{1e3 * ex['heave']:.2f} mm",
+                     f"at its bottom's centre, before the tank is built on it (its "
+                     f"displacements are measured from then); {ex['plastic_points']} points "
+                     f"yield, {ex['steps']} load steps"))
     if "plastic_points" in soil:
         # (an elastoplastic soil: where it yields, and how far)
         rows.append(("soil yielding", f"{soil['plastic_points']} quadrature points",
