@@ -39,8 +39,6 @@ def plastic_scene(soil=None, **sections) -> dict:
      "soil: the ground at rest lies outside the yield surface"),
     ({}, {"consolidation": {"permeability": 1e-9, "times": [86400.0]}},
      "[consolidation] with soil.model = 'mohr_coulomb'"),
-    ({}, {"interface": {"condition": "mohr_coulomb", "friction_angle": 20.0}},
-     "interface.condition = \"mohr_coulomb\": the interface's active set is not yet"),
     ({"unit_weight": 18e3, "water_table": 0.2},
      {"plate": {"radius": 1.0, "Kp": 10.0, "E": 30e9, "nu": 0.2, "embedment": 0.5}},
      "soil.water_table = 0.2 is above the pit's bottom (plate.embedment = 0.5)"),
@@ -210,6 +208,26 @@ def test_serial_and_two_ranks_give_the_same_plastic_footing():
     grid = gather_grid({"u": solution.u}, cell_fields={"marked": plastic})
     if MPI.COMM_WORLD.rank == 0:
         assert 0 < int(np.sum(grid.cell_data["marked"] > 0.0)) == yielding
+
+
+def test_a_mohr_coulomb_interface_in_the_newton_iteration():
+    """The interface's active set converges inside every Newton iteration of the plastic
+    soil: frictionless it is the smooth interface, with tan phi = 10 (no element slips) the
+    bonded one, to the tolerances, yielding points and all; a friction between lies between
+    them (a footing at 3 s_u, half its capacity)."""
+    def w0(interface):
+        r = analyse(Scene.from_dict(plastic_scene(load={"pressure": 3.0 * C_U},
+                                                  interface=interface))).results
+        return r["w0"], r["soil"]["plastic_points"]
+
+    smooth, bonded = w0({"condition": "smooth"}), w0({"condition": "bonded"})
+    frictionless = w0({"condition": "mohr_coulomb", "tan_phi": 0.0})
+    rough = w0({"condition": "mohr_coulomb", "tan_phi": 10.0})
+    assert frictionless[0] == pytest.approx(smooth[0], rel=1e-9)
+    assert rough[0] == pytest.approx(bonded[0], rel=1e-9)
+    assert (frictionless[1], rough[1]) == (smooth[1], bonded[1])
+    between = w0({"condition": "mohr_coulomb", "tan_phi": 0.1})[0]
+    assert bonded[0] * (1 + 1e-4) < between < smooth[0] * (1 - 1e-4)
 
 
 @pytest.mark.parametrize("condition,exact,mesh", [

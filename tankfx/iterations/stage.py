@@ -123,6 +123,13 @@ class StageIterations:
         self.begin_stage()
         return self.iterations[0].excavate(self._call(1, log), log)
 
+    def run_to_settlement(self, solver, log, settlement: float, steps: int):
+        """The stage's load under settlement control (the elastoplastic soil's
+        ``run_to_settlement``), with the rest of the chain inside (an interface's active
+        set converged in every iteration)."""
+        return self.iterations[0].run_to_settlement(self._call(1, log), solver, log,
+                                                    settlement, steps)
+
     def _call(self, k: int, log):
         """``inner`` of the k-th iteration's caller: a call of its ``run``."""
         if k == len(self.iterations):

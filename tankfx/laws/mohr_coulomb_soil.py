@@ -150,10 +150,6 @@ class MohrCoulombSoil(SoilLaw):
                            f"with soil.model = \"mohr_coulomb\"; remove them, or use a linear "
                            f"or secant soil")
                 break
-        if scene.plate is not None and scene.interface.condition == "mohr_coulomb":
-            out.append("interface.condition = \"mohr_coulomb\": the interface's active set is "
-                       "not yet solved inside the plastic soil's Newton iteration; use "
-                       "\"bonded\" (rough) or \"smooth\"")
         out += cls._at_rest_outside(scene.soil, scene.domain.depth)
         if scene.mesh.degree == 1:
             # (measured: the rigid footing's N_c +33 % at 6k unknowns, +17 % at 23k, where

@@ -45,11 +45,9 @@ def collapse_curve(data: dict, settlement: float = 0.1, steps: int = 10,
                          entity_maps=model.entity_maps, name="collapse",
                          symmetric=scene.soil.law.symmetric_tangent(scene.soil))
     chain = StageIterations.of(scene, model, solver)
-    newton, linear = chain.iterations[0], chain.iterations[-1]
     model.begin_stage()
     chain.begin_stage()
-    status = newton.run_to_settlement(lambda: linear.run(None, log), solver, log,
-                                      settlement, steps)
+    status = chain.run_to_settlement(solver, log, settlement, steps)
     return {"factor": [h["load_share"] for h in status.history],
             "w0": [h["w0"] for h in status.history], "dofs": solver.matrix_size,
             "newton": status.iterations, "time_s": time.perf_counter() - t}
