@@ -54,8 +54,11 @@ class NewtonIteration:
 
     @staticmethod
     def describe(scene) -> str:
+        pit = (f"; first the pit dug ({scene.embedment:g} m: its faces relieved of the "
+               f"stress at rest), the tank then built on it"
+               if scene.plate is not None and scene.embedment > 0.0 else "")
         return ("Newton's method on the elastoplastic soil (the consistent tangent), in load "
-                "steps that halve where it does not converge")
+                "steps that halve where it does not converge" + pit)
 
     def __init__(self, model):
         self.model = model
