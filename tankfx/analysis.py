@@ -16,9 +16,11 @@ import dolfinx_solver  # noqa: F401  (loads MPI before dolfinx / petsc4py)
 from dolfinx import fem
 from mpi4py import MPI
 
+from .fem.blocks import cell_field
 from .fem.memory import keep_freed_memory
 from .fem.solvers import SolveError, make_solver
 from .fem.threads import limit_blas_threads
+from .iterations.collapse import CollapseSearch
 from .iterations.secant import SoilFailure
 from .iterations.stage import StageIterations
 from .iterations.status import IterationStatus
@@ -33,13 +35,14 @@ from .mesh import (
 from .model.build import build_model
 from .model.overturning import RockingModel
 from .model.protocol import Model
+from .results.collapse import collapse_words
 from .results.consolidation import consolidation_record
 from .results.contract import results_of, settlement_kept, stage_summary, versions
 from .results.overturning import superpose
 from .results.validity import validity
 from .scene.plausible import geometry_warnings
 from .scene.scene import Scene
-from .scene.sections import Load, SceneError, vertical_load
+from .scene.sections import Load, SceneError
 
 log = logging.getLogger("tankfx")
 
@@ -79,6 +82,10 @@ class Solution:
     #: how the stage's iterations ended, by name ("soil", "interface", "consolidation",
     #: "linear_solve"; tankfx.iterations.stage)
     statuses: dict = None
+    #: with ``analysis.collapse``: the collapse's mechanism, ``increment`` (the soil's last
+    #: displacement increment) and ``plastic`` (each cell's share of yielding points, DG0),
+    #: at the collapse (the other fields are the scene's load's)
+    collapse: dict = None
 
 
 #: mesh_grading_warning: warned above lambda x edge size = GRADING_WARNING, where the
@@ -184,12 +191,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
              ", ".join(f"{k} {v}" for k, v in dofs.items()), scene.mesh.degree)
     solutions = []
     rocking = None          # the first harmonic, built by the first stage that overturns
-    # a nonlinear soil's initial state, from which a failed single load's largest fraction
-    # carried is searched
-    search = bool(scene.soil.law.state_fields) and len(stages) == 1
-    if search:
-        model.commit()
     excavation = None
+    before = None
     if model.soil.pit is not None:
         # (an elastoplastic soil's embedded foundation: its pit is dug first)
         try:
@@ -198,8 +201,11 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         except SolveError as e:
             e.dofs = solver.matrix_size
             raise
-        log.info("the pit is dug: its bottom heaved %.4g m, %d points yield", 
+        log.info("the pit is dug: its bottom heaved %.4g m, %d points yield",
                  excavation.record["heave"], excavation.record["plastic_points"])
+    if scene.analysis.collapse is not None:
+        # (the state a collapse by load starts from: the ground before the load)
+        before = CollapseSearch(model, iterations, solver, log).snapshot()
     for k, load in enumerate(stages):
         if k > 0:
             log.info("load stage %d of %d", k + 1, len(stages))
@@ -210,8 +216,15 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                 stage_scene, statuses = _solve_stage(scene, load, model, iterations)
         except SoilFailure as e:
             e.dofs = solver.matrix_size        # (what the failed run cost)
-            if search:
-                _search_carried(e, scene, load, model, iterations)
+            if scene.analysis.collapse == "load":
+                # the scene's load fails: its collapse factor lies below 1
+                e.collapse, _ = _collapse(scene, load, model, iterations, solver, before)
+                e.args = (f"{e}; the collapse search (settlement-controlled, to where the "
+                          f"load-settlement curve flattens): {collapse_words(e.collapse)}",)
+            elif scene.analysis.collapse == "strength":
+                e.args = (f"{e}; the factor of safety on the strength is below 1: the ground "
+                          f"does not carry the load with its full strength (collapse = "
+                          f"\"load\" brackets the share of it that it carries)",)
             elif len(stages) > 1:
                 _stage_failed(e, k, stages, solutions, scene)
             raise
@@ -242,17 +255,17 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                                   sigma_zz=sigma_zz, results=results, model=model,
                                   harmonic=rocking if load.overturning else None,
                                   statuses=statuses))
+    if scene.analysis.collapse is not None:
+        record, fields = _collapse(scene, stages[0], model, iterations, solver, before)
+        solutions[-1].results["collapse"] = record
+        solutions[-1] = replace(solutions[-1], collapse=fields)
+        log.info("collapse: %s", collapse_words(record))
     if len(solutions) > 1:
         summaries = [stage_summary(s.results) for s in solutions]
         if scene.soil.law.keeps_permanent_strain:
             settlement_kept(summaries)
         solutions[-1].results["stages"] = summaries
     return solutions
-
-
-#: halvings of the load in the search for the largest fraction a failed load carries
-#: (4: to within 1/16 of it)
-CARRIED_SEARCH_STEPS = 4
 
 
 def _stage_failed(e: SolveError, k: int, stages: list, solutions: list, scene: Scene) -> None:
@@ -266,47 +279,27 @@ def _stage_failed(e: SolveError, k: int, stages: list, solutions: list, scene: S
     e.converged_stages = [s.results for s in solutions]
 
 
-def scaled_load(load: Load, fraction: float) -> Load:
-    """The load with every applied force times ``fraction`` (the structure's own weight,
-    where it is asked for, stays whole)."""
-    return replace(load, **{k: fraction * getattr(load, k) for k in (
-        "pressure", "liquid_unit_weight", "roof_weight", "gas_pressure",
-        "overturning_moment", "base_shear")})
-
-
-def _search_carried(e: SoilFailure, scene: Scene, load: Load, model: Model,
-                    iterations: StageIterations) -> None:
-    """A single load the soil cannot carry: bisect the fraction of it that it does
-    (CARRIED_SEARCH_STEPS halvings, each a secant iteration from the committed initial
-    state), and say it in the failure's message and ``e.carried``."""
-    a = scene.foundation_radius
-    lo, hi = 0.0, 1.0
-    log.info("the soil cannot carry the load: searching the largest fraction it carries "
-             "(%d halvings)", CARRIED_SEARCH_STEPS)
-    for _ in range(CARRIED_SEARCH_STEPS):
-        f = 0.5 * (lo + hi)
-        model.rollback()
-        model.set_loads(scaled_load(load, f))
-        try:
-            _solve_stage(scene, scaled_load(load, f), model, iterations)
-            lo = f
-        except SolveError:
-            hi = f
-        log.info("  %.4g of the load: %s", f, "carried" if lo == f else "not carried")
-
-    def pressure(fraction):
-        P = vertical_load(scaled_load(load, fraction), scene.plate, scene.wall,
-                          scene.ringwall)
-        return P / (math.pi * a**2)
-
-    e.carried = {"fraction_carried": lo, "fraction_failed": hi,
-                 "mean_bearing_pressure_carried": pressure(lo),
-                 "mean_bearing_pressure_failed": pressure(hi)}
-    said = (f"the largest load carried lies between {lo:.4g} and {hi:.4g} of it (mean bearing "
-            f"pressures of {pressure(lo) / 1e3:.4g} and {pressure(hi) / 1e3:.4g} kPa)"
-            if lo > 0 else f"not even {hi:.4g} of it is carried (a mean bearing pressure of "
-                           f"{pressure(hi) / 1e3:.4g} kPa)")
-    e.args = (f"{e}; {said}",)
+def _collapse(scene: Scene, load: Load, model: Model, iterations: StageIterations, solver,
+              before) -> tuple[dict, dict]:
+    """The collapse the scene asks for (``analysis.collapse``): by load from the state
+    ``before`` the load (a snapshot), by strength from the load's converged state; the
+    state given back afterwards: (its record for results.json, its mechanism's fields)."""
+    search = CollapseSearch(model, iterations, solver, log)
+    end = search.snapshot()
+    try:
+        with heartbeat(f"searching the collapse by {scene.analysis.collapse}"):
+            if scene.analysis.collapse == "load":
+                search.restore(before)
+                record = search.by_load(load)
+            else:
+                record = search.by_strength()
+        p = model.soil.plastic
+        fields = {"increment": search.increment,
+                  "plastic": cell_field(model.domain.mesh, p.cell_average(p.plastic, 1)[:, 0],
+                                        "plastic_at_collapse")}
+    finally:
+        search.restore(end)
+    return record, fields
 
 
 def _load_stages(scene: Scene, loads: list) -> list[Load]:

@@ -203,6 +203,8 @@ def failure_record(scene, e: SolveError) -> dict:
               "history": e.history, "scene": scene.to_dict(resolved=True)}
     if e.carried is not None:
         record["largest_load_carried"] = e.carried
+    if e.collapse is not None:
+        record["collapse"] = e.collapse
     done = e.converged_stages
     if done:
         record["failed_stage"] = len(done) + 1

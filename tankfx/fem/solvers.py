@@ -113,9 +113,12 @@ class SolveError(RuntimeError):
         self.code = code
         #: a load path's stages that converged before this one failed (their results)
         self.converged_stages: list[dict] = []
-        #: a single load's search for the largest fraction of it carried (see
-        #: tankfx.analysis), None where not searched
+        #: the elastoplastic soil's last load carried and the one not (its load steps'
+        #: bracket, tankfx.iterations.newton), None where not known
         self.carried: dict | None = None
+        #: the collapse search the scene asked for, run from the load carried (results.json's
+        #: ``collapse``), None where not asked
+        self.collapse: dict | None = None
         #: the unknowns of the system that failed (set by the analysis), or None
         self.dofs: int | None = None
 
@@ -251,7 +254,13 @@ class DirectSolver(_LinearSolver):
     def _solve_assembled(self):
         """Solve the assembled system for the assembled right-hand side into ``u``."""
         p = self.problem
-        p.solver.solve(p.b, p.x)
+        try:
+            p.solver.solve(p.b, p.x)
+        except PETSc.Error as e:
+            # (MUMPS refusing a solve after a factorisation it could not complete: a
+            # SolveError, which the iterations know how to take)
+            raise SolveError(f"the linear solver failed (PETSc error {e.ierr}: the "
+                             f"factorisation of a singular or ill-conditioned system)") from e
         p.x.ghostUpdate(PETSc.InsertMode.INSERT, PETSc.ScatterMode.FORWARD)
         fem_petsc.assign(p.x, p.u)
         return p.u
@@ -263,7 +272,11 @@ class DirectSolver(_LinearSolver):
         elif self._split:
             u = self._solve_keeping(self._assemble_split)
         else:
-            u = self.problem.solve()
+            try:
+                u = self.problem.solve()
+            except PETSc.Error as e:
+                raise SolveError(f"the linear solver failed (PETSc error {e.ierr}: the "
+                                 f"factorisation of a singular or ill-conditioned system)") from e
         if self.scaling == NO_SCALING:
             try:
                 self.relative_residual = self._checked()

@@ -221,7 +221,7 @@ class NewtonIteration:
         m = self.model
         target = m.scene.load
         start = self._start(target)
-        unknowns = m.unknowns if isinstance(m.unknowns, list) else [m.unknowns]
+        load_at = lambda f: load_between(start, target, base=target, f=f)  # noqa: E731
         w_start = self._w0()
         dw = (settlement - w_start) / steps
         factor, w_done, size = 0.0, w_start, dw
@@ -233,12 +233,12 @@ class NewtonIteration:
         while w_done < settlement - 1e-12 * abs(settlement):
             t0 = time.perf_counter()
             w_target = min(w_done + size, settlement)
-            ok, its, residual, lam = self._controlled_step(inner, solver, unknowns, start,
-                                                            target, factor, w_target)
+            ok, its, residual, lam = self.controlled_step(inner, solver, load_at, factor,
+                                                          w_target, self._w0)
             total += its
             if not ok:
                 m.rollback()
-                m.set_loads(load_between(start, target, base=target, f=factor))
+                m.set_loads(load_at(factor))
                 size *= 0.5
                 log.info("         %12.5e  no convergence: the settlement step is halved",
                          w_target)
@@ -267,31 +267,35 @@ class NewtonIteration:
                          f"an out-of-balance force <= {self.TOLERANCE:g}"})
         return self.last
 
-    def _controlled_step(self, inner, solver, unknowns, start, target, factor, w_target):
-        """Newton for the state and the load factor at which w0 = w_target, from the
-        committed state at ``factor``: (converged, iterations, out-of-balance, factor)."""
+    def controlled_step(self, inner, solver, load_at, factor: float, target: float,
+                        measure) -> tuple[bool, int, float, float]:
+        """Newton for the state and the load factor at which the displacement ``measure()``
+        (linear in the unknowns: w0, or a mean settlement) is ``target``, from the committed
+        state at ``factor``, the loads ``load_at(factor)``: (converged, iterations,
+        out-of-balance, factor)."""
         m = self.model
+        unknowns = m.unknowns if isinstance(m.unknowns, list) else [m.unknowns]
         lam = factor
         residual = math.inf
         for it in range(1, self.max_iterations + 1):
-            m.set_loads(load_between(start, target, base=target, f=lam))
+            m.set_loads(load_at(lam))
             try:
                 inner()
                 a = [u.x.array.copy() for u in unknowns]
-                w_a = self._w0()
-                m.set_loads(load_between(start, target, base=target, f=lam + 1.0))
+                w_a = measure()
+                m.set_loads(load_at(lam + 1.0))
                 solver.solve_again()
             except SolveError:
                 return False, it, residual, lam
             d = [u.x.array - x for u, x in zip(unknowns, a)]
-            w_d = self._w0() - w_a
+            w_d = measure() - w_a
             if not (abs(w_d) > 0.0 and math.isfinite(w_d)):
                 return False, it, residual, lam
-            step = (w_target - w_a) / w_d
+            step = (target - w_a) / w_d
             for u, x, dx in zip(unknowns, a, d):
                 u.x.array[:] = x + step * dx
             lam += step
-            m.set_loads(load_between(start, target, base=target, f=lam))
+            m.set_loads(load_at(lam))
             self.plastic.update()
             residual = m.out_of_balance()
             if not math.isfinite(residual):
@@ -309,13 +313,18 @@ class NewtonIteration:
         own = self.model.domain.mesh.topology.index_map(2).size_local * self.plastic.n_points
         return int(np.sum(self.plastic.code[:own] != -1))
 
-    def _newton(self, inner) -> tuple[bool, int, float, str]:
+    def _newton(self, inner, max_iterations: int | None = None,
+                stall: int | None = None) -> tuple[bool, int, float, str]:
         """Newton from the committed state under the loads set: (converged, iterations,
-        the last out-of-balance force, why not)."""
+        the last out-of-balance force, why not). ``max_iterations`` (default the soil's);
+        ``stall``: stop where the out-of-balance force has not halved over that many
+        iterations (no equilibrium near: a collapse search's trial beyond the limit)."""
         m = self.model
         unknowns = m.unknowns if isinstance(m.unknowns, list) else [m.unknowns]
+        max_iterations = max_iterations or self.max_iterations
         previous = m.out_of_balance()
-        for it in range(1, self.max_iterations + 1):
+        residuals = [previous]
+        for it in range(1, max_iterations + 1):
             before = [u.x.array.copy() for u in unknowns]
             try:
                 inner()
@@ -336,8 +345,13 @@ class NewtonIteration:
             if residual <= self.TOLERANCE:
                 return True, it, residual, ""
             previous = residual
-        return False, self.max_iterations, residual, (
-            f"out-of-balance force {residual:.2e} after {self.max_iterations} iterations")
+            residuals.append(residual)
+            if stall and it >= stall and residual > 0.5 * residuals[-1 - stall]:
+                return False, it, residual, (
+                    f"the out-of-balance force stalled at {residual:.2e}: not halved in "
+                    f"{stall} iterations")
+        return False, max_iterations, residual, (
+            f"out-of-balance force {residual:.2e} after {max_iterations} iterations")
 
     def _failure(self, start, target, done: float, tried: float, reason: str) -> SoilFailure:
         """The soil cannot carry the stage's load: the last share carried and where the

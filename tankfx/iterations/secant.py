@@ -277,6 +277,15 @@ class HyperbolicIteration:
         return (f"the vertical load {P / 1e6:.4g} MN, a mean bearing pressure of "
                 f"{P / (np.pi * a**2) / 1e3:.4g} kPa on the foundation (radius {a:g} m)")
 
+    def _soil_failure(self, message: str) -> SoilFailure:
+        """A SoilFailure that says what the secant law's failure is: the model's, not the
+        ground's."""
+        return SoilFailure(
+            f"{message}. This is where the secant iteration of {self.law.title} stops, which "
+            f"is the model's limit ({self.law.why_it_cannot_fail}); for the ground's bearing "
+            f"capacity use soil.model = \"mohr_coulomb\" with [analysis] collapse = \"load\"",
+            self.history)
+
     def _collapse(self, s, it: int, error: SolveError) -> SoilFailure:
         """A linear solve failed inside the iteration (the soil so softened that the system
         is singular to round-off): what failed, where and under what load."""
@@ -287,21 +296,21 @@ class HyperbolicIteration:
         where = (f"{n} cells of the soil {self._where(mask)} had reached "
                  f"{self.law.strength_text(s)}" if n else "no cell had yet reached the soil's "
                  "strength")
-        return SoilFailure(
+        return self._soil_failure(
             f"the soil cannot carry {self._load_text()}: at iteration {it} {where}, and the "
-            f"stiffness left could not be solved ({error})", self.history)
+            f"stiffness left could not be solved ({error})")
 
     def _fail(self, s, n_ult, ultimate, max_it, worst, du_rel, tol) -> None:
         """No converged state in max_iterations: what failed, in physical terms."""
         own_words = n_ult > 0 and self.law.exhausted_text(
             n_ult, self._where(ultimate & self.is_soil), max_it, worst, du_rel)
         if own_words:
-            raise SoilFailure(own_words, self.history)
+            raise self._soil_failure(own_words)
         if n_ult > 0:
-            raise SoilFailure(f"the soil cannot carry {self._load_text()}: {n_ult} cells of the "
-                              f"soil {self._where(ultimate & self.is_soil)} reached "
-                              f"{self.law.strength_text(s)} and no converged state was found in "
-                              f"{max_it} iterations", self.history)
+            raise self._soil_failure(
+                f"the soil cannot carry {self._load_text()}: {n_ult} cells of the soil "
+                f"{self._where(ultimate & self.is_soil)} reached {self.law.strength_text(s)} "
+                f"and no converged state was found in {max_it} iterations")
         raise SolveError(f"the hyperbolic soil iteration did not converge in {max_it} "
                          f"iterations (largest deviator misfit {worst:.3g} > {tol:g})",
                          self.history, code=Failure.MAX_ITERATIONS)

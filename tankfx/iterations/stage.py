@@ -130,6 +130,11 @@ class StageIterations:
         return self.iterations[0].run_to_settlement(self._call(1, log), solver, log,
                                                     settlement, steps)
 
+    def inner(self, log):
+        """The chain inside the outermost iteration, as one call (a collapse search drives
+        the soil's iteration itself)."""
+        return self._call(1, log)
+
     def _call(self, k: int, log):
         """``inner`` of the k-th iteration's caller: a call of its ``run``."""
         if k == len(self.iterations):

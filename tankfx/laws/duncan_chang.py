@@ -153,6 +153,9 @@ class DuncanChang(Kondner):
 
     word = "duncan_chang"
     title = "Duncan & Chang's soil"
+    why_it_cannot_fail = ("it is nonlinear elastic: where its secant iteration stops is the "
+                          "model's limit, with no flow rule and no collapse mechanism, not the "
+                          "ground's bearing capacity")
     max_iterations = 80        # (its failed zones settle slowly: 10-64 iterations measured)
     keys = (*STRATUM_CONSTANTS, "atmospheric_pressure", "water_table", "water_unit_weight")
     layer_keys = STRATUM_CONSTANTS

@@ -116,6 +116,9 @@ class Kondner(SoilLaw):
     word = "hyperbolic"
     title = "Kondner's hyperbolic soil"
     iteration = "secant"
+    why_it_cannot_fail = ("it is nonlinear elastic: where its secant iteration stops depends on "
+                          "nu (at a constant nu it loses its bulk stiffness with its shear "
+                          "stiffness), not on the ground's bearing capacity")
     iteration_keys = ("tolerance", "max_iterations")
     max_iterations = 40
     keys = layer_keys = ("hyperbolic_a", "hyperbolic_b")

@@ -46,6 +46,8 @@ class MohrCoulombSoil(SoilLaw):
     #: its state lives at the forms' quadrature points (stress, plastic strain, the
     #: plastic flag): the soil block holds it for the Newton iteration
     point_state = True
+    #: its ground fails: a collapse load and a strength factor are its to compute
+    fails = True
     #: the displacement form only: a stratum's nu at most MAX_NU
     displacement_form_only = True
     #: its plastic strain stays when the load comes off
@@ -190,6 +192,14 @@ class MohrCoulombSoil(SoilLaw):
                 f"Pa differs from sigma'_v by more than twice the strength that "
                 f"{where}.cohesion, cohesion_gradient and friction_angle give); raise the "
                 f"strength or give a K0 nearer 1"]
+
+    @classmethod
+    def undrained_strength(cls, soil, depth: float) -> float | None:
+        """Tresca's s_u at ``depth`` (cohesion + gradient below the stratum's top) where
+        every stratum has phi = 0, else None."""
+        if any(st.friction_angle for st in soil.strata):
+            return None
+        return float(cls.point_constants(soil, np.array([depth]))["cohesion"][0])
 
     @classmethod
     def symmetric_tangent(cls, soil) -> bool:

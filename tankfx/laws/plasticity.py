@@ -49,6 +49,9 @@ IDENTITY = np.array([1.0, 1.0, 0.0, 1.0])
 _A, _B, _C, _T1, _T2, _T3 = range(6)
 CANDIDATES = ((_A,), (_T1,), (_A, _B), (_A, _C), (_A, _T1), (_T1, _T2), (_A, _C, _T1),
               (_A, _T1, _T2), (_T1, _T2, _T3))
+#: the tangent at the apex, relative to the elastic one (its own is zero)
+APEX_STIFFNESS = 1e-3
+
 #: the return's code per point: -1 elastic, k the k-th candidate, len(CANDIDATES) the apex
 ELASTIC, APEX = -1, len(CANDIDATES)
 
@@ -157,7 +160,11 @@ def principal_return(sigma_tr, E, nu, cohesion, sin_phi, sin_psi, tension=None):
                         np.nan)
         apex = np.minimum(apex, t[idx])
         sigma[idx] = apex[:, None]
-        P[idx] = 0.0
+        # (its tangent is zero; a thousandth of the elastic one keeps a cell whose points
+        # all sit there from making the matrix singular: measured, a c-phi footing's
+        # factorisation failed near the surface, where the weightless soil is unconfined.
+        # The stress, and so the out-of-balance force and the converged state, are exact)
+        P[idx] = APEX_STIFFNESS * np.eye(3)
         code[idx] = APEX
     return sigma, P, code
 

@@ -138,6 +138,17 @@ class SoilLaw:
         return True
 
     @classmethod
+    def undrained_strength(cls, soil, depth: float) -> float | None:
+        """s_u at ``depth`` (m) where the soil is Tresca's (undrained, phi = 0 in every
+        stratum), else None: what a bearing capacity factor N_c = q / s_u divides by."""
+        return None
+
+    #: whether the ground it makes can fail (a collapse load or a strength factor is its to
+    #: compute), and if not, why, in words
+    fails = False
+    why_it_cannot_fail = "it is elastic without limit: its ground never fails"
+
+    @classmethod
     def initial_modulus(cls, soil, depth, st):
         """Each cell's initial modulus where it is not its stratum's E(h) (a numpy array at
         the cells' ``depth``, ``st`` their strata's constants); None: E(h), interpolated."""

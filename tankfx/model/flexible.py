@@ -14,7 +14,7 @@ import ufl
 from dolfinx import fem
 
 from ..fem.blocks import OutOfBalance
-from ..fem.evaluate import assemble_scalar, evaluate_at, nodal_values_on_facets
+from ..fem.evaluate import allsum, assemble_scalar, evaluate_at, nodal_values_on_facets
 from ..mesh import FACET_TAGS, Domain
 from ..scene.scene import Scene
 from .soil import SoilBlock, SoilSetting
@@ -93,6 +93,18 @@ class FlexibleLoad:
 
     def soil_residual(self):
         return self.soil.residual(self.soil.a, self.L_u)
+
+    def mean_settlement(self) -> float:
+        """The loaded area's mean settlement, m: linear in the unknowns, what a collapse's
+        settlement control raises."""
+        if not hasattr(self, "_w_mean_form"):
+            ds = ufl.Measure("ds", domain=self.domain.mesh,
+                             subdomain_data=self.domain.facet_tags)
+            self._w_mean_form = fem.form(-self.soil.u[1] * 2.0 * math.pi * self.soil.r * ds(
+                FACET_TAGS["contact"]))
+        a = self.scene.foundation_radius
+        return allsum(self.domain.mesh.comm, fem.assemble_scalar(self._w_mean_form)) / (
+            math.pi * a ** 2)
 
     def foundation_results(self) -> dict:
         """w0, w_edge, wd, w_mean of the loaded area (on the soil surface)."""

@@ -64,5 +64,16 @@ class History:
         for name, field in self.fields.items():
             _values(field)[...] = self._committed[name]
 
+    def snapshot(self) -> dict[str, np.ndarray]:
+        """A copy of the committed values, to return to with :meth:`restore` past later
+        commits (a collapse search run from a stage's converged state)."""
+        return {name: v.copy() for name, v in self._committed.items()}
+
+    def restore(self, snapshot: dict[str, np.ndarray]) -> None:
+        """The fields and their committed values as ``snapshot`` holds them."""
+        for name, values in snapshot.items():
+            self._committed[name][...] = values
+        self.rollback()
+
     def __contains__(self, name: str) -> bool:
         return name in self.fields

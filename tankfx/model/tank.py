@@ -370,6 +370,12 @@ class TankModel:
         return ShellResultants(self.w, self.r_b, self.t_b, self.E, self.nu, self.thickness,
                                   self.offset)
 
+    def mean_settlement(self) -> float:
+        """The plate's mean settlement, m (the area's mean of its underside's w): linear in
+        the unknowns, what a collapse's settlement control raises."""
+        return allsum(self.mesh.comm, fem.assemble_scalar(self._w_mean_form)) / (
+            math.pi * self.scene.plate.radius ** 2)
+
     @cached_property
     def _w_mean_form(self):
         u_b = ufl.split(self.w)[0]

@@ -402,3 +402,18 @@ def plot_sweep(rows: list[dict], axes: dict, path, title: str = "", x_key: str |
         if any(row.get("overturning.tilt") is not None for row in rows):
             y_keys.append("overturning.tilt")
     return save(sweep_chart(rows, axes, x_key, y_keys, x_unit, title), path)
+
+
+def plot_collapse(results: dict, path: str | Path, title: str = "") -> Path | None:
+    """The factor against the foundation's mean settlement along the collapse search, the
+    bracket's failed factor dashed. Rank 0 writes the PNG."""
+    c = results.get("collapse")
+    if not c:
+        return None
+    x = 1e3 * np.asarray(c["curve"]["mean_settlement"])
+    label = "load factor" if c["kind"] == "load" else "strength factor (c, tan phi divided)"
+    curves = {label: np.asarray(c["curve"]["factor"])}
+    if c["found"]:
+        curves["failed (no equilibrium)"] = np.full(len(x), c["bracket"][1])
+    return plot_curves(x, {label: curves}, path, "mean settlement of the foundation [mm]",
+                       title=title)

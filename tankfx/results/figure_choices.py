@@ -15,7 +15,7 @@ from ..laws.soil_laws import SOIL_LAWS
 #: The figures ``write_figures`` may write (which ones depends on the scene).
 FIGURES = ("section.png", "stress_level.png", "settlement.png", "moments.png", "profiles.png",
            "contact.png", "load_path.png", "overturning.png", "overturning_wall.png",
-           "tilt.png", "consolidation.png", "isochrones.png")
+           "tilt.png", "consolidation.png", "isochrones.png", "collapse.png", "mechanism.png")
 
 
 #: the quantities section.png can show: name -> (its label, the factor to its unit)
@@ -61,6 +61,10 @@ CHARTABLE: dict[str, tuple[str, float, str]] = {
     "consolidation.degree": ("degree of consolidation", 1.0, ""),
     "consolidation.undrained.w0": ("undrained w0", 1e3, "mm"),
     "consolidation.drained.w0": ("drained w0", 1e3, "mm"),
+    "collapse.load_factor": ("factor of safety on the loads", 1.0, ""),
+    "collapse.strength_factor": ("factor of safety on the strength", 1.0, ""),
+    "collapse.N_c": ("N_c = q_ult / s_u", 1.0, ""),
+    "collapse.bearing_pressure": ("bearing pressure at collapse", 1e-3, "kPa"),
 }
 #: the charts of a sweep without a [charts] table: dimensional
 DEFAULT_CHARTS = ("w0", "wd", "M0")

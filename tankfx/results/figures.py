@@ -15,6 +15,7 @@ import numpy as np
 from dolfinx import fem, plot
 
 from .charts import (  # noqa: F401  (the line charts, re-exported: one place to import figures)
+    plot_collapse,
     plot_contact,
     plot_curves,
     plot_settlement,
@@ -527,6 +528,17 @@ def plot_tilt(results: dict, path: str | Path, title: str = "",
     return save_figure(p, path)
 
 
+def magnitude(u: fem.Function) -> fem.Function:
+    """|u| of a vector field, on its mesh's P1 space."""
+    import ufl
+
+    V1 = fem.functionspace(u.function_space.mesh, ("Lagrange", 1))
+    out = fem.Function(V1, name="magnitude")
+    out.interpolate(fem.Expression(ufl.sqrt(ufl.inner(u, u)),
+                                   V1.element.interpolation_points))
+    return out
+
+
 def section_field(solution, quantity: str):
     """The field section.png shows (tankfx.results.fields for the cell fields)."""
     if quantity == "sigma_zz":
@@ -581,6 +593,17 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
         level = soil_cell_fields(solution.model, solution.statuses)["stress_level"]
         figures.append((plot_section, (solution.u, level, directory / "stress_level.png"),
                         section | level_view))
+    if solution.collapse is not None:
+        # the collapse: its curve, and its mechanism (the last increment) over the section
+        figures.append((plot_collapse, (r, directory / "collapse.png"), {"title": title}))
+        du = solution.collapse["increment"]
+        if du is not None:
+            figures.append((plot_section, (du, magnitude(du), directory / "mechanism.png"),
+                            section | {"label": "|du| [mm]", "scalar_scale": 1e3,
+                                       "title": f"{title}: the collapse mechanism (the last "
+                                                f"increment)",
+                                       "marked": (solution.collapse["plastic"],
+                                                  "yielding cells at collapse")}))
     if "stages" in r:
         figures.append((plot_load_path, (r, directory / "load_path.png"), {"title": title}))
     figures.append((plot_settlement, (r, directory / "settlement.png"), {"title": title}))

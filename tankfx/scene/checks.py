@@ -10,6 +10,7 @@ from typing import Any
 from ..laws.soil_law import words
 from ..laws.soil_laws import SOIL_LAWS
 from .reader import (
+    COLLAPSES,
     CONDITIONS,
     DRAINAGE,
     KEYS,
@@ -482,6 +483,30 @@ def check_load(rd: Reader, load: dict | None, plate: dict | None, wall: dict | N
         rd.bad("[load]: no load is applied; give load.pressure > 0 (Pa), a liquid, "
                "self_weight = true, a roof_weight, a gas_pressure or an "
                "overturning_moment")
+
+
+def check_analysis(rd: Reader, analysis: dict, soil: dict, load: dict) -> None:
+    """A collapse asked of a soil that can fail, with something to raise or reduce."""
+    collapse = analysis.get("collapse")
+    if collapse is None:
+        return
+    if collapse not in COLLAPSES:
+        rd.bad(f"analysis.collapse = {collapse!r}: unknown{suggest(collapse, COLLAPSES)} "
+               f"(\"load\": the variable loads raised until the ground fails; \"strength\": "
+               f"the soil's c and tan phi reduced until it fails)")
+        return
+    law = SOIL_LAWS.get(soil.get("model", Soil.model))
+    if law is not None and not law.fails:
+        what = "no strength to reduce" if collapse == "strength" else "no collapse load"
+        rd.bad(f"analysis.collapse = {collapse!r} with soil.model = {law.word!r}: {law.title} "
+               f"has {what}: {law.why_it_cannot_fail}; use soil.model = "
+               f"{words(SOIL_LAWS.values(), lambda x: x.fails)} (with its cohesion and "
+               f"friction_angle)")
+    variable = ("pressure", "liquid_height", "gas_pressure", "roof_weight")
+    if collapse == "load" and not any(load.get(k) for k in variable):
+        rd.bad("analysis.collapse = \"load\": the [load] has no variable load to raise (a "
+               "pressure, a liquid, a gas pressure or a roof's weight); give one, or ask for "
+               "collapse = \"strength\"")
 
 
 def check_discretisation(rd: Reader, mesh: dict, solver: dict, soil: dict,

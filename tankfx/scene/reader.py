@@ -14,6 +14,7 @@ from .keys import Key
 from .plausible import implausible
 from .sections import (
     ALTERNATIVE_KEYS,
+    Analysis,
     Consolidation,
     DomainSize,
     Interface,
@@ -30,7 +31,7 @@ from .sections import (
 #: The sections of a scene file and the dataclass each is read into
 SECTIONS = {"soil": Soil, "plate": Plate, "wall": Wall, "ringwall": Ringwall,
             "interface": Interface, "load": Load, "domain": DomainSize, "mesh": MeshOptions,
-            "solver": SolverOptions, "consolidation": Consolidation}
+            "solver": SolverOptions, "consolidation": Consolidation, "analysis": Analysis}
 _TYPES = {"float": float, "int": int, "bool": bool, "str": str}
 
 
@@ -67,6 +68,7 @@ CONDITIONS = KEYS["interface"]["condition"].choices
 ON_CYCLE = KEYS["interface"]["on_cycle"].choices
 STATES = KEYS["interface"]["states"].choices
 DRAINAGE = KEYS["consolidation"]["drainage"].choices
+COLLAPSES = KEYS["analysis"]["collapse"].choices
 
 TOP = {"title": str, "accept": list}
 REQUIRED_SECTIONS = ("soil", "load")

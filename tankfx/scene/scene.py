@@ -15,6 +15,7 @@ from typing import Any
 
 from ..laws.rigidity import Kp_from_thickness
 from .checks import (
+    check_analysis,
     check_consolidation,
     check_discretisation,
     check_domain,
@@ -30,6 +31,7 @@ from .checks import (
 from .reader import SPEC, Reader
 from .resolve import (
     domain_of,
+    given,
     interface_of,
     load_of,
     mesh_of,
@@ -40,6 +42,7 @@ from .resolve import (
 )
 from .sections import (
     E_FROM_KEYS,
+    Analysis,
     Consolidation,
     DomainSize,
     Interface,
@@ -123,6 +126,8 @@ class Scene:
     #: ``accept``; tankfx.scene.plausible), and what each of them is, in words
     accept: tuple[str, ...] = ()
     accepted: tuple[str, ...] = field(default=(), compare=False)
+    #: what is asked beyond the response to the load: the ground's collapse
+    analysis: Analysis = field(default_factory=Analysis)
 
     @property
     def foundation_radius(self) -> float:
@@ -210,10 +215,12 @@ class Scene:
         if self.accept:
             out["accept"] = list(self.accept)
         for name in ("soil", "plate", "wall", "ringwall", "interface", "load", "domain",
-                     "mesh", "solver", "consolidation"):
+                     "mesh", "solver", "consolidation", "analysis"):
             part = getattr(self, name)
             if part is not None:
                 out[name] = plain(part)
+        if not out["analysis"]:
+            del out["analysis"]
         if self.soil.layers:
             out["soil"]["layers"] = [plain(layer) for layer in self.soil.layers]
         else:
@@ -310,6 +317,8 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
                  layers)
     if secs["ringwall"] is not None:
         check_ringwall(rd, secs["ringwall"], plate, wall, domain, a)
+    if secs["analysis"] is not None:
+        check_analysis(rd, secs["analysis"], soil or {}, load or {})
     if secs["consolidation"] is not None:
         check_consolidation(rd, secs["consolidation"], data, soil or {}, layers, deg, method)
     else:
@@ -327,6 +336,12 @@ def _parse_path(data: dict[str, Any]) -> Scene:
     """A scene with a load path: the scene of its [load], then each stage as that [load]
     with its keys changed, and a consolidation's times along the path."""
     rest = {k: v for k, v in data.items() if k != "stages"}
+    collapse = (data.get("analysis") or {}).get("collapse") \
+        if isinstance(data.get("analysis"), dict) else None
+    if collapse is not None:
+        raise SceneError([f"analysis.collapse = {collapse!r} with [[stages]]: the collapse "
+                          f"is sought for one load, the [load]; remove the [[stages]] (or "
+                          f"analyse the path without a collapse)"])
     raw, times = stage_times_of(data["stages"], "consolidation" in data)
     scene = _parse(rest)
     stages = _parse_stages(rest, raw, scene)
@@ -368,7 +383,8 @@ def _build(data: dict[str, Any], secs: dict, layers: list, choices: dict[str, st
                  ringwall=None if ring is None else Ringwall(**ring),
                  consolidation=None if cons is None else Consolidation(
                      **{**cons, "times": tuple(float(t) for t in cons["times"])}),
-                 title=data.get("title", Scene.title))
+                 title=data.get("title", Scene.title),
+                 analysis=given(Analysis, secs["analysis"] or {}))
 
 
 def _parse_stages(data: dict[str, Any], raw, scene: Scene) -> tuple[Load, ...]:

@@ -812,6 +812,21 @@ class MeshOptions:
 
 
 @dataclass(frozen=True)
+class Analysis:
+    """What is asked of the scene beyond its response to the load: the ground's collapse."""
+
+    collapse: str | None = key(
+        None, choices=("load", "strength"), custom=True, default_doc="none",
+        meaning="the ground's collapse, after the scene's own analysis: \"load\" raises the "
+                "variable loads (pressure, liquid, gas, roof; the self-weight held) by a "
+                "factor until the ground fails, \"strength\" holds the loads and divides "
+                "the soil's c and tan phi by a factor until it fails; either is bracketed "
+                "between a converged and a failed state to 0.5 % (`collapse` in the "
+                "results). Needs soil.model = \"mohr_coulomb\" and one [load] (no "
+                "[[stages]])")
+
+
+@dataclass(frozen=True)
 class SolverOptions:
     method: str = key("direct", choices=("direct", "iterative"), custom=True,
                       meaning="\"direct\": MUMPS (LDL^T, or LU with a Mohr-Coulomb interface); "
@@ -860,6 +875,20 @@ def load_between(a: Load, b: Load, f: float, base: Load | None = None) -> Load:
         fd.name: (1.0 - f) * getattr(a, fd.name) + f * getattr(b, fd.name)
         for fd in fields(Load) if isinstance(getattr(a, fd.name), float)
         and fd.name != "load_radius"})
+
+
+def factored_load(held: Load, full: Load, f: float) -> Load:
+    """The loads at a factor ``f`` of the variable loads of ``full`` (its pressure, liquid,
+    gas pressure and roof's weight; its self-weight and unit weights held, as in ``held``,
+    the same load with those amounts at zero): up to 1 as a stage applies them (a tank
+    fills: its liquid rises), beyond 1 the full loads times f (the liquid as one f times as
+    heavy at its full height, so that its pressures, on the floor as on the wall, are f
+    times the full ones)."""
+    if f <= 1.0:
+        return load_between(held, full, f, base=full)
+    return replace(full, pressure=f * full.pressure, gas_pressure=f * full.gas_pressure,
+                   roof_weight=f * full.roof_weight,
+                   liquid_unit_weight=f * full.liquid_unit_weight)
 
 
 def vertical_load(load: Load, plate: Plate | None, wall: Wall | None,

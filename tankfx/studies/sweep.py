@@ -205,10 +205,16 @@ CONSOLIDATION_COLUMNS = ("consolidation.degree", "consolidation.undrained.w0",
                          "consolidation.drained.M0", "consolidation.c_v")
 
 
+#: ... and, with a collapse search, these
+COLLAPSE_COLUMNS = ("collapse.load_factor", "collapse.strength_factor", "collapse.found",
+                    "collapse.N_c", "collapse.bearing_pressure", "collapse.mechanism.kind")
+
+
 def _flatten(results: dict, extra=()) -> dict:
     out = {}
     for col in COLUMNS + (OVERTURNING_COLUMNS if "overturning" in results else ()) + \
             (CONSOLIDATION_COLUMNS if "consolidation" in results else ()) + \
+            (COLLAPSE_COLUMNS if "collapse" in results else ()) + \
             tuple(c for c in extra if c not in COLUMNS):
         value = results
         for part in col.split("."):

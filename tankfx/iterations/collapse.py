@@ -1,0 +1,303 @@
+"""The ground's collapse: the factor on the variable loads (``collapse = "load"``) or on the
+soil's strength (``"strength"``) at which the ground fails, bracketed between a converged
+and a failed state, from the scene's own converged analysis.
+
+**Load.** The variable loads times a factor F (:func:`tankfx.scene.sections.factored_load`:
+up to 1 as the stage applied them, beyond 1 their pressures times F; the self-weight held)
+are followed under control of the foundation's mean settlement (Batoz & Dhatt's
+displacement control, :meth:`tankfx.iterations.newton.NewtonIteration.controlled_step`):
+each step raises the mean settlement and finds the factor and the state together, so the
+steps pass the limit point, where load steps cannot go. When the curve has flattened (its
+slope below ``PLATEAU_SLOPE`` of its first), the factor F_c reached is tried under load
+control at F_c (1 + BRACKET) from the converged state: if that fails, the collapse factor
+lies in [F_c, F_c (1 + BRACKET)] (the ground carries F_c, and no equilibrium is found above
+it); if it converges, the search goes on from there. A scene whose load already fails
+starts from the share it carried.
+
+**Strength.** The loads held, c and tan phi are divided by a factor F (the dilation angle
+kept until the reduced friction angle reaches it, then equal to it, as PLAXIS does), each
+trial solved by Newton from the last converged state: F grows while Newton converges, and
+once a trial fails the bracket [converged, failed] is halved until it is narrower than
+BRACKET. Its failed state is one where Newton finds no equilibrium in its iterations from
+the converged one.
+
+Both record the settlement at each step, the reason the last trial failed, and the last
+increments' displacement, the mechanism.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import replace
+
+import numpy as np
+from dolfinx import fem
+
+from ..fem.evaluate import evaluate_at
+from ..scene.sections import factored_load, vertical_load
+from .newton import AMOUNTS
+
+#: the bracket's width, relative: a collapse factor F_c is bracketed in [F_c, F_c (1 + BRACKET)]
+BRACKET = 0.005
+
+
+class _Quiet:
+    """A logger's info at debug level (a search's inner solves, below its own lines)."""
+
+    def __init__(self, log):
+        self.info, self.debug, self.warning = log.debug, log.debug, log.warning
+
+
+class CollapseSearch:
+    """The collapse search of a solved scene (its model, its chain of iterations, whose
+    outermost is the elastoplastic soil's Newton iteration, and its solver)."""
+
+    #: the load-settlement curve is flat where its slope has fallen below this share of
+    #: its first
+    PLATEAU_SLOPE = 2e-3
+    #: settlement-controlled steps at most, and the mean settlement at most, in foundation
+    #: radii (beyond it, no collapse was found: the factor reached is a lower bound)
+    MAX_STEPS, MAX_SETTLEMENT = 120, 0.25
+    #: strength trials at most
+    MAX_TRIALS = 60
+    #: a trial's Newton iterations at most, and the iterations over which its out-of-balance
+    #: force must halve: near the limit Newton converges slowly (a c-phi footing 0.3 % below
+    #: its limit: 42 iterations; budgets of 25 and 30 called such trials failures, 1-2 %
+    #: low), beyond it the force stalls
+    TRIAL_ITERATIONS, STALL = 100, 50
+
+    def __init__(self, model, chain, solver, log):
+        self.model, self.solver, self.log = model, solver, log
+        self.newton = chain.iterations[0]
+        self.inner = chain.inner(log)
+        self.curve: list[dict] = []
+        self.increment = None
+
+    # ---- the state a search starts from, given back afterwards ----------------------------
+    def _histories(self):
+        m = self.model
+        return [m.soil.history] + ([m.interface.history] if hasattr(m, "interface") else [])
+
+    def _unknowns(self):
+        m = self.model
+        return m.unknowns if isinstance(m.unknowns, list) else [m.unknowns]
+
+    def snapshot(self):
+        """A converged state to come back to (histories, unknowns, loads)."""
+        return ([h.snapshot() for h in self._histories()],
+                [u.x.array.copy() for u in self._unknowns()], self.model.scene.load)
+
+    def restore(self, snap) -> None:
+        """Back to ``snap``: the scene's own results and figures are of that state."""
+        histories, unknowns, load = snap
+        for h, s in zip(self._histories(), histories):
+            h.restore(s)
+        for u, values in zip(self._unknowns(), unknowns):
+            u.x.array[:] = values
+        self.model.set_loads(load)
+        self.newton.plastic.update()
+
+    # ---- load ------------------------------------------------------------------------
+    def by_load(self, full) -> dict:
+        """The factor on ``full``'s variable loads at which the ground fails, from the
+        state before they are applied (the ground at rest, a pit dug): the held loads (the
+        self-weight) first, then the variable ones under settlement control."""
+        m, nw, log = self.model, self.newton, self.log
+        t0 = time.perf_counter()
+        held = replace(full, **{name: 0.0 for name in AMOUNTS})
+
+        def load_at(f):
+            return factored_load(held, full, f)
+
+        a = m.scene.foundation_radius
+        m.set_loads(held)
+        m.begin_stage()
+        nw.begin_stage()
+        nw.run(self.inner, _Quiet(log))          # (the self-weight alone, if any)
+        F, w = 0.0, m.mean_settlement()
+        self._point(F, w, 0)
+        log.info("collapse by load: the variable loads raised under control of the mean "
+                 "settlement")
+        log.info("  step  factor        mean settlement (m)  Newton  plastic pts  time s")
+        dw = max(0.1 * abs(w), 2e-4 * a)
+        w_start = w
+        slope0, iterations, reason, bracket = None, 0, "", None
+        near_plateau = False
+        previous = [u.x.array.copy() for u in self._unknowns()]
+        for step in range(1, self.MAX_STEPS + 1):
+            if w - w_start > self.MAX_SETTLEMENT * a:
+                reason = (f"no collapse within a mean settlement of {self.MAX_SETTLEMENT:g} "
+                          f"radii more ({w:.4g} m): the load was still rising")
+                break
+            ts = time.perf_counter()
+            ok, its, residual, lam = nw.controlled_step(self.inner, self.solver, load_at, F,
+                                                        w + dw, m.mean_settlement)
+            iterations += its
+            if not ok:
+                m.rollback()
+                m.set_loads(load_at(F))
+                dw *= 0.5
+                log.info("         no convergence (out-of-balance %.2e): the settlement step "
+                         "is halved", residual)
+                if dw < 1e-6 * a:
+                    reason = (f"the settlement-controlled steps did not converge beyond a mean "
+                              f"settlement of {w:.4g} m")
+                    break
+                continue
+            increment = self._increment(previous)
+            nw.plastic.commit()
+            m.commit()
+            slope = (lam - F) / dw
+            slope0 = slope if slope0 is None else slope0
+            F, w = lam, w + dw
+            self.increment = increment
+            previous = [u.x.array.copy() for u in self._unknowns()]
+            self._point(F, w, its)
+            log.info("  %4d  %12.6f  %12.5e  %6d  %11d  %7.2f", step, F, w, its,
+                     m.domain.mesh.comm.allreduce(nw._plastic_points()), time.perf_counter() - ts)
+            if slope < self.PLATEAU_SLOPE * slope0 or near_plateau:
+                near_plateau = False
+                bracket, reason, more = self._try_above(load_at, F)
+                iterations += more
+                if bracket is not None:
+                    break
+                # (carried: the curve goes on from there, its slope measured afresh)
+                F, w = self.curve[-1]["factor"], self.curve[-1]["mean_settlement"]
+                previous = [u.x.array.copy() for u in self._unknowns()]
+                slope0 = None
+            if its <= nw.FAST:
+                dw = min(1.5 * dw, 0.02 * a)
+        found = bracket is not None
+        return self._record("load", F, bracket, found, reason, iterations, t0,
+                            load=load_at(F))
+
+    def _try_above(self, load_at, F: float):
+        """Load control from the converged state at F to F (1 + BRACKET): (the bracket and
+        why the failed state failed, or None where it converged, and the iterations)."""
+        m, nw = self.model, self.newton
+        F_try = F * (1.0 + BRACKET)
+        previous = [u.x.array.copy() for u in self._unknowns()]
+        m.set_loads(load_at(F_try))
+        ok, its, residual, why = nw._newton(self.inner, self.TRIAL_ITERATIONS, self.STALL)
+        if not ok:
+            m.rollback()
+            m.set_loads(load_at(F))
+            self.log.info("  the load factor %.6g is not carried (%s): collapse between %.6g "
+                          "and %.6g", F_try, why, F, F_try)
+            return (F, F_try), (f"at {F_try:.6g} Newton found no equilibrium from the state "
+                                f"converged at {F:.6g}: {why}"), its
+        self.increment = self._increment(previous)
+        nw.plastic.commit()
+        m.commit()
+        self._point(F_try, m.mean_settlement(), its)
+        self.log.info("  the load factor %.6g is carried too: the search goes on", F_try)
+        return None, "", its
+
+    # ---- strength ----------------------------------------------------------------------
+    def by_strength(self) -> dict:
+        """The factor on c and tan phi at which the ground fails under the scene's load,
+        from the converged state at the full strength."""
+        m, nw, log = self.model, self.newton, self.log
+        t0 = time.perf_counter()
+        k = nw.plastic.constants
+        c0, sin_phi0, sin_psi0 = k["cohesion"].copy(), k["sin_phi"].copy(), k["sin_psi"].copy()
+        tan_phi0 = np.tan(np.arcsin(sin_phi0))
+
+        def reduce(F):
+            k["cohesion"][:] = c0 / F
+            k["sin_phi"][:] = np.sin(np.arctan(tan_phi0 / F))
+            # (the dilation angle kept until the reduced friction angle reaches it)
+            k["sin_psi"][:] = np.minimum(sin_psi0, k["sin_phi"])
+
+        F_ok, F_fail, dF = 1.0, None, 0.1
+        self._point(F_ok, m.mean_settlement(), 0)
+        log.info("collapse by strength: c and tan phi divided by a factor under the "
+                 "scene's load")
+        log.info("  trial  factor     converged  Newton  mean settlement (m)  time s")
+        iterations, reason = 0, ""
+        previous = [u.x.array.copy() for u in self._unknowns()]
+        try:
+            for trial in range(1, self.MAX_TRIALS + 1):
+                if F_fail is not None and F_fail / F_ok - 1.0 <= BRACKET:
+                    break
+                F = F_ok + dF if F_fail is None else 0.5 * (F_ok + F_fail)
+                ts = time.perf_counter()
+                reduce(F)
+                ok, its, residual, why = nw._newton(self.inner, self.TRIAL_ITERATIONS,
+                                                    self.STALL)
+                iterations += its
+                log.info("  %5d  %9.5f  %9s  %6d  %19s  %6.2f", trial, F, ok, its,
+                         f"{m.mean_settlement():.5e}" if ok else "-", time.perf_counter() - ts)
+                if ok:
+                    self.increment = self._increment(previous)
+                    nw.plastic.commit()
+                    m.commit()
+                    previous = [u.x.array.copy() for u in self._unknowns()]
+                    F_ok = F
+                    self._point(F, m.mean_settlement(), its)
+                    if F_fail is None and its <= nw.FAST:
+                        dF *= 2.0
+                else:
+                    m.rollback()
+                    F_fail = F if F_fail is None else min(F_fail, F)
+                    reason = (f"at {F:.6g} Newton found no equilibrium from the state "
+                              f"converged at {F_ok:.6g}: {why}")
+            else:
+                reason = f"no bracket within {self.MAX_TRIALS} trials"
+        finally:
+            reduce(1.0)
+        found = F_fail is not None and F_fail / F_ok - 1.0 <= BRACKET
+        return self._record("strength", F_ok, (F_ok, F_fail) if found else None, found,
+                            reason, iterations, t0, load=m.scene.load)
+
+    # ---- what both record ------------------------------------------------------------------
+    def _point(self, factor: float, w: float, iterations: int) -> None:
+        self.curve.append({"factor": factor, "mean_settlement": w, "iterations": iterations})
+
+    def _increment(self, previous):
+        """The soil's displacement since ``previous`` (the unknowns' values then)."""
+        u = self.model.soil.u
+        du = fem.Function(u.function_space, name="mechanism")
+        du.x.array[:] = u.x.array - previous[0]
+        return du
+
+    def _record(self, kind, F, bracket, found, reason, iterations, t0, load) -> dict:
+        m = self.model
+        sc = m.scene
+        a = sc.foundation_radius
+        out = {"kind": kind, "found": found,
+               f"{kind}_factor": F, "bracket": list(bracket) if bracket else None,
+               "reason": reason, "bracket_width": BRACKET,
+               "curve": {k: [p[k] for p in self.curve] for k in ("factor", "mean_settlement")},
+               "steps": len(self.curve) - 1, "iterations": iterations,
+               "time_s": time.perf_counter() - t0}
+        q = vertical_load(load, sc.plate, sc.wall, sc.ringwall) / (math.pi * a ** 2)
+        out["bearing_pressure"] = q
+        s_u = sc.soil.law.undrained_strength(sc.soil, sc.embedment)
+        if s_u is not None and kind == "load":
+            out["N_c"] = q / s_u
+            out["undrained_strength"] = s_u
+        if self.increment is not None:
+            out["mechanism"] = mechanism(self.increment, a, sc.embedment)
+        return out
+
+
+#: the mechanism is "base" where the last increment's settlement at the axis is at least
+#: this share of its largest under the foundation, else "edge"
+BASE_SHARE = 0.5
+
+
+def mechanism(increment: fem.Function, a: float, depth: float) -> dict:
+    """The collapse mechanism's kind from the last increment of the soil's displacement
+    under the foundation (r from 0 to a at its underside): "base" where the settlement
+    increment at the axis is at least BASE_SHARE of its largest there (the whole foundation
+    punches in), else "edge" (the ground gives way under its edge, its centre held back:
+    the plastic zone that fails does not reach the axis). Collective."""
+    r = np.linspace(0.0, a, 41)
+    dw = -evaluate_at(increment, np.column_stack([r, np.full_like(r, -depth)]))[:, 1]
+    largest = float(np.max(dw))
+    share = float(dw[0] / largest) if largest > 0.0 else 0.0
+    return {"kind": "base" if share >= BASE_SHARE else "edge", "axis_share": share,
+            "largest_at_r": float(r[int(np.argmax(dw))]),
+            "rule": f"base where the last increment's settlement at the axis is at least "
+                    f"{BASE_SHARE:g} of its largest under the foundation, else edge"}

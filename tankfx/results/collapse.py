@@ -1,0 +1,52 @@
+"""The collapse's words and summary rows (results.json's ``collapse``:
+:mod:`tankfx.iterations.collapse`; its chart is :func:`tankfx.results.charts.plot_collapse`)."""
+from __future__ import annotations
+
+
+def collapse_factor(record: dict) -> float:
+    """The factor a collapse search found (on the loads, or on the strength)."""
+    return record[f"{record['kind']}_factor"]
+
+
+def collapse_words(record: dict) -> str:
+    """One sentence: the factor, its bracket, the mechanism (or why none was found)."""
+    kind = record["kind"]
+    what = "load factor" if kind == "load" else "strength factor"
+    F = collapse_factor(record)
+    if not record["found"]:
+        return (f"no collapse bracketed ({record['reason']}); the {what} {F:.4g} was carried, "
+                f"a lower bound")
+    lo, hi = record["bracket"]
+    out = f"{what} {lo:.4g} (the ground carries {lo:.4g}, fails at {hi:.4g})"
+    if "N_c" in record:
+        out += f", N_c = q / s_u = {record['N_c']:.3f}"
+    if "mechanism" in record:
+        out += f", mechanism: {record['mechanism']['kind']}"
+    return out
+
+
+def collapse_rows(r: dict) -> list[tuple[str, str, str]]:
+    """The summary's rows of a collapse search."""
+    c = r.get("collapse")
+    if not c:
+        return []
+    kind = c["kind"]
+    name = "factor of safety on the loads" if kind == "load" else \
+        "factor of safety on the strength"
+    F = collapse_factor(c)
+    if not c["found"]:
+        return [(name, f"> {F:.4g}", f"not bracketed: {c['reason']}")]
+    lo, hi = c["bracket"]
+    rows = [(name, f"{lo:.4g}", f"carried at {lo:.4g}, not at {hi:.4g} "
+                                f"({'c and tan phi divided by it' if kind == 'strength' else 'variable loads times it, self-weight held'})")]
+    rows.append(("bearing pressure at collapse", f"{c['bearing_pressure'] / 1e3:.4g} kPa",
+                 "mean, vertical load over the foundation's area"
+                 + (f"; N_c = q / s_u = {c['N_c']:.3f} (s_u = "
+                    f"{c['undrained_strength'] / 1e3:.4g} kPa at its level)" if "N_c" in c
+                    else "")))
+    if "mechanism" in c:
+        m = c["mechanism"]
+        rows.append(("collapse mechanism", m["kind"],
+                     f"the last increment's settlement at the axis is {m['axis_share']:.2f} of "
+                     f"its largest (at r = {m['largest_at_r']:.3g} m); {m['rule']}"))
+    return rows
