@@ -66,13 +66,13 @@ def test_a_c_phi_soil_at_its_strength_factor_carries_its_load_and_no_more():
     load steps of the scene's own analysis may fail where settlement control passes.)"""
     soil = {"friction_angle": 20.0, "dilation_angle": 20.0}
     strength = analyse(Scene.from_dict(footing(collapse="strength", soil=soil,
-                                               pressure=100e3, mesh=(0.01, 0.25)))
+                                               pressure=100e3, mesh=(0.02, 0.4)))
                        ).results["collapse"]
     F = strength["strength_factor"]
     reduced = {"cohesion": S_U / F, "dilation_angle": None,
                "friction_angle": float(np.degrees(np.arctan(np.tan(np.radians(20.0)) / F)))}
     reduced["dilation_angle"] = reduced["friction_angle"]
-    load = analyse(Scene.from_dict(footing(soil=reduced, pressure=90e3, mesh=(0.01, 0.25)))
+    load = analyse(Scene.from_dict(footing(soil=reduced, pressure=90e3, mesh=(0.02, 0.4)))
                    ).results["collapse"]
     width = strength["bracket"][1] / strength["bracket"][0] - 1.0
     assert 0.9 * load["load_factor"] == pytest.approx(1.0, abs=width + load["bracket_width"]

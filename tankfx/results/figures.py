@@ -600,6 +600,7 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
         if du is not None:
             figures.append((plot_section, (du, magnitude(du), directory / "mechanism.png"),
                             section | {"label": "|du| [mm]", "scalar_scale": 1e3,
+                                       "structure": None,     # (drawn at the load's state)
                                        "title": f"{title}: the collapse mechanism (the last "
                                                 f"increment)",
                                        "marked": (solution.collapse["plastic"],
