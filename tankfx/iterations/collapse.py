@@ -157,7 +157,7 @@ class CollapseSearch:
                      m.domain.mesh.comm.allreduce(nw._plastic_points()), time.perf_counter() - ts)
             if slope < self.PLATEAU_SLOPE * slope0 or near_plateau:
                 near_plateau = False
-                bracket, reason, more = self._try_above(load_at, F)
+                bracket, reason, more = self._try_above(load_at, F, w_start)
                 iterations += more
                 if bracket is not None:
                     break
@@ -171,7 +171,22 @@ class CollapseSearch:
         return self._record("load", F, bracket, found, reason, iterations, t0,
                             load=load_at(F))
 
-    def _try_above(self, load_at, F: float):
+    def _small(self, ok: bool, why: str, w_start: float) -> tuple[bool, str]:
+        """A converged trial counts only within a mean settlement of MAX_SETTLEMENT radii
+        from the search's start: beyond, Newton's "equilibrium" lies far outside small
+        strains (measured: a footing's strength trial beyond its limit converged at a mean
+        settlement of 115 m, the discrete mesh's slow rise at huge strains)."""
+        if not ok:
+            return ok, why
+        a = self.model.scene.foundation_radius
+        w = self.model.mean_settlement()
+        if w - w_start > self.MAX_SETTLEMENT * a:
+            return False, (f"an equilibrium only at a mean settlement of {w:.4g} m, beyond "
+                           f"{self.MAX_SETTLEMENT:g} radii: outside small strains, no "
+                           f"equilibrium")
+        return ok, why
+
+    def _try_above(self, load_at, F: float, w_start: float):
         """Load control from the converged state at F to F (1 + BRACKET): (the bracket and
         why the failed state failed, or None where it converged, and the iterations)."""
         m, nw = self.model, self.newton
@@ -179,6 +194,7 @@ class CollapseSearch:
         previous = [u.x.array.copy() for u in self._unknowns()]
         m.set_loads(load_at(F_try))
         ok, its, residual, why = nw._newton(self.inner, self.TRIAL_ITERATIONS, self.STALL)
+        ok, why = self._small(ok, why, w_start)
         if not ok:
             m.rollback()
             m.set_loads(load_at(F))
@@ -210,22 +226,30 @@ class CollapseSearch:
             k["sin_psi"][:] = np.minimum(sin_psi0, k["sin_phi"])
 
         F_ok, F_fail, dF = 1.0, None, 0.1
-        self._point(F_ok, m.mean_settlement(), 0)
+        w_start = m.mean_settlement()
+        self._point(F_ok, w_start, 0)
         log.info("collapse by strength: c and tan phi divided by a factor under the "
                  "scene's load")
         log.info("  trial  factor     converged  Newton  mean settlement (m)  time s")
         iterations, reason = 0, ""
         previous = [u.x.array.copy() for u in self._unknowns()]
         try:
+            failed_from = None          # (the converged factor the failed trial started from)
             for trial in range(1, self.MAX_TRIALS + 1):
                 if F_fail is not None and F_fail / F_ok - 1.0 <= BRACKET:
-                    break
-                F = F_ok + dF if F_fail is None else 0.5 * (F_ok + F_fail)
+                    if failed_from == F_ok:
+                        break
+                    # the failed trial started further down: try it again from the
+                    # bracket's converged state, so that the failure is that state's
+                    F = F_fail
+                else:
+                    F = F_ok + dF if F_fail is None else 0.5 * (F_ok + F_fail)
                 ts = time.perf_counter()
                 reduce(F)
                 ok, its, residual, why = nw._newton(self.inner, self.TRIAL_ITERATIONS,
                                                     self.STALL)
                 iterations += its
+                ok, why = self._small(ok, why, w_start)
                 log.info("  %5d  %9.5f  %9s  %6d  %19s  %6.2f", trial, F, ok, its,
                          f"{m.mean_settlement():.5e}" if ok else "-", time.perf_counter() - ts)
                 if ok:
@@ -235,11 +259,15 @@ class CollapseSearch:
                     previous = [u.x.array.copy() for u in self._unknowns()]
                     F_ok = F
                     self._point(F, m.mean_settlement(), its)
+                    if F_fail is not None and F >= F_fail:
+                        # (the failure did not hold from nearer: search on above)
+                        F_fail, dF = None, BRACKET * F
                     if F_fail is None and its <= nw.FAST:
                         dF *= 2.0
                 else:
                     m.rollback()
                     F_fail = F if F_fail is None else min(F_fail, F)
+                    failed_from = F_ok
                     reason = (f"at {F:.6g} Newton found no equilibrium from the state "
                               f"converged at {F_ok:.6g}: {why}")
             else:
@@ -251,6 +279,23 @@ class CollapseSearch:
                             reason, iterations, t0, load=m.scene.load)
 
     # ---- what both record ------------------------------------------------------------------
+    #: the knee of the curve: where its slope has fallen below this share of its first
+    KNEE_SLOPE = 0.05
+
+    def _knee(self) -> float | None:
+        """The factor where the curve's slope (factor per mean settlement) first falls below
+        KNEE_SLOPE of its first: where the ground's mechanism has formed, what a flexible
+        tank's slowly rising tail (contained plastic flow) carries beyond it; None where it
+        does not fall so far."""
+        F = np.array([p["factor"] for p in self.curve])
+        w = np.array([p["mean_settlement"] for p in self.curve])
+        if len(F) < 3:
+            return None
+        slope = np.diff(F) / np.maximum(np.diff(w), 1e-300)
+        low = np.flatnonzero(slope < self.KNEE_SLOPE * slope[0])
+        return float(F[low[0]]) if len(low) else None
+
+
     def _point(self, factor: float, w: float, iterations: int) -> None:
         self.curve.append({"factor": factor, "mean_settlement": w, "iterations": iterations})
 
@@ -267,6 +312,7 @@ class CollapseSearch:
         a = sc.foundation_radius
         out = {"kind": kind, "found": found,
                f"{kind}_factor": F, "bracket": list(bracket) if bracket else None,
+               "knee_factor": self._knee(),
                "reason": reason, "bracket_width": BRACKET,
                "curve": {k: [p[k] for p in self.curve] for k in ("factor", "mean_settlement")},
                "steps": len(self.curve) - 1, "iterations": iterations,

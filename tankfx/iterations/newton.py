@@ -38,6 +38,11 @@ class NewtonIteration:
     one_update_inside = False
     #: the out-of-balance force of a converged step, relative to the load vector
     TOLERANCE = 1e-8
+    #: a step whose out-of-balance force is below ROUND_OFF and has stopped falling (three
+    #: iterations without halving) has converged to the round-off of its state: measured on
+    #: a 25 m tank's collapse at metres of settlement, steps stalled at 1.1-1.5e-8 and were
+    #: cut back for nothing
+    ROUND_OFF = 1e-7
     #: the first step's share of a stage's load, and the smallest step
     FIRST_STEP, MIN_STEP = 0.25, 1.0 / 512
     #: a step that converged in at most this many iterations lets the next grow by GROWTH
@@ -277,6 +282,7 @@ class NewtonIteration:
         unknowns = m.unknowns if isinstance(m.unknowns, list) else [m.unknowns]
         lam = factor
         residual = math.inf
+        history = []
         for it in range(1, self.max_iterations + 1):
             m.set_loads(load_at(lam))
             try:
@@ -300,7 +306,8 @@ class NewtonIteration:
             residual = m.out_of_balance()
             if not math.isfinite(residual):
                 return False, it, residual, lam
-            if residual <= self.TOLERANCE:
+            history.append(residual)
+            if residual <= self.TOLERANCE or self._at_round_off(history):
                 return True, it, residual, lam
             first = residual if it == 1 else first
             if residual > self.DIVERGING * first:
@@ -308,6 +315,11 @@ class NewtonIteration:
                 # has left Newton's basin; measured, none came back)
                 return False, it, residual, lam
         return False, self.max_iterations, residual, lam
+
+    def _at_round_off(self, residuals: list[float]) -> bool:
+        """Below ROUND_OFF and not halved over the last three iterations."""
+        return (len(residuals) > 3 and residuals[-1] <= self.ROUND_OFF
+                and residuals[-1] > 0.5 * residuals[-4])
 
     def _plastic_points(self) -> int:
         own = self.model.domain.mesh.topology.index_map(2).size_local * self.plastic.n_points
@@ -342,10 +354,10 @@ class NewtonIteration:
                     u.x.array[:] = a + alpha * (b - a)
             if not math.isfinite(residual):
                 return False, it, residual, "the out-of-balance force is not finite"
-            if residual <= self.TOLERANCE:
-                return True, it, residual, ""
             previous = residual
             residuals.append(residual)
+            if residual <= self.TOLERANCE or self._at_round_off(residuals):
+                return True, it, residual, ""
             if stall and it >= stall and residual > 0.5 * residuals[-1 - stall]:
                 return False, it, residual, (
                     f"the out-of-balance force stalled at {residual:.2e}: not halved in "

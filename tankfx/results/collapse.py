@@ -14,8 +14,10 @@ def collapse_words(record: dict) -> str:
     what = "load factor" if kind == "load" else "strength factor"
     F = collapse_factor(record)
     if not record["found"]:
+        knee = (f"; the curve's knee at {record['knee_factor']:.4g}"
+                if record.get("knee_factor") else "")
         return (f"no collapse bracketed ({record['reason']}); the {what} {F:.4g} was carried, "
-                f"a lower bound")
+                f"a lower bound{knee}")
     lo, hi = record["bracket"]
     out = f"{what} {lo:.4g} (the ground carries {lo:.4g}, fails at {hi:.4g})"
     if "N_c" in record:
@@ -35,7 +37,14 @@ def collapse_rows(r: dict) -> list[tuple[str, str, str]]:
         "factor of safety on the strength"
     F = collapse_factor(c)
     if not c["found"]:
-        return [(name, f"> {F:.4g}", f"not bracketed: {c['reason']}")]
+        rows = [(name, f">= {F:.4g}", f"a lower bound, not bracketed: {c['reason']}")]
+        if c.get("knee_factor"):
+            rows.append(("the load-settlement curve's knee", f"{c['knee_factor']:.4g}",
+                         "its slope below 5 % of its first: the ground's mechanism formed, "
+                         "the rest carried by contained plastic flow"))
+        if "mechanism" in c:
+            rows.append(("collapse mechanism", c["mechanism"]["kind"], c["mechanism"]["rule"]))
+        return rows
     lo, hi = c["bracket"]
     rows = [(name, f"{lo:.4g}", f"carried at {lo:.4g}, not at {hi:.4g} "
                                 f"({'c and tan phi divided by it' if kind == 'strength' else 'variable loads times it, self-weight held'})")]
