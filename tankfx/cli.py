@@ -292,6 +292,12 @@ def describe(scene) -> list[str]:
                      f"{c.permeability:g} m/s, drained at the {c.drainage.replace('_', ' ')})")
     out.append(f"  builds: {', '.join(parts)}; iterates: "
                f"{', '.join(iterations) if iterations else 'nothing (one linear solve a stage)'}")
+    if scene.analysis.collapse == "load":
+        out.append("  then: the collapse by load (the variable loads raised from the ground "
+                   "before them under control of the mean settlement, bracketed to 0.5 %)")
+    elif scene.analysis.collapse == "strength":
+        out.append("  then: the collapse by strength (c and tan phi divided by a factor under "
+                   "the load, bisected to 0.5 %)")
     return out
 
 
