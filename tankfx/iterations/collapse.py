@@ -282,18 +282,18 @@ class CollapseSearch:
     #: the knee of the curve: where its slope has fallen below this share of its first
     KNEE_SLOPE = 0.05
 
-    def _knee(self) -> float | None:
-        """The factor where the curve's slope (factor per mean settlement) first falls below
-        KNEE_SLOPE of its first: where the ground's mechanism has formed, what a flexible
-        tank's slowly rising tail (contained plastic flow) carries beyond it; None where it
-        does not fall so far."""
+    def _knee(self) -> list[float] | None:
+        """The two factors of the curve between which its slope (factor per mean
+        settlement) first falls below KNEE_SLOPE of its first: where the ground's mechanism
+        has formed (a flexible tank's edge punching in), what its slowly rising tail
+        (contained plastic flow) carries beyond; None where it does not fall so far."""
         F = np.array([p["factor"] for p in self.curve])
         w = np.array([p["mean_settlement"] for p in self.curve])
         if len(F) < 3:
             return None
         slope = np.diff(F) / np.maximum(np.diff(w), 1e-300)
         low = np.flatnonzero(slope < self.KNEE_SLOPE * slope[0])
-        return float(F[low[0]]) if len(low) else None
+        return [float(F[low[0]]), float(F[low[0] + 1])] if len(low) else None
 
 
     def _point(self, factor: float, w: float, iterations: int) -> None:
@@ -312,7 +312,7 @@ class CollapseSearch:
         a = sc.foundation_radius
         out = {"kind": kind, "found": found,
                f"{kind}_factor": F, "bracket": list(bracket) if bracket else None,
-               "knee_factor": self._knee(),
+               "knee_factor": (self._knee() or [None])[0], "knee_bracket": self._knee(),
                "reason": reason, "bracket_width": BRACKET,
                "curve": {k: [p[k] for p in self.curve] for k in ("factor", "mean_settlement")},
                "steps": len(self.curve) - 1, "iterations": iterations,

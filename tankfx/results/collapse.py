@@ -38,10 +38,11 @@ def collapse_rows(r: dict) -> list[tuple[str, str, str]]:
     F = collapse_factor(c)
     if not c["found"]:
         rows = [(name, f">= {F:.4g}", f"a lower bound, not bracketed: {c['reason']}")]
-        if c.get("knee_factor"):
-            rows.append(("the load-settlement curve's knee", f"{c['knee_factor']:.4g}",
-                         "its slope below 5 % of its first: the ground's mechanism formed, "
-                         "the rest carried by contained plastic flow"))
+        if c.get("knee_bracket"):
+            lo, hi = c["knee_bracket"]
+            rows.append(("the ground's mechanism forms at", f"{lo:.4g}",
+                         f"the curve's knee: its slope falls below 5 % of its first between "
+                         f"{lo:.4g} and {hi:.4g}; beyond it, contained plastic flow"))
         if "mechanism" in c:
             rows.append(("collapse mechanism", c["mechanism"]["kind"], c["mechanism"]["rule"]))
         return rows
