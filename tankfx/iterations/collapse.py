@@ -65,6 +65,8 @@ class CollapseSearch:
     #: its limit: 42 iterations; budgets of 25 and 30 called such trials failures, 1-2 %
     #: low), beyond it the force stalls
     TRIAL_ITERATIONS, STALL = 100, 50
+    #: the stall test of a strength trial more than 4 brackets above the last converged one
+    FAR_STALL = 15
 
     def __init__(self, model, chain, solver, log):
         self.model, self.solver, self.log = model, solver, log
@@ -246,8 +248,12 @@ class CollapseSearch:
                     F = F_ok + dF if F_fail is None else 0.5 * (F_ok + F_fail)
                 ts = time.perf_counter()
                 reduce(F)
+                # (a trial far above the last converged one stalls soon where it fails; a
+                # false failure there only brings the next trial nearer, and the bracket's
+                # own failed trial is always one within 4 brackets of its converged state)
+                near = F / F_ok - 1.0 <= 4.0 * BRACKET
                 ok, its, residual, why = nw._newton(self.inner, self.TRIAL_ITERATIONS,
-                                                    self.STALL)
+                                                    self.STALL if near else self.FAR_STALL)
                 iterations += its
                 ok, why = self._small(ok, why, w_start)
                 log.info("  %5d  %9.5f  %9s  %6d  %19s  %6.2f", trial, F, ok, its,
