@@ -72,7 +72,9 @@ SKIP = {"timings_s", "linear_solves", "solves", "iterations", "history", "relati
         "last_relative_residual", "krylov_iterations"}
 #: the tolerance of a scene's numbers, relative to each quantity's scale, by how it is
 #: solved: its measured spread (the table above) times about a hundred
-TOLERANCE = {"linear": 1e-7, "secant": 1e-5}
+#: ("newton": the elastoplastic soil's load steps, each converged to 1e-8 of the load vector,
+#: carry their round-off on as the secant loop's iterations do: the secant's tolerance)
+TOLERANCE = {"linear": 1e-7, "secant": 1e-5, "newton": 1e-5}
 #: an equilibrium's relative error (round-off itself) must stay below this
 EQUILIBRIUM = 1e-8
 
