@@ -36,16 +36,10 @@ from dolfinx import fem
 from ..fem.evaluate import evaluate_at
 from ..scene.sections import factored_load, vertical_load
 from .newton import AMOUNTS
+from .stage import _AtDebug
 
 #: the bracket's width, relative: a collapse factor F_c is bracketed in [F_c, F_c (1 + BRACKET)]
 BRACKET = 0.005
-
-
-class _Quiet:
-    """A logger's info at debug level (a search's inner solves, below its own lines)."""
-
-    def __init__(self, log):
-        self.info, self.debug, self.warning = log.debug, log.debug, log.warning
 
 
 class CollapseSearch:
@@ -115,7 +109,7 @@ class CollapseSearch:
         m.set_loads(held)
         m.begin_stage()
         nw.begin_stage()
-        nw.run(self.inner, _Quiet(log))          # (the self-weight alone, if any)
+        nw.run(self.inner, _AtDebug(log))          # (the self-weight alone, if any)
         F, w = 0.0, m.mean_settlement()
         self._point(F, w, 0)
         log.info("collapse by load: the variable loads raised under control of the mean "
@@ -124,7 +118,6 @@ class CollapseSearch:
         dw = max(0.1 * abs(w), 2e-4 * a)
         w_start = w
         slope0, iterations, reason, bracket = None, 0, "", None
-        near_plateau = False
         previous = [u.x.array.copy() for u in self._unknowns()]
         for step in range(1, self.MAX_STEPS + 1):
             if w - w_start > self.MAX_SETTLEMENT * a:
@@ -157,8 +150,7 @@ class CollapseSearch:
             self._point(F, w, its)
             log.info("  %4d  %12.6f  %12.5e  %6d  %11d  %7.2f", step, F, w, its,
                      m.domain.mesh.comm.allreduce(nw._plastic_points()), time.perf_counter() - ts)
-            if slope < self.PLATEAU_SLOPE * slope0 or near_plateau:
-                near_plateau = False
+            if slope < self.PLATEAU_SLOPE * slope0:
                 bracket, reason, more = self._try_above(load_at, F, w_start)
                 iterations += more
                 if bracket is not None:
@@ -316,9 +308,10 @@ class CollapseSearch:
         m = self.model
         sc = m.scene
         a = sc.foundation_radius
+        knee = self._knee()
         out = {"kind": kind, "found": found,
                f"{kind}_factor": F, "bracket": list(bracket) if bracket else None,
-               "knee_factor": (self._knee() or [None])[0], "knee_bracket": self._knee(),
+               "knee_factor": knee[0] if knee else None, "knee_bracket": knee,
                "reason": reason, "bracket_width": BRACKET,
                "curve": {k: [p[k] for p in self.curve] for k in ("factor", "mean_settlement")},
                "steps": len(self.curve) - 1, "iterations": iterations,

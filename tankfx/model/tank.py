@@ -415,9 +415,7 @@ class TankModel:
         u = evaluate_at(F["u"], pts, cells)
         w = -u[:, 1]
         M_r = evaluate_at(F["M_s"], pts, cells)[:, 0]
-        ap = s.plate.radius
-        w_mean = allsum(self.mesh.comm, fem.assemble_scalar(self._w_mean_form)) / \
-            (math.pi * ap**2)
+        w_mean = self.mean_settlement()
         self.last_w_mean = float(w_mean)
         return {"w0": float(w[0]), "w_edge": float(w[-1]), "wd": float(w.max() - w.min()),
                 "w_mean": float(w_mean), "M0": float(M_r[0])}
