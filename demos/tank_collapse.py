@@ -50,8 +50,8 @@ for kind in searches:
     found[kind] = solution
     c = solution.results["collapse"]
     say(f"\ncollapse by {kind}: {c['kind']} factor {c[f'{kind}_factor']:.4g}"
-        + (f" in [{c['bracket'][0]:.4g}, {c['bracket'][1]:.4g}]" if c["found"]
-           else " (a lower bound: not bracketed within a settlement of a quarter radius)")
+        + (f" in [{c['bracket'][0]:.4g}, {c['bracket'][1]:.4g}], failed by {c['failure']}"
+           if c["found"] else f" (a lower bound: {c['reason']})")
         + (f"; the mechanism forms at {c['knee_bracket'][0]:.4g}-{c['knee_bracket'][1]:.4g}"
            if c.get("knee_bracket") else "")
         + f"; mechanism: {c['mechanism']['kind']} ({c['time_s']:.0f} s)")
@@ -61,27 +61,29 @@ say(f"\nunder the full tank: w0 = {1e3 * r['w0']:.0f} mm, at the shell "
 
 # %% [markdown]
 # ## What it says
-# The strength search brackets the factor of safety of the full fill (about 1.19 on the
-# default mesh): the clay could lose a sixth of its strength before the ground fails. The
-# load search follows the load-settlement curve; under a flexible floor it has a clear
-# knee, where the edge mechanism forms (about 1.13), and then rises slowly without a
-# plateau: the shell's edge punches in while the interior, still holding, takes the rest
-# (contained plastic flow). It reports the factor it reached as a lower bound, just under
-# the strength factor, as it should be for Tresca's clay. The mechanism is "edge": the
-# last increment of the soil's displacement is under the shell, the centre still
-# (`mechanism.png`). docs/development/2026-11-27-collapse.md has the measurements, and
-# `python benchmarks/tank_collapse.py --coarse` the factors against the fill height.
+# Under a flexible floor the load-settlement curve has a clear knee, where the edge
+# mechanism forms (about 1.13), and then rises slowly without a plateau: the shell's edge
+# punches in while the interior, still holding, takes the rest (contained plastic flow).
+# Such a curve is read as a load test's is: the ground has failed at a mean settlement of a
+# tenth of the diameter (De Beer; Vesic), 2.5 m here. Both searches bracket their factor
+# against that criterion (`failure` is "settlement"; a rigid footing's is "no equilibrium",
+# its plateau), and for Tresca's clay they agree: 1.179 by strength and 1.178 by load on
+# the default mesh, so the clay could lose 15 % of its strength, or the water weigh 18 %
+# more, before the ground fails. The mechanism is "edge": the last increment of the soil's displacement is under
+# the shell, the centre still (`mechanism.png`). docs/development/2026-11-27-collapse.md
+# has the measurements, and `python benchmarks/tank_collapse.py --coarse` the factors
+# against the fill height.
 
 # %%
 load = found["load"].results["collapse"]
 assert load["mechanism"]["kind"] == "edge"              # the shell's edge punches in
+assert load["found"] and load["failure"] == "settlement"  # no plateau: the criterion
 assert load["knee_bracket"][1] <= load["load_factor"]   # the knee below what it carries
 if "strength" in found:
     strength = found["strength"].results["collapse"]
     assert strength["found"]
-    # Tresca: the two factors agree (the load's a lower bound, within 2 %)
-    assert load["load_factor"] <= strength["bracket"][1]
-    assert strength["strength_factor"] - load["load_factor"] < 0.02 * load["load_factor"]
+    # Tresca: the two factors agree (the steel's weight, held, is 2 % of the load)
+    assert abs(strength["strength_factor"] / load["load_factor"] - 1.0) < 0.01
 for kind, solution in found.items():
     if comm.rank == 0:
         (out / kind).mkdir(exist_ok=True)

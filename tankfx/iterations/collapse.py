@@ -21,6 +21,15 @@ once a trial fails the bracket [converged, failed] is halved until it is narrowe
 BRACKET. Its failed state is one where Newton finds no equilibrium in its iterations from
 the converged one.
 
+**Failure.** A failed state is one with no equilibrium (Newton's out-of-balance force does
+not fall within its budget) or one whose equilibrium lies beyond the settlement criterion:
+a mean settlement of the foundation of a tenth of its diameter (``FAILURE_SETTLEMENT``
+radii; Vesic's and De Beer's ultimate load where a load test's curve has no plateau). A
+rigid footing or raft reaches its plateau well before it (general shear); a flexible
+tank's floor, whose edge punches in, reaches the criterion on a curve that still rises
+slowly (contained plastic flow carried by the interior): the factor is then the one at the
+criterion, and the record says which failure bracketed it.
+
 Both record the settlement at each step, the reason the last trial failed, and the last
 increments' displacement, the mechanism.
 """
@@ -49,9 +58,14 @@ class CollapseSearch:
     #: the load-settlement curve is flat where its slope has fallen below this share of
     #: its first
     PLATEAU_SLOPE = 2e-3
-    #: settlement-controlled steps at most, and the mean settlement at most, in foundation
-    #: radii (beyond it, no collapse was found: the factor reached is a lower bound)
-    MAX_STEPS, MAX_SETTLEMENT = 120, 0.25
+    #: settlement-controlled steps at most
+    MAX_STEPS = 120
+    #: the settlement criterion of failure, in foundation radii: a mean settlement of 0.1 D
+    #: from the ground before the foundation's load. Where a curve has no plateau, the
+    #: ultimate load is taken at a settlement of a tenth of the width (De Beer 1967; Vesic
+    #: 1975, local and punching shear); beyond it small strains no longer hold (a footing's
+    #: strength trial beyond its limit "converged" at a mean settlement of 115 m)
+    FAILURE_SETTLEMENT = 0.2
     #: strength trials at most
     MAX_TRIALS = 60
     #: a trial's Newton iterations at most, and the iterations over which its out-of-balance
@@ -68,6 +82,7 @@ class CollapseSearch:
         self.inner = chain.inner(log)
         self.curve: list[dict] = []
         self.increment = None
+        self.failure: str | None = None
 
     # ---- the state a search starts from, given back afterwards ----------------------------
     def _histories(self):
@@ -116,17 +131,18 @@ class CollapseSearch:
                  "settlement")
         log.info("  step  factor        mean settlement (m)  Newton  plastic pts  time s")
         dw = max(0.1 * abs(w), 2e-4 * a)
-        w_start = w
+        w_failure = self.FAILURE_SETTLEMENT * a
         slope0, iterations, reason, bracket = None, 0, "", None
         previous = [u.x.array.copy() for u in self._unknowns()]
-        for step in range(1, self.MAX_STEPS + 1):
-            if w - w_start > self.MAX_SETTLEMENT * a:
-                reason = (f"no collapse within a mean settlement of {self.MAX_SETTLEMENT:g} "
-                          f"radii more ({w:.4g} m): the load was still rising")
-                break
+        if w >= w_failure:
+            reason = (f"the held loads alone settle the foundation {w:.4g} m, beyond the "
+                      f"settlement criterion of failure ({w_failure:.4g} m)")
+        for step in range(1, self.MAX_STEPS + 1 if w < w_failure else 1):
             ts = time.perf_counter()
+            # (the last step lands on the settlement criterion)
+            target = min(w + dw, w_failure)
             ok, its, residual, lam = nw.controlled_step(self.inner, self.solver, load_at, F,
-                                                        w + dw, m.mean_settlement)
+                                                        target, m.mean_settlement)
             iterations += its
             if not ok:
                 m.rollback()
@@ -142,18 +158,23 @@ class CollapseSearch:
             increment = self._increment(previous)
             nw.plastic.commit()
             m.commit()
-            slope = (lam - F) / dw
+            slope = (lam - F) / (target - w)
             slope0 = slope if slope0 is None else slope0
-            F, w = lam, w + dw
+            F, w = lam, target
             self.increment = increment
             previous = [u.x.array.copy() for u in self._unknowns()]
             self._point(F, w, its)
             log.info("  %4d  %12.6f  %12.5e  %6d  %11d  %7.2f", step, F, w, its,
                      m.domain.mesh.comm.allreduce(nw._plastic_points()), time.perf_counter() - ts)
-            if slope < self.PLATEAU_SLOPE * slope0:
-                bracket, reason, more = self._try_above(load_at, F, w_start)
+            at_criterion = w >= w_failure * (1.0 - 1e-9)
+            if slope < self.PLATEAU_SLOPE * slope0 or at_criterion:
+                bracket, reason, more = self._try_above(load_at, F)
                 iterations += more
                 if bracket is not None:
+                    break
+                if at_criterion:
+                    reason = (f"{F * (1.0 + BRACKET):.6g} was carried within a mean settlement "
+                              f"of {w_failure:.4g} m: the curve is not monotonic there")
                     break
                 # (carried: the curve goes on from there, its slope measured afresh)
                 F, w = self.curve[-1]["factor"], self.curve[-1]["mean_settlement"]
@@ -161,26 +182,34 @@ class CollapseSearch:
                 slope0 = None
             if its <= nw.FAST:
                 dw = min(1.5 * dw, 0.02 * a)
+        else:
+            reason = reason or f"no collapse within {self.MAX_STEPS} settlement-controlled steps"
         found = bracket is not None
         return self._record("load", F, bracket, found, reason, iterations, t0,
-                            load=load_at(F))
+                            load=load_at(F), failure=self.failure if found else None)
 
-    def _small(self, ok: bool, why: str, w_start: float) -> tuple[bool, str]:
-        """A converged trial counts only within a mean settlement of MAX_SETTLEMENT radii
-        from the search's start: beyond, Newton's "equilibrium" lies far outside small
-        strains (measured: a footing's strength trial beyond its limit converged at a mean
-        settlement of 115 m, the discrete mesh's slow rise at huge strains)."""
+    def _small(self, ok: bool, why: str) -> tuple[bool, str]:
+        """A converged trial counts only within the settlement criterion (a mean settlement
+        of FAILURE_SETTLEMENT radii): beyond it, the ground has failed. Records which failure
+        it was (``self.failure``)."""
         if not ok:
+            self.failure = "no equilibrium"
             return ok, why
         a = self.model.scene.foundation_radius
         w = self.model.mean_settlement()
-        if w - w_start > self.MAX_SETTLEMENT * a:
-            return False, (f"an equilibrium only at a mean settlement of {w:.4g} m, beyond "
-                           f"{self.MAX_SETTLEMENT:g} radii: outside small strains, no "
-                           f"equilibrium")
+        if w > self.FAILURE_SETTLEMENT * a * (1.0 + 1e-9):
+            self.failure = "settlement"
+            return False, (f"its equilibrium lies at a mean settlement of {w:.4g} m, beyond "
+                           f"the settlement criterion of failure ({self.FAILURE_SETTLEMENT:g} "
+                           f"radii = {self.FAILURE_SETTLEMENT * a:.4g} m)")
         return ok, why
 
-    def _try_above(self, load_at, F: float, w_start: float):
+    def _failed(self, why: str) -> str:
+        """Why a trial failed, in words (after :meth:`_small`)."""
+        return f"Newton found no equilibrium: {why}" if self.failure == "no equilibrium" \
+            else why
+
+    def _try_above(self, load_at, F: float):
         """Load control from the converged state at F to F (1 + BRACKET): (the bracket and
         why the failed state failed, or None where it converged, and the iterations)."""
         m, nw = self.model, self.newton
@@ -188,14 +217,14 @@ class CollapseSearch:
         previous = [u.x.array.copy() for u in self._unknowns()]
         m.set_loads(load_at(F_try))
         ok, its, residual, why = nw._newton(self.inner, self.TRIAL_ITERATIONS, self.STALL)
-        ok, why = self._small(ok, why, w_start)
+        ok, why = self._small(ok, why)
         if not ok:
             m.rollback()
             m.set_loads(load_at(F))
             self.log.info("  the load factor %.6g is not carried (%s): collapse between %.6g "
                           "and %.6g", F_try, why, F, F_try)
-            return (F, F_try), (f"at {F_try:.6g} Newton found no equilibrium from the state "
-                                f"converged at {F:.6g}: {why}"), its
+            return (F, F_try), (f"at {F_try:.6g}, from the state converged at {F:.6g}, "
+                                f"{self._failed(why)}"), its
         self.increment = self._increment(previous)
         nw.plastic.commit()
         m.commit()
@@ -225,7 +254,7 @@ class CollapseSearch:
         log.info("collapse by strength: c and tan phi divided by a factor under the "
                  "scene's load")
         log.info("  trial  factor     converged  Newton  mean settlement (m)  time s")
-        iterations, reason = 0, ""
+        iterations, reason, failure = 0, "", None
         previous = [u.x.array.copy() for u in self._unknowns()]
         try:
             failed_from = None          # (the converged factor the failed trial started from)
@@ -247,7 +276,7 @@ class CollapseSearch:
                 ok, its, residual, why = nw._newton(self.inner, self.TRIAL_ITERATIONS,
                                                     self.STALL if near else self.FAR_STALL)
                 iterations += its
-                ok, why = self._small(ok, why, w_start)
+                ok, why = self._small(ok, why)
                 log.info("  %5d  %9.5f  %9s  %6d  %19s  %6.2f", trial, F, ok, its,
                          f"{m.mean_settlement():.5e}" if ok else "-", time.perf_counter() - ts)
                 if ok:
@@ -266,15 +295,17 @@ class CollapseSearch:
                     m.rollback()
                     F_fail = F if F_fail is None else min(F_fail, F)
                     failed_from = F_ok
-                    reason = (f"at {F:.6g} Newton found no equilibrium from the state "
-                              f"converged at {F_ok:.6g}: {why}")
+                    reason = (f"at {F:.6g}, from the state converged at {F_ok:.6g}, "
+                              f"{self._failed(why)}")
+                    failure = self.failure
             else:
                 reason = f"no bracket within {self.MAX_TRIALS} trials"
         finally:
             reduce(1.0)
         found = F_fail is not None and F_fail / F_ok - 1.0 <= BRACKET
         return self._record("strength", F_ok, (F_ok, F_fail) if found else None, found,
-                            reason, iterations, t0, load=m.scene.load)
+                            reason, iterations, t0, load=m.scene.load,
+                            failure=failure if found else None)
 
     # ---- what both record ------------------------------------------------------------------
     #: the knee of the curve: where its slope has fallen below this share of its first
@@ -304,7 +335,8 @@ class CollapseSearch:
         du.x.array[:] = u.x.array - previous[0]
         return du
 
-    def _record(self, kind, F, bracket, found, reason, iterations, t0, load) -> dict:
+    def _record(self, kind, F, bracket, found, reason, iterations, t0, load,
+                failure) -> dict:
         m = self.model
         sc = m.scene
         a = sc.foundation_radius
@@ -313,6 +345,9 @@ class CollapseSearch:
                f"{kind}_factor": F, "bracket": list(bracket) if bracket else None,
                "knee_factor": knee[0] if knee else None, "knee_bracket": knee,
                "reason": reason, "bracket_width": BRACKET,
+               # (which failure bracketed it: "no equilibrium" or "settlement", the criterion)
+               "failure": failure,
+               "failure_settlement": self.FAILURE_SETTLEMENT * a,
                "curve": {k: [p[k] for p in self.curve] for k in ("factor", "mean_settlement")},
                "steps": len(self.curve) - 1, "iterations": iterations,
                "time_s": time.perf_counter() - t0}

@@ -19,12 +19,30 @@ def collapse_words(record: dict) -> str:
         return (f"no collapse bracketed ({record['reason']}); the {what} {F:.4g} was carried, "
                 f"a lower bound{knee}")
     lo, hi = record["bracket"]
-    out = f"{what} {lo:.4g} (the ground carries {lo:.4g}, fails at {hi:.4g})"
+    out = f"{what} {lo:.4g} (the ground carries {lo:.4g}, fails at {hi:.4g}{_how(record)})"
     if "N_c" in record:
         out += f", N_c = q / s_u = {record['N_c']:.3f}"
     if "mechanism" in record:
         out += f", mechanism: {record['mechanism']['kind']}"
     return out
+
+
+def _how(record: dict) -> str:
+    """How the failed state failed, where it was the settlement criterion."""
+    if record.get("failure") != "settlement":
+        return ""
+    return (f": beyond the settlement criterion, a mean settlement of "
+            f"{record['failure_settlement']:.3g} m = 0.1 D, on a curve still rising slowly")
+
+
+def _knee_row(c: dict, tail: str) -> list[tuple[str, str, str]]:
+    """The knee's row, where the curve has one."""
+    if not c.get("knee_bracket"):
+        return []
+    lo, hi = c["knee_bracket"]
+    return [("the ground's mechanism forms at", f"{lo:.4g}",
+             f"the curve's knee: its slope falls below 5 % of its first between {lo:.4g} and "
+             f"{hi:.4g}; beyond it, contained plastic flow{tail}")]
 
 
 def collapse_rows(r: dict) -> list[tuple[str, str, str]]:
@@ -38,17 +56,15 @@ def collapse_rows(r: dict) -> list[tuple[str, str, str]]:
     F = collapse_factor(c)
     if not c["found"]:
         rows = [(name, f">= {F:.4g}", f"a lower bound, not bracketed: {c['reason']}")]
-        if c.get("knee_bracket"):
-            lo, hi = c["knee_bracket"]
-            rows.append(("the ground's mechanism forms at", f"{lo:.4g}",
-                         f"the curve's knee: its slope falls below 5 % of its first between "
-                         f"{lo:.4g} and {hi:.4g}; beyond it, contained plastic flow"))
+        rows += _knee_row(c, "")
         if "mechanism" in c:
             rows.append(("collapse mechanism", c["mechanism"]["kind"], c["mechanism"]["rule"]))
         return rows
     lo, hi = c["bracket"]
-    rows = [(name, f"{lo:.4g}", f"carried at {lo:.4g}, not at {hi:.4g} "
+    rows = [(name, f"{lo:.4g}", f"carried at {lo:.4g}, not at {hi:.4g}{_how(c)} "
                                 f"({'c and tan phi divided by it' if kind == 'strength' else 'variable loads times it, self-weight held'})")]
+    if c.get("failure") == "settlement":
+        rows += _knee_row(c, " up to the settlement criterion")
     rows.append(("bearing pressure at collapse", f"{c['bearing_pressure'] / 1e3:.4g} kPa",
                  "mean, vertical load over the foundation's area"
                  + (f"; N_c = q / s_u = {c['N_c']:.3f} (s_u = "

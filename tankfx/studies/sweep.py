@@ -207,6 +207,7 @@ CONSOLIDATION_COLUMNS = ("consolidation.degree", "consolidation.undrained.w0",
 
 #: ... and, with a collapse search, these
 COLLAPSE_COLUMNS = ("collapse.load_factor", "collapse.strength_factor", "collapse.found",
+                    "collapse.failure", "collapse.knee_factor",
                     "collapse.N_c", "collapse.bearing_pressure", "collapse.mechanism.kind")
 
 
