@@ -1,0 +1,280 @@
+"""The lower bound: a statically admissible stress field of linear triangles, the largest
+load factor it carries (Sloan 1988's elements; axial symmetry after Tang et al.).
+
+In axial symmetry equilibrium has 1/r terms, and a linear stress cannot satisfy it
+pointwise. The unknowns are therefore the stresses times r, S = r (sigma_r, sigma_z,
+tau_rz), linear on each triangle, and sigma_theta, constant on each. Multiplied by r, the
+two equations of equilibrium become exact for them:
+
+    d(S_r)/dr + d(T)/dz - sigma_theta = 0,     d(T)/dr + d(S_z)/dz = 0.
+
+The soil's weight is carried by the hydrostatic field sigma0 = gamma z I (z <= 0, tension
+positive), which is in equilibrium with it and free of traction at the surface; S is what is
+added to it.
+
+Across every edge the traction r t = S . n is continuous, at both of its vertices. On the free
+surface it is zero there. The domain's side and base are its supports, as in the
+elastoplastic analysis: a fixed one takes any traction, a smooth one (a roller) no shear.
+The bound is therefore one of the soil in that box, as the elastoplastic collapse is. The
+box only stiffens the ground, so the half-space's own collapse load lies below it, by an
+amount that vanishes as the box grows. Under a smooth foundation T = 0. The load is the
+foundation's resultant, -2 pi int S_z dr.
+
+The yield condition, multiplied by r > 0, is a cone in (S, r sigma_theta)
+(:mod:`tankfx.laws.limit_cones`). Its left side is convex along the triangle and its right
+side affine, except for the bilinear r z of a cohesion that grows with depth and of the
+weight with friction. It is imposed at the three vertices. The bilinear term's P1
+interpolation error, at most h^2 / 2 (h the longest edge), is subtracted as a margin. The
+field is then admissible at every point, and the bound is rigorous. At r = 0 the cones force
+S = 0, the stress bounded on the axis.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..laws.limit_cones import mohr_coulomb_cones
+from .program import ConeProgram
+VERBOSE = False
+from .triangles import BASE, CONTACT, SIDE, SURFACE, Triangles, interior_and_boundary
+
+
+@dataclass(frozen=True)
+class Ground:
+    """What a bound needs of the soil, per triangle, in SI units: ``cohesion_at(e, z)`` the
+    cohesion at the points z of triangle e (linear in z within its stratum), ``phi`` (m,) the
+    friction angle (radians), ``gamma`` (m,) the unit weight, ``dc_dz`` (m,) the cohesion's
+    change with z (negative where it grows with depth)."""
+
+    c_top: np.ndarray       # (m,) the cohesion at z = 0 of each triangle's stratum line
+    dc_dz: np.ndarray
+    phi: np.ndarray
+    gamma: np.ndarray
+
+    def cohesion(self, e: np.ndarray, z: np.ndarray) -> np.ndarray:
+        return self.c_top[e] + self.dc_dz[e] * z
+
+
+@dataclass(frozen=True)
+class Loading:
+    """The foundation's load, SI: the variable load's resultant ``variable`` (N, downward),
+    the held one ``held`` (N), ``rigid`` (a rigid foundation: only the resultant is given;
+    else a uniform pressure on the contact), ``rough`` (its contact takes shear)."""
+
+    variable: float
+    held: float
+    rigid: bool
+    rough: bool
+    smooth_side: bool = False
+    smooth_base: bool = False
+
+
+@dataclass(frozen=True)
+class LowerBound:
+    factor: float
+    stress: np.ndarray          # (m, 3, 4): sigma_r, sigma_z, tau, sigma_theta at the vertices, Pa
+    equilibrium_residual: float  # the largest relative residual of equilibrium and continuity
+    yield_violation: float       # the largest violation of the yield cones over the checks, Pa
+    seconds: float
+    iterations: int
+    variables: int
+
+
+def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> LowerBound:
+    """The largest factor on ``load.variable`` a statically admissible field carries.
+    ``scale`` (Pa) makes the stresses of order one (the cohesion under the foundation)."""
+    a, m = tri.a, len(tri.cells)
+    x = tri.points / a                                  # (lengths in radii)
+    P = ConeProgram(verbose=VERBOSE)
+    S = P.variables(9 * m).reshape(m, 3, 3)             # S_r, S_z, T at each vertex
+    st = P.variables(m)                                 # sigma_theta
+    F = P.variables(1)[0]
+    p = x[tri.cells]                                    # (m, 3, 2)
+    r, z = p[..., 0], p[..., 1]
+    # gradients of the linear shape functions times 2A: b_i = z_j - z_k, c_i = r_k - r_j
+    b = np.roll(z, -1, axis=1) - np.roll(z, -2, axis=1)
+    c = np.roll(r, -2, axis=1) - np.roll(r, -1, axis=1)
+    twoA = 2.0 * tri.area / a ** 2
+    e = np.arange(m)
+    # ---- equilibrium (2 rows per triangle, scaled by 2A) ----
+    rows = np.repeat(np.arange(m), 7)
+    cols = np.column_stack([S[:, :, 0], S[:, :, 2], st[:, None]]).ravel()
+    vals = np.column_stack([b, c, -twoA[:, None]]).ravel()
+    P.equal(rows, cols, vals, np.zeros(m))
+    rows = np.repeat(np.arange(m), 6)
+    cols = np.column_stack([S[:, :, 2], S[:, :, 1]]).ravel()
+    vals = np.column_stack([b, c]).ravel()
+    P.equal(rows, cols, vals, np.zeros(m))
+    # ---- continuity of the traction across interior edges, at both vertices ----
+    _, pair, verts = interior_and_boundary(tri.cells)
+    local = _local_index(tri.cells)
+    t = x[verts[:, 1]] - x[verts[:, 0]]
+    n = np.column_stack([t[:, 1], -t[:, 0]])
+    ef, ff = pair[:, 0], pair[:, 1]
+    for v in (0, 1):
+        ie = local(ef, verts[:, v])
+        if_ = local(ff, verts[:, v])
+        for comp in ((0, 2), (2, 1)):      # (n_r S_r + n_z T), (n_r T + n_z S_z)
+            k = len(ef)
+            rows = np.repeat(np.arange(k), 4)
+            cols = np.column_stack([S[ef, ie, comp[0]], S[ef, ie, comp[1]],
+                                    S[ff, if_, comp[0]], S[ff, if_, comp[1]]]).ravel()
+            vals = np.column_stack([n[:, 0], n[:, 1], -n[:, 0], -n[:, 1]]).ravel()
+            P.equal(rows, cols, vals, np.zeros(k))
+    # ---- boundaries ----
+    owner = _boundary_owner(tri)
+    free = tri.kind == SURFACE
+    contact = tri.kind == CONTACT
+    # (a smooth support takes no shear: T on the side (n = e_r) and on the base (n = -e_z))
+    no_shear = ((tri.kind == SIDE) & load.smooth_side) | ((tri.kind == BASE) & load.smooth_base)
+    bt = x[tri.edges[:, 1]] - x[tri.edges[:, 0]]
+    bn = np.column_stack([bt[:, 1], -bt[:, 0]])
+    for v in (0, 1):
+        iv = local(owner, tri.edges[:, v])
+        for comp in ((0, 2), (2, 1)):
+            sel = np.flatnonzero(free)
+            rows = np.repeat(np.arange(len(sel)), 2)
+            cols = np.column_stack([S[owner[sel], iv[sel], comp[0]],
+                                    S[owner[sel], iv[sel], comp[1]]]).ravel()
+            vals = bn[sel].ravel()
+            P.equal(rows, cols, vals, np.zeros(len(sel)))
+        sel = np.flatnonzero(no_shear)
+        P.equal(np.arange(len(sel)), S[owner[sel], iv[sel], 2], np.ones(len(sel)),
+                np.zeros(len(sel)))
+        sel = np.flatnonzero(contact)
+        if not load.rough:                  # (smooth: no shear under the foundation)
+            P.equal(np.arange(len(sel)), S[owner[sel], iv[sel], 2], np.ones(len(sel)),
+                    np.zeros(len(sel)))
+        if not load.rigid:                  # (a uniform pressure F q: S_z = -r F q)
+            q = load.variable / (math.pi * a ** 2) / scale
+            rv = x[tri.edges[sel, v], 0]
+            P.equal(np.repeat(np.arange(len(sel)), 2),
+                    np.column_stack([S[owner[sel], iv[sel], 1], np.full(len(sel), F)]).ravel(),
+                    np.column_stack([np.ones(len(sel)), rv * q]).ravel(),
+                    -rv * load.held / (math.pi * a ** 2) / scale)
+    # ---- a rigid foundation's resultant: -2 pi int S_z dr = F V + H (in scale a^2) ----
+    sel = np.flatnonzero(contact) if load.rigid else np.empty(0, int)
+    L = np.abs(bt[sel, 0])
+    cols, vals = [], []
+    for v in (0, 1):
+        iv = local(owner[sel], tri.edges[sel, v])
+        cols.append(S[owner[sel], iv, 1])
+        vals.append(-math.pi * L)
+    norm = scale * a ** 2
+    if load.rigid:
+        P.equal(np.zeros(2 * len(sel) + 1, int), np.concatenate(cols + [[F]]),
+                np.concatenate(vals + [[-load.variable / norm]]), [load.held / norm])
+    # ---- yield at every vertex: three cones; on the axis they say S = 0, set so (a cone
+    # with an empty interior stalls an interior-point solver) ----
+    h2 = (tri.h / a) ** 2
+    on_axis = r < 1e-12
+    axis = S[on_axis].ravel()
+    P.equal(np.arange(len(axis)), axis, np.ones(len(axis)), np.zeros(len(axis)))
+    for phi in np.unique(ground.phi):
+        sel = np.flatnonzero(ground.phi == phi)
+        cones = mohr_coulomb_cones(float(phi))
+        for k in range(3):
+            _yield_cone(P, cones, k, sel, S, st, r, z, h2, ground, a, scale, ~on_axis[sel])
+    P.minimise([F], [-1.0])
+    sol = P.solve("the lower bound")
+    stress = _stresses(sol.x, S, st, r, z, ground, a, scale)
+    return LowerBound(factor=float(sol.x[F]), stress=stress,
+                      equilibrium_residual=P.equality_residual(sol.x),
+                      yield_violation=_violation(sol.x, S, st, r, z, tri, ground, a, scale),
+                      seconds=sol.seconds, iterations=sol.iterations, variables=sol.variables)
+
+
+def _yield_cone(P, cones, k, sel, S, st, r, z, h2, ground, a, scale, where) -> None:
+    """Cone k at the vertices ``where`` (n, 3) of the triangles ``sel``: s = (beta r c +
+    g . (S, r sigma_theta) + r gamma z G - margin, alpha (S_r - S_z) / 2, alpha T)."""
+    al, be, g = cones.alpha[k], cones.beta[k], cones.g[k]
+    G = g[0] + g[1] + g[3]                         # (the hydrostatic sigma0's share)
+    n = len(sel)
+    rv, zv = r[sel], z[sel]                         # (n, 3), in radii
+    c = ground.cohesion(sel[:, None], zv * a) / scale
+    gam = ground.gamma[sel, None] * a / scale
+    kappa = np.abs(be * ground.dc_dz[sel] * a / scale) + np.abs(G) * gam[:, 0]
+    const = be * rv * c + gam * rv * zv * G - (kappa * h2[sel] / 2.0)[:, None]
+    groups = np.arange(3 * n)                       # one cone per (triangle, vertex)
+    Sv = S[sel]                                     # (n, 3, 3)
+    rows0 = np.repeat(3 * groups, 4)
+    cols0 = np.column_stack([Sv[..., 0].ravel(), Sv[..., 1].ravel(), Sv[..., 2].ravel(),
+                             np.repeat(st[sel], 3)]).ravel()
+    vals0 = -np.column_stack([np.full(3 * n, g[0]), np.full(3 * n, g[1]), np.full(3 * n, g[2]),
+                              g[3] * rv.ravel()]).ravel()
+    rows1 = np.repeat(3 * groups + 1, 2)
+    cols1 = np.column_stack([Sv[..., 0].ravel(), Sv[..., 1].ravel()]).ravel()
+    vals1 = np.tile([-0.5 * al, 0.5 * al], 3 * n)
+    rows2 = 3 * groups + 2
+    cols2 = Sv[..., 2].ravel()
+    vals2 = np.full(3 * n, -al)
+    bvec = np.zeros(9 * n)
+    bvec[0::3] = const.ravel()
+    rows = np.concatenate([rows0, rows1, rows2])
+    cols = np.concatenate([cols0, cols1, cols2])
+    vals = np.concatenate([vals0, vals1, vals2])
+    # (only the cones at the vertices ``where``: renumber their rows)
+    keep = np.repeat(np.asarray(where).ravel(), 3)
+    new = np.cumsum(keep) - 1
+    mask = keep[rows]
+    P.cones(new[rows[mask]], cols[mask], vals[mask], bvec[keep], 3)
+
+
+def _local_index(cells: np.ndarray):
+    def local(e: np.ndarray, v: np.ndarray) -> np.ndarray:
+        hit = cells[e] == np.asarray(v)[:, None]
+        return np.argmax(hit, axis=1)
+    return local
+
+
+def _boundary_owner(tri: Triangles) -> np.ndarray:
+    """The triangle of each boundary edge."""
+    key = {tuple(sorted(ed)): i for i, ed in enumerate(tri.edges.tolist())}
+    owner = np.empty(len(tri.edges), dtype=np.int64)
+    for e, cell in enumerate(tri.cells.tolist()):
+        for i in range(3):
+            j = key.get(tuple(sorted((cell[i], cell[(i + 1) % 3]))))
+            if j is not None:
+                owner[j] = e
+    return owner
+
+
+def _stresses(x, S, st, r, z, ground, a, scale, bary=None) -> np.ndarray:
+    """sigma (Pa) at each triangle's vertices (or at the points of barycentric coordinates
+    ``bary`` (3,)): S / r plus sigma0 (on the axis its limit, 0 plus sigma0)."""
+    Sv = x[S] * scale                                    # (m, 3, 3)
+    if bary is not None:
+        Sv = np.einsum("i,mic->mc", bary, Sv)[:, None, :]
+        r, z = (r @ bary)[:, None], (z @ bary)[:, None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sig = np.where(r[..., None] > 1e-12, Sv / r[..., None], 0.0)
+    p0 = ground.gamma[:, None] * z * a                   # (z in radii -> m)
+    out = np.empty(sig.shape[:2] + (4,))
+    out[..., 0] = sig[..., 0] + p0
+    out[..., 1] = sig[..., 1] + p0
+    out[..., 2] = sig[..., 2]
+    out[..., 3] = x[st][:, None] * scale + p0
+    return out
+
+
+#: where the field's yield condition is checked after the solve: the vertices, the edges'
+#: midpoints and the centroid
+CHECKS = np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [.5, .5, 0], [0, .5, .5], [.5, 0, .5],
+                   [1 / 3, 1 / 3, 1 / 3]])
+
+
+def _violation(x, S, st, r, z, tri, ground, a, scale) -> float:
+    """The largest yield violation (Pa) over each triangle's CHECKS points (off the axis)."""
+    from ..laws.limit_cones import admissible
+    worst = -np.inf
+    for bary in CHECKS:
+        sig = _stresses(x, S, st, r, z, ground, a, scale, bary)[:, 0]
+        rr, zz = r @ bary, (z @ bary) * a
+        off = rr > 1e-9
+        for phi in np.unique(ground.phi):
+            sel = np.flatnonzero(off & (ground.phi == phi))
+            worst = max(worst, float(np.max(admissible(sig[sel], ground.cohesion(sel, zz[sel]),
+                                                        float(phi)), initial=-np.inf)))
+    return worst

@@ -1,0 +1,108 @@
+"""The triangles a limit analysis works on (serial, straight-sided), their boundary edges by
+kind, and their refinement where marked.
+
+The meridian (r, z), z up, the ground surface at z = 0 and the foundation on it, radius a.
+A boundary edge is on the axis (r = 0), under the foundation (z = 0, r <= a), on the free
+surface (z = 0, r >= a), on the domain's side (its largest r) or on its base (its lowest
+z).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+AXIS, CONTACT, SURFACE, SIDE, BASE = 0, 1, 2, 3, 4
+
+
+@dataclass(frozen=True)
+class Triangles:
+    """``points`` (n, 2) (r, z), ``cells`` (m, 3) counterclockwise, ``edges`` (k, 2) the
+    boundary edges (their two vertices), ``kind`` (k,) of each, ``a`` the foundation's
+    radius."""
+
+    points: np.ndarray
+    cells: np.ndarray
+    edges: np.ndarray
+    kind: np.ndarray
+    a: float
+
+    @classmethod
+    def from_points(cls, points: np.ndarray, cells: np.ndarray, a: float) -> "Triangles":
+        points = np.asarray(points, dtype=float)[:, :2]
+        cells = np.asarray(cells, dtype=np.int64)
+        # (counterclockwise, so that outward normals follow from the edge's direction)
+        p = points[cells]
+        area2 = ((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+                 - (p[:, 2, 0] - p[:, 0, 0]) * (p[:, 1, 1] - p[:, 0, 1]))
+        cells = np.where((area2 < 0)[:, None], cells[:, [0, 2, 1]], cells)
+        used = np.unique(cells)
+        renumber = np.full(len(points), -1)
+        renumber[used] = np.arange(len(used))
+        points, cells = points[used], renumber[cells]
+        edges, _, _ = interior_and_boundary(cells)
+        size = np.ptp(points, axis=0).max()
+        tol = 1e-9 * size
+        mid = 0.5 * (points[edges[:, 0]] + points[edges[:, 1]])
+        top = points[:, 1].max()
+        kind = np.full(len(edges), -1)
+        kind[np.abs(mid[:, 0] - points[:, 0].max()) < tol] = SIDE
+        kind[np.abs(mid[:, 1] - points[:, 1].min()) < tol] = BASE
+        on_top = np.abs(mid[:, 1] - top) < tol
+        kind[on_top & (mid[:, 0] < a)] = CONTACT
+        kind[on_top & (mid[:, 0] > a)] = SURFACE
+        kind[np.abs(mid[:, 0]) < tol] = AXIS
+        if np.any(kind < 0):
+            raise ValueError("a boundary edge off the axis, the surface, the side and the base: "
+                             "limit analysis takes a foundation on the surface of a box")
+        return cls(points, cells, edges, kind, a)
+
+    @property
+    def h(self) -> np.ndarray:
+        """Each triangle's longest edge."""
+        p = self.points[self.cells]
+        return np.max([np.linalg.norm(p[:, i] - p[:, (i + 1) % 3], axis=1) for i in range(3)],
+                      axis=0)
+
+    @property
+    def area(self) -> np.ndarray:
+        p = self.points[self.cells]
+        return 0.5 * ((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+                      - (p[:, 2, 0] - p[:, 0, 0]) * (p[:, 1, 1] - p[:, 0, 1]))
+
+    def refined(self, marked: np.ndarray) -> "Triangles":
+        """The mesh with the marked triangles (indices) bisected, conforming (DOLFINx's
+        Plaza refinement of their edges, on this process alone)."""
+        import basix.ufl
+        import dolfinx.mesh as dmesh
+        from mpi4py import MPI
+
+        element = basix.ufl.element("Lagrange", "triangle", 1, shape=(2,))
+        msh = dmesh.create_mesh(MPI.COMM_SELF, self.cells, element, self.points)
+        msh.topology.create_connectivity(2, 1)
+        # (create_mesh reorders the cells: marks go through its original index)
+        original = msh.topology.original_cell_index
+        local = np.argsort(original)[np.asarray(marked, dtype=np.int64)]
+        c2e = msh.topology.connectivity(2, 1)
+        edges = np.unique(np.concatenate([c2e.links(c) for c in local])).astype(np.int32)
+        fine, _, _ = dmesh.refine(msh, edges)
+        return Triangles.from_points(fine.geometry.x, fine.geometry.dofmap, self.a)
+
+
+def interior_and_boundary(cells: np.ndarray):
+    """The boundary edges (k, 2) (in their triangle's counterclockwise order), and the
+    interior edges: for each, its two triangles (e, f) and its vertices as e orders them."""
+    m = len(cells)
+    local = np.array([[0, 1], [1, 2], [2, 0]])
+    pairs = cells[:, local].reshape(-1, 2)                    # (3m, 2), ccw per triangle
+    owner = np.repeat(np.arange(m), 3)
+    key = np.sort(pairs, axis=1)
+    order = np.lexsort((key[:, 1], key[:, 0]))
+    k = key[order]
+    same = np.all(k[1:] == k[:-1], axis=1)
+    first = order[:-1][same]
+    second = order[1:][same]
+    paired = np.zeros(len(pairs), bool)
+    paired[first] = paired[second] = True
+    boundary = pairs[~paired]
+    return boundary, np.column_stack([owner[first], owner[second]]), pairs[first]
