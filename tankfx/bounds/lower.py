@@ -37,7 +37,6 @@ import numpy as np
 
 from ..laws.limit_cones import mohr_coulomb_cones
 from .program import ConeProgram
-VERBOSE = False
 from .triangles import BASE, CONTACT, SIDE, SURFACE, Triangles, interior_and_boundary
 
 
@@ -87,7 +86,7 @@ def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
     ``scale`` (Pa) makes the stresses of order one (the cohesion under the foundation)."""
     a, m = tri.a, len(tri.cells)
     x = tri.points / a                                  # (lengths in radii)
-    P = ConeProgram(verbose=VERBOSE)
+    P = ConeProgram()
     S = P.variables(9 * m).reshape(m, 3, 3)             # S_r, S_z, T at each vertex
     st = P.variables(m)                                 # sigma_theta
     F = P.variables(1)[0]

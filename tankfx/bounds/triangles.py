@@ -57,6 +57,17 @@ class Triangles:
                              "limit analysis takes a foundation on the surface of a box")
         return cls(points, cells, edges, kind, a)
 
+    @classmethod
+    def from_mesh(cls, msh, a: float) -> "Triangles":
+        """The straight triangles of a DOLFINx mesh on one process (its cells' vertices)."""
+        import dolfinx.mesh as dmesh
+
+        tdim = msh.topology.dim
+        msh.topology.create_connectivity(tdim, 0)
+        cells = np.arange(msh.topology.index_map(tdim).size_local, dtype=np.int32)
+        nodes = dmesh.entities_to_geometry(msh, tdim, cells)[:, :3]
+        return cls.from_points(msh.geometry.x, nodes, a)
+
     @property
     def h(self) -> np.ndarray:
         """Each triangle's longest edge."""
@@ -86,7 +97,7 @@ class Triangles:
         c2e = msh.topology.connectivity(2, 1)
         edges = np.unique(np.concatenate([c2e.links(c) for c in local])).astype(np.int32)
         fine, _, _ = dmesh.refine(msh, edges)
-        return Triangles.from_points(fine.geometry.x, fine.geometry.dofmap, self.a)
+        return Triangles.from_mesh(fine, self.a)
 
 
 def interior_and_boundary(cells: np.ndarray):

@@ -37,14 +37,12 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import replace
 
 import numpy as np
 from dolfinx import fem
 
 from ..fem.evaluate import evaluate_at
 from ..scene.sections import factored_load, vertical_load
-from .newton import AMOUNTS
 from .stage import _AtDebug
 
 #: the bracket's width, relative: a collapse factor F_c is bracketed in [F_c, F_c (1 + BRACKET)]
@@ -115,7 +113,7 @@ class CollapseSearch:
         self-weight) first, then the variable ones under settlement control."""
         m, nw, log = self.model, self.newton, self.log
         t0 = time.perf_counter()
-        held = replace(full, **{name: 0.0 for name in AMOUNTS})
+        held = full.held()
 
         def load_at(f):
             return factored_load(held, full, f)

@@ -24,11 +24,6 @@ from .secant import SoilFailure
 from .status import IterationStatus
 
 
-#: a load's amounts, which a stage's first step starts from zero (a unit weight is no amount)
-AMOUNTS = ("pressure", "liquid_height", "roof_weight", "gas_pressure", "overturning_moment",
-           "base_shear")
-
-
 class NewtonIteration:
     """Load-stepped Newton iteration of a model whose soil block holds a plastic state."""
 
@@ -87,7 +82,7 @@ class NewtonIteration:
         kept, so that a tank filling from empty loads in proportion to its height)."""
         if self.converged_load is not None:
             return self.converged_load
-        return replace(target, **{name: 0.0 for name in AMOUNTS})
+        return target.held()
 
     def _w0(self) -> float:
         return float(-evaluate_at(self.model.soil.u, self._centre)[0, 1])

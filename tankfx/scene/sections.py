@@ -649,6 +649,11 @@ ALTERNATIVE_KEYS: dict[str, dict[str, Key]] = {
 }
 
 
+#: a load's amounts, which a stage's first step starts from zero (a unit weight is no amount)
+LOAD_AMOUNTS = ("pressure", "liquid_height", "roof_weight", "gas_pressure",
+                "overturning_moment", "base_shear")
+
+
 @dataclass(frozen=True)
 class Load:
     pressure: float = key(0.0, unit="Pa",
@@ -718,6 +723,12 @@ class Load:
     def overturning(self) -> bool:
         """Whether the load has a first-harmonic part (an overturning moment or shear)."""
         return bool(self.overturning_moment or self.base_shear)
+
+    def held(self) -> "Load":
+        """This load with its amounts (LOAD_AMOUNTS) zero: what is held while the variable
+        loads are raised, the self-weight (its unit weights kept, so that a tank filling
+        from empty loads in proportion to its height)."""
+        return replace(self, **{name: 0.0 for name in LOAD_AMOUNTS})
 
     @property
     def nothing(self) -> bool:
