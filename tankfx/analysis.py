@@ -20,6 +20,7 @@ from .fem.blocks import cell_field
 from .fem.memory import keep_freed_memory
 from .fem.solvers import SolveError, make_solver
 from .fem.threads import limit_blas_threads
+from .bounds.scene_bounds import scene_bounds
 from .iterations.collapse import CollapseSearch
 from .iterations.secant import SoilFailure
 from .iterations.stage import StageIterations
@@ -35,7 +36,7 @@ from .mesh import (
 from .model.build import build_model
 from .model.overturning import RockingModel
 from .model.protocol import Model
-from .results.collapse import collapse_words
+from .results.collapse import bounds_words, collapse_words
 from .results.consolidation import consolidation_record
 from .results.contract import results_of, settlement_kept, stage_summary, versions
 from .results.overturning import superpose
@@ -216,7 +217,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                 stage_scene, statuses = _solve_stage(scene, load, model, iterations)
         except SoilFailure as e:
             e.dofs = solver.matrix_size        # (what the failed run cost)
-            if scene.analysis.collapse == "load":
+            if scene.analysis.collapse in ("load", "bounds"):
                 # the scene's load fails: its collapse factor lies below 1
                 e.collapse, _ = _collapse(scene, load, model, iterations, solver, before)
                 e.args = (f"{e}; the collapse search (settlement-controlled, to where the "
@@ -260,6 +261,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         solutions[-1].results["collapse"] = record
         solutions[-1] = replace(solutions[-1], collapse=fields)
         log.info("collapse: %s", collapse_words(record))
+        if scene.analysis.collapse == "bounds":
+            solutions[-1].results["bounds"] = scene_bounds(scene, comm, log, record)
+            log.info("bounds: %s", bounds_words(solutions[-1].results["bounds"]))
     if len(solutions) > 1:
         summaries = [stage_summary(s.results) for s in solutions]
         if scene.soil.law.keeps_permanent_strain:
@@ -288,7 +292,7 @@ def _collapse(scene: Scene, load: Load, model: Model, iterations: StageIteration
     end = search.snapshot()
     try:
         with heartbeat(f"searching the collapse by {scene.analysis.collapse}"):
-            if scene.analysis.collapse == "load":
+            if scene.analysis.collapse in ("load", "bounds"):
                 search.restore(before)
                 record = search.by_load(load)
             else:

@@ -43,3 +43,70 @@ def strength_scale(soil, a: float) -> float:
 
 def area(a: float) -> float:
     return math.pi * a ** 2
+
+
+def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> dict:
+    """The lower and upper bound on the factor of the scene's variable loads (``[analysis]
+    collapse = "bounds"``), refined to ``analysis.bounds_gap`` or ``bounds_cells``: the
+    record for results.json, on every rank (the programs are solved on rank 0).
+    ``elastoplastic`` is the collapse by load of the same scene, set beside them."""
+    import time
+
+    from mpi4py import MPI
+
+    from ..mesh import build_domain
+    from .adapt import bounds
+    from .program import ProgramError
+
+    record, error = None, None
+    if comm.rank == 0:
+        t0 = time.perf_counter()
+        a = scene.foundation_radius
+        # (a coarse start: the refinement puts the triangles where the mechanism is)
+        start = scene.with_changes(mesh={"edge_size": 0.1 * a, "near_size": 0.5 * a,
+                                         "growth": 0.3})
+        tri = Triangles.from_mesh(build_domain(start, MPI.COMM_SELF).mesh, a)
+        load = loading_of(scene, rigid=scene.plate is not None)
+        log.info("bounds: the limit analysis' lower and upper bound on the variable loads' "
+                 "factor, refined to a gap of %.3g %%", 100 * scene.analysis.bounds_gap)
+        try:
+            b = bounds(tri, lambda t: ground_of(scene.soil, t), load,
+                       strength_scale(scene.soil, a), gap=scene.analysis.bounds_gap,
+                       max_cells=scene.analysis.bounds_cells, log=log)
+            record = _record(scene, b, time.perf_counter() - t0, elastoplastic)
+        except ProgramError as e:
+            error = str(e)
+    record, error = comm.bcast((record, error), root=0)
+    if error is not None:
+        raise ProgramError(error)
+    return record
+
+
+def _record(scene, b, seconds: float, elastoplastic: dict | None) -> dict:
+    import clarabel
+
+    notes = []
+    for k, st in enumerate(scene.soil.strata):
+        phi, psi = st.friction_angle or 0.0, st.dilation_angle or 0.0
+        where = "soil" if k == 0 else f"soil.layers[{k}]"
+        if psi != phi:
+            notes.append(f"{where}: the dilation angle {psi:g} differs from the friction angle "
+                         f"{phi:g}: limit analysis assumes associated flow (psi = phi), and "
+                         f"these are the associated soil's bounds")
+        if st.tensile_strength is not None:
+            notes.append(f"{where}: the tension cut-off ({st.tensile_strength:g} Pa) is not "
+                         f"taken: the bounds are Mohr-Coulomb's without it")
+    out = {"lower": b.lower.factor, "upper": b.upper.factor, "gap": b.gap,
+           "requested_gap": scene.analysis.bounds_gap,
+           "reached": b.gap <= scene.analysis.bounds_gap,
+           "triangles": len(b.triangles.cells), "rounds": b.rounds, "time_s": seconds,
+           "lower_check": {"equilibrium_residual": b.lower.equilibrium_residual,
+                           "yield_violation": b.lower.yield_violation},
+           "foundation": "rigid" if scene.plate is not None else "flexible load",
+           "contact": "smooth" if scene.interface.condition == "smooth" else "rough",
+           "solver": f"Clarabel {clarabel.__version__}", "notes": notes}
+    if elastoplastic is not None and elastoplastic.get("found"):
+        F = elastoplastic["load_factor"]
+        out["elastoplastic_factor"] = F
+        out["elastoplastic_between"] = bool(b.lower.factor <= F <= b.upper.factor)
+    return out

@@ -76,3 +76,30 @@ def collapse_rows(r: dict) -> list[tuple[str, str, str]]:
                      f"the last increment's settlement at the axis is {m['axis_share']:.2f} of "
                      f"its largest (at r = {m['largest_at_r']:.3g} m); {m['rule']}"))
     return rows
+
+
+def bounds_words(b: dict) -> str:
+    """One sentence: the bracket of limit analysis, and the elastoplastic factor in it."""
+    out = (f"the ground fails between {b['lower']:.4g} and {b['upper']:.4g} times the variable "
+           f"loads (gap {100 * b['gap']:.2g} %, {b['triangles']} triangles)")
+    if "elastoplastic_factor" in b:
+        out += (f"; the elastoplastic analysis says {b['elastoplastic_factor']:.4g}"
+                + ("" if b["elastoplastic_between"] else ", outside the bounds"))
+    return out
+
+
+def bounds_rows(r: dict) -> list[tuple[str, str, str]]:
+    """The summary's rows of the limit analysis' bounds."""
+    b = r.get("bounds")
+    if not b:
+        return []
+    rows = [("collapse factor, lower bound", f"{b['lower']:.4g}",
+             "limit analysis: a statically admissible stress field carries it"),
+            ("collapse factor, upper bound", f"{b['upper']:.4g}",
+             "limit analysis: a kinematically admissible mechanism fails at it"),
+            ("gap of the bounds", f"{100 * b['gap']:.3g} %",
+             f"(upper - lower) / lower on {b['triangles']} triangles, asked "
+             f"{100 * b['requested_gap']:.3g} %" + ("" if b["reached"] else ": not reached "
+                                                    "within analysis.bounds_cells"))]
+    rows += [("bounds: note", "-", note) for note in b["notes"]]
+    return rows

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from ..scene.reader import KEYS, LAYER_KEYS
 from ..scene.sections import STATES_CONDITION
-from .collapse import collapse_rows
+from .collapse import bounds_rows, collapse_rows
 
 
 def summary_rows(results: dict) -> list[tuple[str, str, str]]:
@@ -23,7 +23,7 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
     return (_validity_rows(results) + _load_rows(results) + _settlement_rows(results)
             + _bearing_rows(results) + _structure_rows(results)
             + _consolidation_rows(results) + _overturning_rows(results)
-            + collapse_rows(results) + _nondim_rows(results) + _iteration_rows(results)
+            + collapse_rows(results) + bounds_rows(results) + _nondim_rows(results) + _iteration_rows(results)
             + _stage_rows(results))
 
 

@@ -485,7 +485,8 @@ def check_load(rd: Reader, load: dict | None, plate: dict | None, wall: dict | N
                "overturning_moment")
 
 
-def check_analysis(rd: Reader, analysis: dict, soil: dict, load: dict) -> None:
+def check_analysis(rd: Reader, analysis: dict, soil: dict, load: dict, plate: dict | None,
+                   wall: dict | None, layers: list) -> None:
     """A collapse asked of a soil that can fail, with something to raise or reduce."""
     collapse = analysis.get("collapse")
     if collapse is None:
@@ -493,7 +494,8 @@ def check_analysis(rd: Reader, analysis: dict, soil: dict, load: dict) -> None:
     if collapse not in COLLAPSES:
         rd.bad(f"analysis.collapse = {collapse!r}: unknown{suggest(collapse, COLLAPSES)} "
                f"(\"load\": the variable loads raised until the ground fails; \"strength\": "
-               f"the soil's c and tan phi reduced until it fails)")
+               f"the soil's c and tan phi reduced until it fails; \"bounds\": the limit "
+               f"analysis' lower and upper bound)")
         return
     law = SOIL_LAWS.get(soil.get("model", Soil.model))
     if law is not None and not law.fails:
@@ -503,10 +505,32 @@ def check_analysis(rd: Reader, analysis: dict, soil: dict, load: dict) -> None:
                f"{words(SOIL_LAWS.values(), lambda x: x.fails)} (with its cohesion and "
                f"friction_angle)")
     variable = ("pressure", "liquid_height", "gas_pressure", "roof_weight")
-    if collapse == "load" and not any(load.get(k) for k in variable):
-        rd.bad("analysis.collapse = \"load\": the [load] has no variable load to raise (a "
+    if collapse in ("load", "bounds") and not any(load.get(k) for k in variable):
+        rd.bad(f"analysis.collapse = {collapse!r}: the [load] has no variable load to raise (a "
                "pressure, a liquid, a gas pressure or a roof's weight); give one, or ask for "
                "collapse = \"strength\"")
+    if collapse == "bounds":
+        check_bounds(rd, soil, plate, wall, layers)
+
+
+def check_bounds(rd: Reader, soil: dict, plate: dict | None, wall: dict | None,
+                 layers: list) -> None:
+    """What the limit analysis takes: a rigid foundation on the surface, or a flexible load,
+    and a frictional soil's weight without a water table."""
+    if wall is not None:
+        rd.bad("analysis.collapse = \"bounds\" with a [wall]: the limit analysis takes a "
+               "rigid foundation (a [plate] alone) or a flexible load (no [plate]), not yet a "
+               "tank's floor and shell; ask for collapse = \"load\" or \"strength\"")
+    if plate is not None and plate.get("embedment"):
+        rd.bad(f"plate.embedment = {plate['embedment']!r} with analysis.collapse = \"bounds\": "
+               f"the limit analysis takes a foundation on the surface; remove the embedment "
+               f"or ask for collapse = \"load\"")
+    frictional = any(x.get("friction_angle") for x in [soil, *layers])
+    if frictional and soil.get("water_table") is not None:
+        rd.bad(f"soil.water_table = {soil['water_table']!r} with analysis.collapse = "
+               f"\"bounds\" and a friction angle: the bounds take a frictional soil's weight "
+               f"without pore pressure; remove the water table (give the unit weight below "
+               f"it, the buoyant one) or ask for collapse = \"load\"")
 
 
 def check_discretisation(rd: Reader, mesh: dict, solver: dict, soil: dict,

@@ -318,7 +318,8 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
     if secs["ringwall"] is not None:
         check_ringwall(rd, secs["ringwall"], plate, wall, domain, a)
     if secs["analysis"] is not None:
-        check_analysis(rd, secs["analysis"], soil or {}, load or {})
+        check_analysis(rd, secs["analysis"], soil or {}, load or {}, plate, secs["wall"],
+                       layers)
     if secs["consolidation"] is not None:
         check_consolidation(rd, secs["consolidation"], data, soil or {}, layers, deg, method)
     else:

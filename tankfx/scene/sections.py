@@ -827,14 +827,21 @@ class Analysis:
     """What is asked of the scene beyond its response to the load: the ground's collapse."""
 
     collapse: str | None = key(
-        None, choices=("load", "strength"), custom=True, default_doc="none",
+        None, choices=("load", "strength", "bounds"), custom=True, default_doc="none",
         meaning="the ground's collapse, after the scene's own analysis: \"load\" raises the "
                 "variable loads (pressure, liquid, gas, roof; the self-weight held) by a "
                 "factor until the ground fails, \"strength\" holds the loads and divides "
                 "the soil's c and tan phi by a factor until it fails; either is bracketed "
                 "between a converged and a failed state to 0.5 % (`collapse` in the "
-                "results). Needs soil.model = \"mohr_coulomb\" and one [load] (no "
-                "[[stages]])")
+                "results). \"bounds\": the lower and upper bound of limit analysis on the "
+                "variable loads' factor (`bounds`), beside \"load\"'s elastoplastic one. "
+                "Needs soil.model = \"mohr_coulomb\" and one [load] (no [[stages]])")
+    bounds_gap: float = key(0.03, unit="-", limit=Limit(0.0, 1.0),
+                            meaning="with collapse = \"bounds\": the gap (upper - lower) / lower "
+                                    "the mesh is refined to")
+    bounds_cells: int = key(20000, unit="-", limit=POSITIVE,
+                            meaning="with collapse = \"bounds\": the most triangles the refined "
+                                    "mesh may have (about 1 min per 10^4 on two cores)")
 
 
 @dataclass(frozen=True)
