@@ -292,9 +292,14 @@ def describe(scene) -> list[str]:
                      f"{c.permeability:g} m/s, drained at the {c.drainage.replace('_', ' ')})")
     out.append(f"  builds: {', '.join(parts)}; iterates: "
                f"{', '.join(iterations) if iterations else 'nothing (one linear solve a stage)'}")
-    if scene.analysis.collapse == "load":
+    if scene.analysis.collapse in ("load", "bounds"):
         out.append("  then: the collapse by load (the variable loads raised from the ground "
                    "before them under control of the mean settlement, bracketed to 0.5 %)")
+    if scene.analysis.collapse == "bounds":
+        a = scene.analysis
+        out.append(f"  then: the limit analysis' lower and upper bound on the variable loads' "
+                   f"factor (conic programs, Clarabel, on rank 0), refined to a gap of "
+                   f"{100 * a.bounds_gap:g} % or {a.bounds_cells} triangles")
     elif scene.analysis.collapse == "strength":
         out.append("  then: the collapse by strength (c and tan phi divided by a factor under "
                    "the load, bisected to 0.5 %)")

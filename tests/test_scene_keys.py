@@ -20,7 +20,7 @@ FULL = {"soil": {"E": 10e6, "nu": 0.3},
         "wall": {"radius": 1.0, "thickness": 0.02, "height": 3.0, "E": 200e9, "nu": 0.3},
         "ringwall": {"inner_radius": 0.8, "outer_radius": 1.2, "depth": 0.5, "E": 30e9},
         "interface": {"condition": "mohr_coulomb", "tan_phi": 0.5},
-        "load": {"pressure": 50e3}, "domain": {}, "mesh": {}, "solver": {},
+        "load": {"pressure": 50e3}, "domain": {}, "mesh": {}, "solver": {}, "analysis": {},
         "consolidation": {"permeability": 1e-9, "times": [86400.0]}}
 
 

@@ -37,6 +37,7 @@ from .plausible import (
 )
 from .sections import (
     DEFAULT_DOMAIN_FACTOR,
+    Analysis,
     FLEXIBLE_DEGREE,
     MIXED_FROM_NU,
     Interface,
@@ -489,6 +490,11 @@ def check_analysis(rd: Reader, analysis: dict, soil: dict, load: dict, plate: di
                    wall: dict | None, layers: list) -> None:
     """A collapse asked of a soil that can fail, with something to raise or reduce."""
     collapse = analysis.get("collapse")
+    for name in ("bounds_gap", "bounds_cells"):
+        if analysis.get(name, getattr(Analysis, name)) != getattr(Analysis, name) and \
+                collapse != "bounds":
+            rd.bad(f"analysis.{name} = {analysis[name]!r}: only used with analysis.collapse = "
+                   f"\"bounds\"; remove it or ask for the bounds")
     if collapse is None:
         return
     if collapse not in COLLAPSES:
