@@ -151,3 +151,38 @@ def test_bounds_that_cannot_be_computed_are_refused_before_any_mesh(change, says
             data[section] = values
     with pytest.raises(SceneError, match=says):
         Scene.from_dict(data)
+
+
+def soil_bounds(condition, soil, gap, max_cells=3000):
+    """The footing's bounds on a soil given as [soil] keys (c = S_U unless given)."""
+    scene, tri = footing_triangles(condition)
+    scene = scene.with_changes(soil={**scene.to_dict()["soil"], **soil})
+    load = Loading(variable=S_U * math.pi, held=0.0, rigid=True, rough=condition != "smooth")
+    return bounds(tri, lambda t: ground_of(scene.soil, t), load, S_U, gap=gap,
+                  max_cells=max_cells)
+
+
+def test_tresca_bounds_do_not_depend_on_the_soils_weight():
+    """On level ground Tresca's collapse load does not depend on the weight: the lower
+    bound's hydrostatic field drops out of every cone, and the upper bound's incompressible
+    flux does no work against gravity. With 20 kN/m^3 both bounds are the weightless ones
+    to round-off, on the same meshes."""
+    light = soil_bounds("bonded", {}, gap=0.15)
+    heavy = soil_bounds("bonded", {"unit_weight": 20e3}, gap=0.15)
+    assert [r["cells"] for r in heavy.rounds] == [r["cells"] for r in light.rounds]
+    assert heavy.lower.factor == pytest.approx(light.lower.factor, rel=1e-6)
+    assert heavy.upper.factor == pytest.approx(light.upper.factor, rel=1e-6)
+
+
+def test_a_frictional_soils_weight_raises_both_bounds_and_the_field_stays_admissible():
+    """phi = 30 degrees, c = 10 kPa: the weight (18 kN/m^3) raises both bounds; the lower
+    bound's field, whose cones carry the bilinear r z terms of the weight and of a cohesion
+    growing with depth with their margin, is admissible at every checked point."""
+    soil = {"friction_angle": 30.0, "dilation_angle": 30.0}
+    light = soil_bounds("bonded", soil, gap=0.5, max_cells=500)
+    heavy = soil_bounds("bonded", {**soil, "unit_weight": 18e3, "cohesion_gradient": 5e3},
+                        gap=0.5, max_cells=500)
+    assert light.lower.factor <= light.upper.factor and heavy.lower.factor <= heavy.upper.factor
+    assert heavy.lower.factor > light.lower.factor and heavy.upper.factor > light.upper.factor
+    assert heavy.lower.yield_violation <= 1e-6 * S_U
+    assert heavy.lower.equilibrium_residual < 1e-9
