@@ -87,6 +87,9 @@ class Solution:
     #: displacement increment) and ``plastic`` (each cell's share of yielding points, DG0),
     #: at the collapse (the other fields are the scene's load's)
     collapse: dict = None
+    #: with ``analysis.collapse = "bounds"``: the upper bound's mechanism, its triangles'
+    #: ``points`` and ``cells`` and the ``velocity`` at their vertices
+    bounds: dict = None
 
 
 #: mesh_grading_warning: warned above lambda x edge size = GRADING_WARNING, where the
@@ -262,8 +265,11 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         solutions[-1] = replace(solutions[-1], collapse=fields)
         log.info("collapse: %s", collapse_words(record))
         if scene.analysis.collapse == "bounds":
-            solutions[-1].results["bounds"] = scene_bounds(scene, comm, log, record)
-            log.info("bounds: %s", bounds_words(solutions[-1].results["bounds"]))
+            with heartbeat("bounding the collapse load (limit analysis)"):
+                bounds, mechanism = scene_bounds(scene, comm, log, record)
+            solutions[-1].results["bounds"] = bounds
+            solutions[-1] = replace(solutions[-1], bounds=mechanism)
+            log.info("bounds: %s", bounds_words(bounds))
     if len(solutions) > 1:
         summaries = [stage_summary(s.results) for s in solutions]
         if scene.soil.law.keeps_permanent_strain:

@@ -112,16 +112,29 @@ def test_a_rough_footing_lies_between_its_bounds():
                for r0, r1 in zip(rounds, rounds[1:]))
 
 
-def test_the_scene_asks_for_the_bounds_beside_the_elastoplastic_factor():
+def test_the_scene_asks_for_the_bounds_beside_the_elastoplastic_factor(tmp_path):
     """collapse = "bounds" on the smooth footing: lower <= 5.69 <= upper with the gap below
-    3 %, and the elastoplastic factor (cubic elements) between them; the summary's rows."""
+    3 %, and the elastoplastic factor (cubic elements) between them; the summary's rows and
+    the figure of the upper bound's mechanism."""
     from tankfx import analyse
+    from tankfx.results.figures import write_figures
     from tankfx.results.report import summary_table
     from test_collapse import footing
 
     data = footing("smooth", collapse="bounds", mesh=(0.01, 0.2))
     data["mesh"]["degree"] = 3
-    r = analyse(Scene.from_dict(data)).results
+    solution = analyse(Scene.from_dict(data))
+    r = solution.results
+    assert solution.bounds["velocity"].shape == solution.bounds["points"].shape
+    # the mechanism: the ground under the footing moves down at the settlement rate, the far
+    # ground is still (off the axis: there u = v / r is drawn as a mean of its limits)
+    pts, vel = solution.bounds["points"], solution.bounds["velocity"]
+    under = (np.abs(pts[:, 1]) < 1e-9) & (pts[:, 0] <= 1.0 + 1e-9) & (pts[:, 0] > 0.0)
+    assert np.allclose(vel[under, 1], -1.0, atol=1e-6)
+    far = np.hypot(*pts.T) > 4.0
+    assert np.max(np.abs(vel[far])) < 1e-3
+    written = write_figures(solution, tmp_path, "stress_level")
+    assert tmp_path / "bounds.png" in written
     b = r["bounds"]
     assert b["lower"] <= 5.69 <= b["upper"] and b["gap"] <= 0.03 and b["reached"]
     assert b["elastoplastic_factor"] == r["collapse"]["load_factor"]

@@ -45,11 +45,13 @@ def area(a: float) -> float:
     return math.pi * a ** 2
 
 
-def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> dict:
+def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> tuple[dict, dict]:
     """The lower and upper bound on the factor of the scene's variable loads (``[analysis]
-    collapse = "bounds"``), refined to ``analysis.bounds_gap`` or ``bounds_cells``: the
-    record for results.json, on every rank (the programs are solved on rank 0).
-    ``elastoplastic`` is the collapse by load of the same scene, set beside them."""
+    collapse = "bounds"``), refined to ``analysis.bounds_gap`` or ``bounds_cells``: (the
+    record for results.json, the upper bound's mechanism: ``points`` (n, 2), ``cells``
+    (m, 3), ``velocity`` (n, 2) at the triangles' vertices, for a settlement rate of 1), on
+    every rank (the programs are solved on rank 0). ``elastoplastic`` is the collapse by
+    load of the same scene, set beside them."""
     import time
 
     from mpi4py import MPI
@@ -58,7 +60,7 @@ def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> dict:
     from .adapt import bounds
     from .program import ProgramError
 
-    record, error = None, None
+    record, fields, error = None, None, None
     if comm.rank == 0:
         t0 = time.perf_counter()
         a = scene.foundation_radius
@@ -74,12 +76,15 @@ def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> dict:
                        strength_scale(scene.soil, a), gap=scene.analysis.bounds_gap,
                        max_cells=scene.analysis.bounds_cells, log=log)
             record = _record(scene, b, time.perf_counter() - t0, elastoplastic)
+            nv = len(b.triangles.points)
+            fields = {"points": b.triangles.points, "cells": b.triangles.cells,
+                      "velocity": b.upper.velocity[:nv]}
         except ProgramError as e:
             error = str(e)
-    record, error = comm.bcast((record, error), root=0)
+    record, fields, error = comm.bcast((record, fields, error), root=0)
     if error is not None:
         raise ProgramError(error)
-    return record
+    return record, fields
 
 
 def _record(scene, b, seconds: float, elastoplastic: dict | None) -> dict:

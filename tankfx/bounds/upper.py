@@ -230,6 +230,20 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
         np.add.at(cost, sel_e, (sol.x[y0] * weights).sum(axis=1))
     with np.errstate(divide="ignore", invalid="ignore"):
         vel = np.where(x[:, :1] > 1e-12, sol.x[V] / x[:, :1], 0.0)
+    # (on the axis u = v / r is drawn as its limit dv/dr there, the mean over the triangles
+    # at it: the limit depends on the direction where v's gradient has a z part)
+    flux = sol.x[V]
+    total, count = np.zeros((len(x), 2)), np.zeros(len(x))
+    for i in range(3):
+        at = np.flatnonzero(r[:, i] < 1e-12)
+        if not len(at):
+            continue
+        g = _basis_gradients(NODES[i], grad_lambda[at])[..., 0]            # (n, 6) d/dr
+        total_i = np.einsum("nk,nkc->nc", g, flux[cn[at]])
+        np.add.at(total, cn[at, i], total_i)
+        np.add.at(count, cn[at, i], 1.0)
+    axis = count > 0
+    vel[axis] = total[axis] / count[axis, None]
     return UpperBound(factor=float(factor), velocity=vel, nodes=points,
                       dissipation=cost * norm / work,
                       seconds=sol.seconds, iterations=sol.iterations, variables=sol.variables)

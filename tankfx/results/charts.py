@@ -417,3 +417,44 @@ def plot_collapse(results: dict, path: str | Path, title: str = "") -> Path | No
         curves["failed (no equilibrium)"] = np.full(len(x), c["bracket"][1])
     return plot_curves(x, {label: curves}, path, "mean settlement of the foundation [mm]",
                        title=title)
+
+
+def plot_bounds(results: dict, mechanism: dict, path: str | Path, extent: float,
+                title: str = "") -> Path | None:
+    """The limit analysis: the upper bound's mechanism (its speed over the section, the
+    refined triangles drawn) and the two bounds against the number of triangles, the
+    elastoplastic factor beside them. Rank 0 writes the PNG."""
+    b = results.get("bounds")
+    if not b or mechanism is None or not _rank0():
+        return None
+    import matplotlib.tri as mtri
+
+    fig, (ax, ax2) = figure(2)
+    pts, cells = mechanism["points"], mechanism["cells"]
+    speed = np.hypot(*np.asarray(mechanism["velocity"]).T)
+    grid = mtri.Triangulation(pts[:, 0], pts[:, 1], cells)
+    shade = ax.tripcolor(grid, speed, shading="gouraud", cmap="viridis",
+                         vmin=0.0, vmax=robust_limit(speed)[0] or 1.0)
+    ax.triplot(grid, color="white", linewidth=0.15, alpha=0.5)
+    ax.set_xlim(0.0, extent)
+    ax.set_ylim(-extent, 0.0)
+    ax.set_aspect("equal")
+    ax.set_xlabel("r [m]")
+    ax.set_ylabel("z [m]")
+    ax.set_title("upper bound's mechanism: |u| per unit settlement rate", fontsize=9)
+    fig.colorbar(shade, ax=ax, shrink=0.8)
+    rounds = b["rounds"]
+    n = [r["cells"] for r in rounds]
+    ax2.plot(n, [r["upper"] for r in rounds], "v-", color=COLORS[0], label="upper bound")
+    ax2.plot(n, [r["lower"] for r in rounds], "^-", color=COLORS[1], label="lower bound")
+    if "elastoplastic_factor" in b:
+        ax2.axhline(b["elastoplastic_factor"], color=COLORS[2], linestyle="--",
+                    label="elastoplastic (by load)")
+    ax2.set_xscale("log")
+    ax2.set_xlabel("triangles")
+    ax2.set_ylabel("factor on the variable loads")
+    ax2.legend(fontsize=8)
+    ax2.set_title(f"the bounds refined: gap {100 * b['gap']:.3g} %", fontsize=9)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    return save(fig, path)

@@ -15,7 +15,8 @@ from ..laws.soil_laws import SOIL_LAWS
 #: The figures ``write_figures`` may write (which ones depends on the scene).
 FIGURES = ("section.png", "stress_level.png", "settlement.png", "moments.png", "profiles.png",
            "contact.png", "load_path.png", "overturning.png", "overturning_wall.png",
-           "tilt.png", "consolidation.png", "isochrones.png", "collapse.png", "mechanism.png")
+           "tilt.png", "consolidation.png", "isochrones.png", "collapse.png", "mechanism.png",
+           "bounds.png")
 
 
 #: the quantities section.png can show: name -> (its label, the factor to its unit)

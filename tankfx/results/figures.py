@@ -15,6 +15,7 @@ import numpy as np
 from dolfinx import fem, plot
 
 from .charts import (  # noqa: F401  (the line charts, re-exported: one place to import figures)
+    plot_bounds,
     plot_collapse,
     plot_contact,
     plot_curves,
@@ -605,6 +606,10 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
                                                 f"increment)",
                                        "marked": (solution.collapse["plastic"],
                                                   "yielding cells at collapse")}))
+    if solution.bounds is not None:
+        # the limit analysis: the upper bound's mechanism beside the bounds' refinement
+        figures.append((plot_bounds, (r, solution.bounds, directory / "bounds.png",
+                                      section["extent"]), {"title": title}))
     if "stages" in r:
         figures.append((plot_load_path, (r, directory / "load_path.png"), {"title": title}))
     figures.append((plot_settlement, (r, directory / "settlement.png"), {"title": title}))
