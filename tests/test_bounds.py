@@ -79,6 +79,17 @@ def test_the_cones_dual_is_the_dissipation():
         dissipation(np.array([-1.0, 0.0, 0.0, 0.0]), S_U, phi)
 
 
+def test_a_program_without_a_bound_says_so_in_words():
+    """A load no field resists (here: maximise x >= 0 alone) is an unbounded program: the
+    message says what that means for the ground, not the solver's status alone."""
+    P = ConeProgram()
+    x = P.variables(1)
+    P.nonnegative([0], x, [-1.0], [0.0])
+    P.minimise(x, [-1.0])
+    with pytest.raises(ProgramError, match="unbounded.*no load makes the ground fail"):
+        P.solve("the lower bound")
+
+
 def footing_triangles(condition: str):
     """The rigid 1 m footing's scene (tests/test_collapse.py's), meshed coarsely."""
     scene = Scene.from_dict({

@@ -42,17 +42,18 @@ from .triangles import BASE, CONTACT, SIDE, SURFACE, Triangles, interior_and_bou
 
 @dataclass(frozen=True)
 class Ground:
-    """What a bound needs of the soil, per triangle, in SI units: ``cohesion_at(e, z)`` the
-    cohesion at the points z of triangle e (linear in z within its stratum), ``phi`` (m,) the
-    friction angle (radians), ``gamma`` (m,) the unit weight, ``dc_dz`` (m,) the cohesion's
-    change with z (negative where it grows with depth)."""
+    """What a bound needs of the soil, per triangle (m of them), SI units: its cohesion as a
+    line in z, ``c_top`` (m,) at z = 0 and ``dc_dz`` (m,) its change with z (negative where
+    it grows with depth), the friction angle ``phi`` (m,, radians) and the unit weight
+    ``gamma`` (m,)."""
 
-    c_top: np.ndarray       # (m,) the cohesion at z = 0 of each triangle's stratum line
+    c_top: np.ndarray
     dc_dz: np.ndarray
     phi: np.ndarray
     gamma: np.ndarray
 
     def cohesion(self, e: np.ndarray, z: np.ndarray) -> np.ndarray:
+        """The cohesion at heights z (m) in triangles e (linear within a stratum)."""
         return self.c_top[e] + self.dc_dz[e] * z
 
 
@@ -60,7 +61,8 @@ class Ground:
 class Loading:
     """The foundation's load, SI: the variable load's resultant ``variable`` (N, downward),
     the held one ``held`` (N), ``rigid`` (a rigid foundation: only the resultant is given;
-    else a uniform pressure on the contact), ``rough`` (its contact takes shear)."""
+    else a uniform pressure on the contact), ``rough`` (its contact takes shear), and the
+    domain's supports: ``smooth_side`` (a roller), ``smooth_base``."""
 
     variable: float
     held: float

@@ -14,13 +14,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..fem.solvers import SolveError
+
 
 #: Clarabel's sparse factorisation
 SOLVE_METHOD = "qdldl"
 
 
-class ProgramError(RuntimeError):
-    """A conic program that could not be solved, said in words."""
+class ProgramError(SolveError):
+    """A conic program that could not be solved, said in words (a SolveError: the run
+    fails as any unsolved analysis does, its numbers not reported)."""
+
+    def __init__(self, message: str):
+        super().__init__(message, code="limit_analysis")
 
 
 @dataclass

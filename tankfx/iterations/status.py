@@ -25,6 +25,8 @@ class Failure(StrEnum):
     LOST_ACCURACY = "lost_accuracy"
     #: carriers held separated are pressed into by the soil
     HELD_PENETRATION = "held_penetration"
+    #: a limit analysis' conic program not solved (tankfx.bounds.program.ProgramError)
+    LIMIT_ANALYSIS = "limit_analysis"
 
 
 #: the code of a status whose iteration converged
