@@ -132,8 +132,8 @@ def test_the_scene_asks_for_the_bounds_beside_the_elastoplastic_factor(tmp_path)
     from tankfx.results.report import summary_table
     from test_collapse import footing
 
-    data = footing("smooth", collapse="bounds", mesh=(0.01, 0.2))
-    data["mesh"]["degree"] = 3
+    data = footing("smooth", collapse="bounds", mesh=(0.01, 0.3))
+    data["mesh"]["degree"] = 3          # (its factor 5.704: quadratic elements give 5.745)
     solution = analyse(Scene.from_dict(data))
     r = solution.results
     assert solution.bounds["velocity"].shape == solution.bounds["points"].shape
@@ -210,3 +210,24 @@ def test_a_frictional_soils_weight_raises_both_bounds_and_the_field_stays_admiss
     assert heavy.lower.factor > light.lower.factor and heavy.upper.factor > light.upper.factor
     assert heavy.lower.yield_violation <= 1e-6 * S_U
     assert heavy.lower.equilibrium_residual < 1e-9
+
+
+@pytest.mark.mpi
+@pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="needs mpiexec -n 2 (make test-mpi)")
+def test_two_ranks_give_the_serial_bounds():
+    """The programs are solved on rank 0 and their record and mechanism broadcast: on all
+    ranks the bounds are the serial ones, beside the same elastoplastic factor."""
+    from tankfx import analyse
+    from test_collapse import footing
+
+    data = footing("smooth", collapse="bounds", mesh=(0.02, 0.4))
+    data["analysis"]["bounds_gap"] = 0.15
+    scene = Scene.from_dict(data)
+    parallel = analyse(scene, MPI.COMM_WORLD)
+    serial = analyse(scene, MPI.COMM_SELF)
+    for key in ("lower", "upper", "gap", "triangles"):
+        assert parallel.results["bounds"][key] == pytest.approx(serial.results["bounds"][key],
+                                                                rel=1e-9)
+    assert parallel.results["bounds"]["elastoplastic_factor"] == pytest.approx(
+        serial.results["bounds"]["elastoplastic_factor"], rel=1e-6)
+    np.testing.assert_array_equal(parallel.bounds["cells"], serial.bounds["cells"])
