@@ -231,3 +231,24 @@ def test_two_ranks_give_the_serial_bounds():
     assert parallel.results["bounds"]["elastoplastic_factor"] == pytest.approx(
         serial.results["bounds"]["elastoplastic_factor"], rel=1e-6)
     np.testing.assert_array_equal(parallel.bounds["cells"], serial.bounds["cells"])
+
+
+@pytest.mark.parametrize("soil", [{}, {"friction_angle": 20.0, "dilation_angle": 20.0,
+                                      "unit_weight": 18e3}])
+def test_the_local_gaps_sum_to_the_gap(soil):
+    """Each triangle's gap, its upper-bound dissipation less the lower bound's stress power
+    on the upper bound's mechanism, is at least zero up to the solver's tolerance, and the
+    gaps add up to (upper - lower) times the variable load's work: the two programs are
+    each other's duals on one mesh, weight included."""
+    from tankfx.bounds.adapt import local_gap
+    from tankfx.bounds.lower import lower_bound
+    from tankfx.bounds.upper import upper_bound
+
+    scene, tri = footing_triangles("bonded")
+    scene = scene.with_changes(soil={**scene.to_dict()["soil"], **soil})
+    load = Loading(variable=S_U * math.pi, held=0.0, rigid=True, rough=True)
+    ground = ground_of(scene.soil, tri)
+    lo, up = lower_bound(tri, ground, load, S_U), upper_bound(tri, ground, load, S_U)
+    eta = local_gap(tri, ground, lo, up)
+    assert eta.sum() == pytest.approx((up.factor - lo.factor) * load.variable, rel=1e-5)
+    assert eta.min() > -1e-5 * eta.sum()

@@ -76,6 +76,8 @@ class Loading:
 class LowerBound:
     factor: float
     stress: np.ndarray          # (m, 3, 4): sigma_r, sigma_z, tau, sigma_theta at the vertices, Pa
+    S: np.ndarray               # (m, 3, 3): r (sigma_r, sigma_z, tau) beyond sigma0 at the vertices, Pa m
+    sigma_theta: np.ndarray     # (m,): sigma_theta beyond sigma0, Pa
     equilibrium_residual: float  # the largest relative residual of equilibrium and continuity
     yield_violation: float       # the largest violation of the yield cones over the checks, Pa
     seconds: float
@@ -181,7 +183,8 @@ def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
     P.minimise([F], [-1.0])
     sol = P.solve("the lower bound")
     stress = _stresses(sol.x, S, st, r, z, ground, a, scale)
-    return LowerBound(factor=float(sol.x[F]), stress=stress,
+    return LowerBound(factor=float(sol.x[F]), stress=stress, S=sol.x[S] * scale * a,
+                      sigma_theta=sol.x[st] * scale,
                       equilibrium_residual=P.equality_residual(sol.x),
                       yield_violation=_violation(sol.x, S, st, r, z, tri, ground, a, scale),
                       seconds=sol.seconds, iterations=sol.iterations, variables=sol.variables)

@@ -56,7 +56,8 @@ class UpperBound:
     factor: float
     velocity: np.ndarray          # (nodes, 2), P2 nodal velocities (u_z = -1 under a rigid foundation)
     nodes: np.ndarray             # (nodes, 2), their (r, z)
-    dissipation: np.ndarray       # (m,) each triangle's dissipated power (W per unit settlement rate)
+    dissipation: np.ndarray       # (m,) each triangle's dissipated power, W at a settlement rate of 1 m/s
+    control: np.ndarray           # (m, 6, 4): the Bernstein control points of G = r^2 eps, m^2/s
     seconds: float
     iterations: int
     variables: int
@@ -244,6 +245,7 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
         np.add.at(count, cn[at, i], 1.0)
     axis = count > 0
     vel[axis] = total[axis] / count[axis, None]
+    control = np.einsum("mjcd,md->mjc", C, sol.x[dofs]) * a
     return UpperBound(factor=float(factor), velocity=vel, nodes=points,
-                      dissipation=cost * norm / work,
+                      dissipation=cost * norm, control=control,
                       seconds=sol.seconds, iterations=sol.iterations, variables=sol.variables)
