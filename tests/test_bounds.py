@@ -252,3 +252,23 @@ def test_the_local_gaps_sum_to_the_gap(soil):
     eta = local_gap(tri, ground, lo, up)
     assert eta.sum() == pytest.approx((up.factor - lo.factor) * load.variable, rel=1e-5)
     assert eta.min() > -1e-5 * eta.sum()
+
+
+def test_a_non_associated_soil_is_bounded_as_the_associated_one_and_said_so(caplog):
+    """Limit analysis assumes psi = phi: a scene with psi = 0 gets the associated soil's
+    bounds, with a note in the record and a warning, never silently."""
+    import logging
+
+    from tankfx.bounds.scene_bounds import scene_bounds
+    from test_collapse import footing
+
+    data = footing("bonded", collapse="bounds",
+                   soil={"friction_angle": 20.0, "dilation_angle": 0.0})
+    data["analysis"]["bounds_gap"] = 0.6
+    scene = Scene.from_dict(data)
+    log = logging.getLogger("tankfx")
+    with caplog.at_level(logging.WARNING, logger="tankfx"):
+        record, mechanism = scene_bounds(scene, MPI.COMM_SELF, log)
+    assert any("associated flow" in note for note in record["notes"])
+    assert "associated flow" in caplog.text
+    assert record["lower"] <= record["upper"] and "elastoplastic_factor" not in record

@@ -76,6 +76,8 @@ def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> tuple[d
                        strength_scale(scene.soil, a), gap=scene.analysis.bounds_gap,
                        max_cells=scene.analysis.bounds_cells, log=log)
             record = _record(scene, b, time.perf_counter() - t0, elastoplastic)
+            for note in record["notes"]:
+                log.warning("bounds: %s", note)
             nv = len(b.triangles.points)
             fields = {"points": b.triangles.points, "cells": b.triangles.cells,
                       "velocity": b.upper.velocity[:nv]}
