@@ -420,29 +420,36 @@ def plot_collapse(results: dict, path: str | Path, title: str = "") -> Path | No
 
 
 def plot_bounds(results: dict, mechanism: dict, path: str | Path, extent: float,
-                title: str = "") -> Path | None:
-    """The limit analysis: the upper bound's mechanism (its speed over the section, the
-    refined triangles drawn) and the two bounds against the number of triangles, the
-    elastoplastic factor beside them. Rank 0 writes the PNG."""
+                title: str = "", elastoplastic=None) -> Path | None:
+    """The limit analysis: the elastoplastic collapse mechanism (its last increment,
+    ``elastoplastic`` at the mechanism's points, where given) beside the upper bound's (each
+    scaled to its largest speed, over the refined triangles), and the two bounds against
+    the number of triangles with the elastoplastic factor. Rank 0 writes the PNG."""
     b = results.get("bounds")
     if not b or mechanism is None or not _rank0():
         return None
     import matplotlib.tri as mtri
 
-    fig, (ax, ax2) = figure(2)
+    views = ([("elastoplastic: the last increment", np.asarray(elastoplastic))]
+             if elastoplastic is not None else [])
+    views.append(("upper bound's mechanism", np.asarray(mechanism["velocity"])))
+    fig, axes = figure(len(views) + 1)
     pts, cells = mechanism["points"], mechanism["cells"]
-    speed = np.hypot(*np.asarray(mechanism["velocity"]).T)
     grid = mtri.Triangulation(pts[:, 0], pts[:, 1], cells)
-    shade = ax.tripcolor(grid, speed, shading="gouraud", cmap="viridis",
-                         vmin=0.0, vmax=robust_limit(speed)[0] or 1.0)
-    ax.triplot(grid, color="white", linewidth=0.15, alpha=0.5)
-    ax.set_xlim(0.0, extent)
-    ax.set_ylim(-extent, 0.0)
-    ax.set_aspect("equal")
-    ax.set_xlabel("r [m]")
-    ax.set_ylabel("z [m]")
-    ax.set_title("upper bound's mechanism: |u| per unit settlement rate", fontsize=9)
-    fig.colorbar(shade, ax=ax, shrink=0.8)
+    for ax, (name, u) in zip(axes, views):
+        speed = np.hypot(*u.T)
+        top = robust_limit(speed)[0] or 1.0
+        shade = ax.tripcolor(grid, speed / top, shading="gouraud", cmap="viridis",
+                             vmin=0.0, vmax=1.0)
+        ax.triplot(grid, color="white", linewidth=0.15, alpha=0.4)
+        ax.set_xlim(0.0, extent)
+        ax.set_ylim(-extent, 0.0)
+        ax.set_aspect("equal")
+        ax.set_xlabel("r [m]")
+        ax.set_ylabel("z [m]")
+        ax.set_title(f"{name}: |u| / its largest", fontsize=9)
+    fig.colorbar(shade, ax=axes[len(views) - 1], shrink=0.8)
+    ax2 = axes[-1]
     rounds = b["rounds"]
     n = [r["cells"] for r in rounds]
     ax2.plot(n, [r["upper"] for r in rounds], "v-", color=COLORS[0], label="upper bound")

@@ -66,6 +66,8 @@ CHARTABLE: dict[str, tuple[str, float, str]] = {
     "collapse.strength_factor": ("factor of safety on the strength", 1.0, ""),
     "collapse.N_c": ("N_c = q_ult / s_u", 1.0, ""),
     "collapse.bearing_pressure": ("bearing pressure at collapse", 1e-3, "kPa"),
+    "bounds.lower": ("collapse factor, lower bound", 1.0, ""),
+    "bounds.upper": ("collapse factor, upper bound", 1.0, ""),
 }
 #: the charts of a sweep without a [charts] table: dimensional
 DEFAULT_CHARTS = ("w0", "wd", "M0")

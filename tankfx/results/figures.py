@@ -24,6 +24,7 @@ from .charts import (  # noqa: F401  (the line charts, re-exported: one place to
     plot_surface_settlement,
     plot_sweep,
 )
+from ..fem.evaluate import evaluate_at
 from .fields import soil_cell_fields
 from .figure_choices import FIGURES, SECTION_QUANTITIES, section_problem  # noqa: F401
 
@@ -607,9 +608,15 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
                                        "marked": (solution.collapse["plastic"],
                                                   "yielding cells at collapse")}))
     if solution.bounds is not None:
-        # the limit analysis: the upper bound's mechanism beside the bounds' refinement
+        # the limit analysis: the upper bound's mechanism beside the elastoplastic one (its
+        # last increment at the same points: collective) and the bounds' refinement
+        elastoplastic = None
+        if solution.collapse is not None and solution.collapse["increment"] is not None:
+            elastoplastic = evaluate_at(solution.collapse["increment"],
+                                        solution.bounds["points"])
         figures.append((plot_bounds, (r, solution.bounds, directory / "bounds.png",
-                                      section["extent"]), {"title": title}))
+                                      section["extent"]),
+                        {"title": title, "elastoplastic": elastoplastic}))
     if "stages" in r:
         figures.append((plot_load_path, (r, directory / "load_path.png"), {"title": title}))
     figures.append((plot_settlement, (r, directory / "settlement.png"), {"title": title}))

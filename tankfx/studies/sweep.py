@@ -209,6 +209,8 @@ CONSOLIDATION_COLUMNS = ("consolidation.degree", "consolidation.undrained.w0",
 COLLAPSE_COLUMNS = ("collapse.load_factor", "collapse.strength_factor", "collapse.found",
                     "collapse.failure", "collapse.knee_factor",
                     "collapse.N_c", "collapse.bearing_pressure", "collapse.mechanism.kind")
+#: ... and, with the limit analysis' bounds, these
+BOUNDS_COLUMNS = ("bounds.lower", "bounds.upper", "bounds.gap", "bounds.triangles")
 
 
 def _flatten(results: dict, extra=()) -> dict:
@@ -216,6 +218,7 @@ def _flatten(results: dict, extra=()) -> dict:
     for col in COLUMNS + (OVERTURNING_COLUMNS if "overturning" in results else ()) + \
             (CONSOLIDATION_COLUMNS if "consolidation" in results else ()) + \
             (COLLAPSE_COLUMNS if "collapse" in results else ()) + \
+            (BOUNDS_COLUMNS if "bounds" in results else ()) + \
             tuple(c for c in extra if c not in COLUMNS):
         value = results
         for part in col.split("."):
