@@ -272,3 +272,21 @@ def test_a_non_associated_soil_is_bounded_as_the_associated_one_and_said_so(capl
     assert any("associated flow" in note for note in record["notes"])
     assert "associated flow" in caplog.text
     assert record["lower"] <= record["upper"] and "elastoplastic_factor" not in record
+
+
+def test_a_flexible_loads_bounds_lie_below_the_smooth_rigid_footings():
+    """A uniform pressure is one of the contact pressures a smooth rigid footing may have,
+    and a rigid footing's mechanism is one a flexible load may follow with the same work: on
+    one mesh both of the flexible load's bounds lie at or below the smooth rigid footing's."""
+    from tankfx.bounds.lower import lower_bound
+    from tankfx.bounds.upper import upper_bound
+
+    scene, tri = footing_triangles("smooth")
+    ground = ground_of(scene.soil, tri)
+    rigid = Loading(variable=S_U * math.pi, held=0.0, rigid=True, rough=False)
+    flexible = Loading(variable=S_U * math.pi, held=0.0, rigid=False, rough=False)
+    lo_r, up_r = lower_bound(tri, ground, rigid, S_U), upper_bound(tri, ground, rigid, S_U)
+    lo_f, up_f = (lower_bound(tri, ground, flexible, S_U),
+                  upper_bound(tri, ground, flexible, S_U))
+    assert lo_f.factor <= lo_r.factor * (1 + 1e-7) and up_f.factor <= up_r.factor * (1 + 1e-7)
+    assert 0.0 < lo_f.factor <= up_f.factor

@@ -28,8 +28,9 @@ def loading_of(scene, rigid: bool) -> Loading:
     held = full.held()
     H = vertical_load(held, scene.plate, scene.wall, scene.ringwall)
     V = vertical_load(full, scene.plate, scene.wall, scene.ringwall) - H
+    # (a flexible load is a pressure: no shear under it)
     return Loading(variable=V, held=H, rigid=rigid,
-                   rough=scene.interface.condition != "smooth",
+                   rough=rigid and scene.interface.condition != "smooth",
                    smooth_side=scene.domain.side == "roller",
                    smooth_base=scene.domain.base == "smooth")
 
