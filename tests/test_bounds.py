@@ -290,3 +290,18 @@ def test_a_flexible_loads_bounds_lie_below_the_smooth_rigid_footings():
                   upper_bound(tri, ground, flexible, S_U))
     assert lo_f.factor <= lo_r.factor * (1 + 1e-7) and up_f.factor <= up_r.factor * (1 + 1e-7)
     assert 0.0 < lo_f.factor <= up_f.factor
+
+
+def test_tresca_in_closed_form_is_the_three_cones_dual():
+    """The upper bound with Tresca's dissipation in closed form (two variables and eight rows
+    a control point) is the one with the three cones' dual (nine and thirteen), to the
+    solver's tolerance."""
+    from tankfx.bounds.upper import upper_bound
+
+    scene, tri = footing_triangles("bonded")
+    ground = ground_of(scene.soil, tri)
+    load = Loading(variable=S_U * math.pi, held=0.0, rigid=True, rough=True)
+    closed = upper_bound(tri, ground, load, S_U)
+    dual = upper_bound(tri, ground, load, S_U, three_cones=True)
+    assert closed.factor == pytest.approx(dual.factor, rel=1e-4)
+    assert closed.variables < dual.variables / 3

@@ -116,9 +116,48 @@ def _bernstein(bary: np.ndarray) -> np.ndarray:
                             2 * L[:, 1] * L[:, 2], 2 * L[:, 2] * L[:, 0]])
 
 
-def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> UpperBound:
+def _tresca(P: ConeProgram, C: np.ndarray, dofs: np.ndarray) -> np.ndarray:
+    """Tresca's dissipation at control points C (n, 4, 12: G's components on the dofs (n,
+    12)) in closed form, G isochoric (div v = 0, set per triangle by :func:`_isochoric`):
+    D_1 = t + s with t >= |(G_r - G_z, G_gamma)|,
+    t >= |G_theta| and s >= |G_theta| (c (|e1| + |e2| + |e3|) with e1,2 = -G_theta / 2 +- rho).
+    Eight rows and two variables a point, against the three cones' thirteen and nine.
+    Returns the variables (n, 2) whose sum, times the weights, is the dissipation."""
+    n = len(C)
+    T = P.variables(2 * n).reshape(n, 2)
+    rows12 = np.repeat(np.arange(n), 12)
+    # (t; G_r - G_z, G_gamma) in the cone: s = b - A x
+    i = np.concatenate([3 * np.arange(n), np.repeat(3 * np.arange(n) + 1, 12),
+                        np.repeat(3 * np.arange(n) + 2, 12)])
+    j = np.concatenate([T[:, 0], dofs.ravel(), dofs.ravel()])
+    v = np.concatenate([-np.ones(n), -(C[:, 0] - C[:, 1]).ravel(), -C[:, 2].ravel()])
+    P.cones(i, j, v, np.zeros(3 * n), 3)
+    # +-G_theta - t <= 0 and +-G_theta - s <= 0
+    for k in range(4):
+        sign, var = (1.0, -1.0, 1.0, -1.0)[k], T[:, k // 2]
+        P.nonnegative(np.concatenate([rows12, np.arange(n)]),
+                      np.concatenate([dofs.ravel(), var]),
+                      np.concatenate([(sign * C[:, 3]).ravel(), -np.ones(n)]), np.zeros(n))
+    return T
+
+
+def _isochoric(P: ConeProgram, cells: np.ndarray, grad_lambda: np.ndarray,
+               dofs: np.ndarray) -> None:
+    """div v = 0 on the triangles ``cells``: div v is linear, so at their three vertices
+    (three independent rows; G's volume change r div v then vanishes at every control
+    point, where six rows would be dependent and slow the solver)."""
+    for i in range(3):
+        g = _basis_gradients(NODES[i], grad_lambda[cells])            # (n, 6, 2)
+        n = len(cells)
+        P.equal(np.repeat(np.arange(n), 12), dofs[cells].ravel(),
+                np.concatenate([g[..., 0], g[..., 1]], axis=1).ravel(), np.zeros(n))
+
+
+def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
+                three_cones: bool = False) -> UpperBound:
     """The least factor on ``load.variable`` a kinematically admissible field allows.
-    ``scale`` (Pa) makes the stresses of order one."""
+    ``scale`` (Pa) makes the stresses of order one. Tresca's dissipation is taken in
+    closed form (``three_cones``: by the three cones' dual instead, a check)."""
     a, m = tri.a, len(tri.cells)
     points, cn, bn = p2_nodes(tri)
     x = points / a
@@ -168,6 +207,12 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
     Ys = []
     for phi in np.unique(ground.phi):
         sel_e, sel_j = np.nonzero(live & (ground.phi == phi)[:, None])
+        if phi == 0.0 and not three_cones:
+            _isochoric(P, np.flatnonzero(ground.phi == 0.0), grad_lambda, dofs)
+            weights = np.repeat(w[sel_e, sel_j][:, None], 2, axis=1)
+            Ys.append((sel_e, _tresca(P, C[sel_e, sel_j], dofs[sel_e]), weights))
+            P.minimise(Ys[-1][1].ravel(), weights.ravel())
+            continue
         cones = mohr_coulomb_cones(float(phi))
         n = len(sel_e)
         Y = P.variables(9 * n).reshape(n, 3, 3)                   # (point, cone, component)
