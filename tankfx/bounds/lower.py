@@ -37,7 +37,7 @@ import numpy as np
 
 from ..laws.limit_cones import mohr_coulomb_cones
 from .program import ConeProgram
-from .triangles import BASE, CONTACT, SIDE, SURFACE, Triangles, interior_and_boundary
+from .triangles import BASE, CONTACT, SIDE, SURFACE, Triangles
 
 
 @dataclass(frozen=True)
@@ -111,7 +111,7 @@ def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
     vals = np.column_stack([b, c]).ravel()
     P.equal(rows, cols, vals, np.zeros(m))
     # ---- continuity of the traction across interior edges, at both vertices ----
-    _, pair, verts = interior_and_boundary(tri.cells)
+    pair, verts = tri.interior
     local = _local_index(tri.cells)
     t = x[verts[:, 1]] - x[verts[:, 0]]
     n = np.column_stack([t[:, 1], -t[:, 0]])
@@ -127,7 +127,7 @@ def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
             vals = np.column_stack([n[:, 0], n[:, 1], -n[:, 0], -n[:, 1]]).ravel()
             P.equal(rows, cols, vals, np.zeros(k))
     # ---- boundaries ----
-    owner = _boundary_owner(tri)
+    owner = tri.owner
     free = tri.kind == SURFACE
     contact = tri.kind == CONTACT
     # (a smooth support takes no shear: T on the side (n = e_r) and on the base (n = -e_z))
@@ -231,18 +231,6 @@ def _local_index(cells: np.ndarray):
         hit = cells[e] == np.asarray(v)[:, None]
         return np.argmax(hit, axis=1)
     return local
-
-
-def _boundary_owner(tri: Triangles) -> np.ndarray:
-    """The triangle of each boundary edge."""
-    key = {tuple(sorted(ed)): i for i, ed in enumerate(tri.edges.tolist())}
-    owner = np.empty(len(tri.edges), dtype=np.int64)
-    for e, cell in enumerate(tri.cells.tolist()):
-        for i in range(3):
-            j = key.get(tuple(sorted((cell[i], cell[(i + 1) % 3]))))
-            if j is not None:
-                owner[j] = e
-    return owner
 
 
 def _stresses(x, S, st, r, z, ground, a, scale, bary=None) -> np.ndarray:

@@ -2,8 +2,6 @@
 run (``[analysis] collapse = "bounds"``)."""
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..scene.sections import vertical_load
@@ -37,13 +35,8 @@ def loading_of(scene, rigid: bool) -> Loading:
 
 def strength_scale(soil, a: float) -> float:
     """A stress of order one for the programs: the cohesion at the surface, else gamma a."""
-    c = float(soil.at_depth(np.array([0.0]))["cohesion"][0])
-    g = float(soil.at_depth(np.array([0.0]))["unit_weight"][0])
-    return max(c, g * a, 1.0)
-
-
-def area(a: float) -> float:
-    return math.pi * a ** 2
+    top = soil.at_depth(np.array([0.0]))
+    return max(float(top["cohesion"][0]), float(top["unit_weight"][0]) * a, 1.0)
 
 
 def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> tuple[dict, dict]:

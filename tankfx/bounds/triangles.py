@@ -8,6 +8,7 @@ z).
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,13 +19,14 @@ AXIS, CONTACT, SURFACE, SIDE, BASE = 0, 1, 2, 3, 4
 @dataclass(frozen=True)
 class Triangles:
     """``points`` (n, 2) (r, z), ``cells`` (m, 3) counterclockwise, ``edges`` (k, 2) the
-    boundary edges (their two vertices), ``kind`` (k,) of each, ``a`` the foundation's
-    radius."""
+    boundary edges (their two vertices), ``kind`` (k,) and ``owner`` (k,) (its triangle) of
+    each, ``a`` the foundation's radius."""
 
     points: np.ndarray
     cells: np.ndarray
     edges: np.ndarray
     kind: np.ndarray
+    owner: np.ndarray
     a: float
 
     @classmethod
@@ -40,7 +42,7 @@ class Triangles:
         renumber = np.full(len(points), -1)
         renumber[used] = np.arange(len(used))
         points, cells = points[used], renumber[cells]
-        edges, _, _ = interior_and_boundary(cells)
+        edges, owner = _edges(cells)[:2]
         size = np.ptp(points, axis=0).max()
         tol = 1e-9 * size
         mid = 0.5 * (points[edges[:, 0]] + points[edges[:, 1]])
@@ -55,7 +57,7 @@ class Triangles:
         if np.any(kind < 0):
             raise ValueError("a boundary edge off the axis, the surface, the side and the base: "
                              "limit analysis takes a foundation on the surface of a box")
-        return cls(points, cells, edges, kind, a)
+        return cls(points, cells, edges, kind, owner, a)
 
     @classmethod
     def from_mesh(cls, msh, a: float) -> "Triangles":
@@ -67,6 +69,12 @@ class Triangles:
         cells = np.arange(msh.topology.index_map(tdim).size_local, dtype=np.int32)
         nodes = dmesh.entities_to_geometry(msh, tdim, cells)[:, :3]
         return cls.from_points(msh.geometry.x, nodes, a)
+
+    @functools.cached_property
+    def interior(self) -> tuple[np.ndarray, np.ndarray]:
+        """The interior edges: for each, its two triangles (e, f) and its vertices as e
+        orders them."""
+        return _edges(self.cells)[2:]
 
     @property
     def h(self) -> np.ndarray:
@@ -100,9 +108,10 @@ class Triangles:
         return Triangles.from_mesh(fine, self.a)
 
 
-def interior_and_boundary(cells: np.ndarray):
-    """The boundary edges (k, 2) (in their triangle's counterclockwise order), and the
-    interior edges: for each, its two triangles (e, f) and its vertices as e orders them."""
+def _edges(cells: np.ndarray):
+    """The boundary edges (k, 2) (in their triangle's counterclockwise order) and their
+    triangles (k,), and the interior edges: for each, its two triangles (e, f) and its
+    vertices as e orders them."""
     m = len(cells)
     local = np.array([[0, 1], [1, 2], [2, 0]])
     pairs = cells[:, local].reshape(-1, 2)                    # (3m, 2), ccw per triangle
@@ -115,5 +124,5 @@ def interior_and_boundary(cells: np.ndarray):
     second = order[1:][same]
     paired = np.zeros(len(pairs), bool)
     paired[first] = paired[second] = True
-    boundary = pairs[~paired]
-    return boundary, np.column_stack([owner[first], owner[second]]), pairs[first]
+    return (pairs[~paired], owner[~paired], np.column_stack([owner[first], owner[second]]),
+            pairs[first])
