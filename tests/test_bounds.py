@@ -292,16 +292,21 @@ def test_a_flexible_loads_bounds_lie_below_the_smooth_rigid_footings():
     assert 0.0 < lo_f.factor <= up_f.factor
 
 
-def test_tresca_in_closed_form_is_the_three_cones_dual():
-    """The upper bound with Tresca's dissipation in closed form (two variables and eight rows
-    a control point) is the one with the three cones' dual (nine and thirteen), to the
-    solver's tolerance."""
+@pytest.mark.parametrize("soil", [{}, {"friction_angle": 30.0, "dilation_angle": 30.0,
+                                        "unit_weight": 18e3}])
+def test_the_dissipation_in_closed_form_is_the_three_cones_dual(soil):
+    """The upper bound with the dissipation in closed form (Tresca: c (t + s), isochoric;
+    Mohr-Coulomb: c cot phi tr G in the flow cone; two variables and eight rows a control
+    point) is the one with the three cones' dual (nine and thirteen), to the solver's
+    tolerance, with and without friction and weight."""
     from tankfx.bounds.upper import upper_bound
 
     scene, tri = footing_triangles("bonded")
+    scene = scene.with_changes(soil={**scene.to_dict()["soil"], **soil})
     ground = ground_of(scene.soil, tri)
     load = Loading(variable=S_U * math.pi, held=0.0, rigid=True, rough=True)
     closed = upper_bound(tri, ground, load, S_U)
     dual = upper_bound(tri, ground, load, S_U, three_cones=True)
     assert closed.factor == pytest.approx(dual.factor, rel=1e-4)
+    assert closed.dissipation.sum() == pytest.approx(dual.dissipation.sum(), rel=1e-4)
     assert closed.variables < dual.variables / 3

@@ -66,7 +66,7 @@ def test_for_tresca_soil_the_strength_factor_is_the_load_factor():
 def test_a_c_phi_soil_at_its_strength_factor_carries_its_load_and_no_more():
     """c = 10 kPa, phi = 20 degrees, weightless, under 100 kPa: F from collapse = "strength";
     the same soil with c / F and tan phi / F has a load factor of 1 on 100 kPa within the
-    brackets (measured: F = 1.381, then 1.005). (Analysed under 90 kPa: at its limit the
+    brackets (measured: F = 1.391, then 1.004). (Analysed under 90 kPa: at its limit the
     load steps of the scene's own analysis may fail where settlement control passes.)"""
     soil = {"friction_angle": 20.0, "dilation_angle": 20.0}
     strength = analyse(Scene.from_dict(footing(collapse="strength", soil=soil,

@@ -40,7 +40,7 @@ class ConeProgram:
     kinds: list = field(default_factory=list)     # ("zero", m) / ("nonneg", m) / ("soc", d, count)
     starts: list = field(default_factory=list)   # the first row of each block
     m: int = 0
-    cost: dict = field(default_factory=dict)
+    cost: list = field(default_factory=list)     # (indices, coefficients) pairs
     verbose: bool = False
 
     def variables(self, count: int) -> np.ndarray:
@@ -74,8 +74,8 @@ class ConeProgram:
 
     def minimise(self, j, v) -> None:
         """Add sum v x_j to the objective."""
-        for jj, vv in zip(np.ravel(j), np.ravel(v)):
-            self.cost[int(jj)] = self.cost.get(int(jj), 0.0) + float(vv)
+        j, v = np.broadcast_arrays(np.ravel(j), np.ravel(v))
+        self.cost.append((j.astype(np.int64), v.astype(float)))
 
     def equality_residual(self, x: np.ndarray) -> float:
         """The largest residual of the equality rows at ``x``, relative to the largest term
@@ -101,8 +101,8 @@ class ConeProgram:
         A = sparse.csc_matrix((v, (i, j)), shape=(self.m, self.n))
         b = np.concatenate(self.rhs)
         q = np.zeros(self.n)
-        for jj, vv in self.cost.items():
-            q[jj] += vv
+        for jj, vv in self.cost:
+            np.add.at(q, jj, vv)
         P = sparse.csc_matrix((self.n, self.n))
         cones = []
         for kind in self.kinds:

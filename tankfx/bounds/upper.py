@@ -19,9 +19,12 @@ Since D is convex,
 
     int c D_1(G) / r dA <= sum_j D_1(C_j) int c B_j / r dA
 
-(D_1 the dissipation at unit cohesion). D_1 is the conic dual of the three yield cones of
-:mod:`tankfx.laws.limit_cones`: three cone variables per control point, and any feasible
-ones give an upper estimate. The weights are integrated by a 64-point collapsed Gauss rule.
+(D_1 the dissipation at unit cohesion). D_1 is taken in closed form: Tresca's
+c (|e_1| + |e_2| + |e_3|) of an isochoric rate, Mohr-Coulomb's c cot phi tr G of a rate in
+the flow cone tr G >= sin phi (|e_1| + |e_2| + |e_3|); two variables a control point. The
+conic dual of the three yield cones of :mod:`tankfx.laws.limit_cones` (three cone
+variables a control point; any feasible ones give an upper estimate) is kept as a check.
+The weights are integrated by a 64-point collapsed Gauss rule.
 On the axis v = 0, so u stays bounded and the control points there vanish.
 
 Supports: a fixed side or base v = 0, a smooth one its normal flux 0. A rigid foundation
@@ -141,6 +144,39 @@ def _tresca(P: ConeProgram, C: np.ndarray, dofs: np.ndarray) -> np.ndarray:
     return T
 
 
+def _mohr_coulomb(P: ConeProgram, C: np.ndarray, dofs: np.ndarray,
+                  sin_phi: float) -> np.ndarray:
+    """Mohr-Coulomb's dissipation (phi > 0, associated) at control points C (n, 4, 12) in
+    closed form: D_1 = cot phi tr G, finite where the rate lies in the flow cone
+    tr G >= sin phi (|e_1| + |e_2| + |e_3|) (Chen 1975; Salencon). In axial symmetry
+    |e_1| + |e_2| = max(|G_r + G_z|, |(G_r - G_z, G_gamma)|) in the plane and |e_3| = |G_theta|:
+    t >= |(G_r - G_z, G_gamma)|, t >= |G_r + G_z|, s >= |G_theta| and
+    tr G >= sin phi (t + s). Eight rows and two variables a point, against the three cones'
+    thirteen and nine; the dissipation is then linear in the fluxes, and exact where it
+    is finite (the control points lie in the cone, so G does on the whole triangle).
+    Returns D_1's coefficients on the dofs (n, 12)."""
+    n = len(C)
+    T = P.variables(2 * n).reshape(n, 2)
+    rows12 = np.repeat(np.arange(n), 12)
+    i = np.concatenate([3 * np.arange(n), np.repeat(3 * np.arange(n) + 1, 12),
+                        np.repeat(3 * np.arange(n) + 2, 12)])
+    j = np.concatenate([T[:, 0], dofs.ravel(), dofs.ravel()])
+    v = np.concatenate([-np.ones(n), -(C[:, 0] - C[:, 1]).ravel(), -C[:, 2].ravel()])
+    P.cones(i, j, v, np.zeros(3 * n), 3)
+    # +-(G_r + G_z) - t <= 0 and +-G_theta - s <= 0
+    for sign in (1.0, -1.0):
+        for part, var in (((C[:, 0] + C[:, 1]), T[:, 0]), (C[:, 3], T[:, 1])):
+            P.nonnegative(np.concatenate([rows12, np.arange(n)]),
+                          np.concatenate([dofs.ravel(), var]),
+                          np.concatenate([(sign * part).ravel(), -np.ones(n)]), np.zeros(n))
+    trace = C[:, 0] + C[:, 1] + C[:, 3]                            # (n, 12)
+    # sin phi (t + s) - tr G <= 0
+    P.nonnegative(np.concatenate([rows12, np.arange(n), np.arange(n)]),
+                  np.concatenate([dofs.ravel(), T[:, 0], T[:, 1]]),
+                  np.concatenate([-trace.ravel(), np.full(2 * n, sin_phi)]), np.zeros(n))
+    return trace * (math.sqrt(1.0 - sin_phi ** 2) / sin_phi)
+
+
 def _isochoric(P: ConeProgram, cells: np.ndarray, grad_lambda: np.ndarray,
                dofs: np.ndarray) -> None:
     """div v = 0 on the triangles ``cells``: div v is linear, so at their three vertices
@@ -202,16 +238,24 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
     for k, (i, j) in enumerate(EDGES):
         on_axis_edge[:, 3 + k] = (r[:, i] < 1e-12) & (r[:, j] < 1e-12)
     live = (rC > 1e-12) & ~on_axis_edge
-    # ---- dissipation: three cone variables per control point ----
+    # ---- dissipation: per control point, in closed form (or by the three cones' dual) ----
     cost = np.zeros(m)
-    Ys = []
+    shares = []                       # (triangles, the points' dissipation from a solution)
     for phi in np.unique(ground.phi):
         sel_e, sel_j = np.nonzero(live & (ground.phi == phi)[:, None])
+        ws = w[sel_e, sel_j]
+        dsel = dofs[sel_e]                                        # (n, 12)
         if phi == 0.0 and not three_cones:
             _isochoric(P, np.flatnonzero(ground.phi == 0.0), grad_lambda, dofs)
-            weights = np.repeat(w[sel_e, sel_j][:, None], 2, axis=1)
-            Ys.append((sel_e, _tresca(P, C[sel_e, sel_j], dofs[sel_e]), weights))
-            P.minimise(Ys[-1][1].ravel(), weights.ravel())
+            T = _tresca(P, C[sel_e, sel_j], dsel)
+            P.minimise(T, np.repeat(ws[:, None], 2, axis=1))
+            shares.append((sel_e, lambda x, T=T, ws=ws: x[T].sum(axis=1) * ws))
+            continue
+        if not three_cones:
+            coef = _mohr_coulomb(P, C[sel_e, sel_j], dsel, math.sin(phi))
+            P.minimise(dsel, ws[:, None] * coef)
+            shares.append((sel_e, lambda x, coef=coef, dsel=dsel, ws=ws:
+                           (coef * x[dsel]).sum(axis=1) * ws))
             continue
         cones = mohr_coulomb_cones(float(phi))
         n = len(sel_e)
@@ -220,16 +264,16 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
         # sum_k M_k^T y_k + C = 0: 4 rows per control point
         M = np.stack([cones.rows(k) for k in range(3)])            # (3, 3, 4)
         Csel = C[sel_e, sel_j]                                    # (n, 4, 12)
-        dsel = dofs[sel_e]                                        # (n, 12)
         for comp in range(4):
             rows = np.repeat(np.arange(n), 9 + 12)
             cols = np.column_stack([Y.reshape(n, 9), dsel]).ravel()
             vals = np.column_stack([np.broadcast_to(M[:, :, comp].ravel(), (n, 9)),
                                     Csel[:, comp, :]]).ravel()
             P.equal(rows, cols, vals, np.zeros(n))
-        weights = w[sel_e, sel_j][:, None] * cones.beta[None, :]
-        P.minimise(Y[:, :, 0].ravel(), weights.ravel())
-        Ys.append((sel_e, Y[:, :, 0], weights))
+        weights = ws[:, None] * cones.beta[None, :]
+        P.minimise(Y[:, :, 0], weights)
+        shares.append((sel_e, lambda x, Y0=Y[:, :, 0], weights=weights:
+                       (x[Y0] * weights).sum(axis=1)))
     # ---- the soil's weight: + 2 pi int gamma v_z dA (in scale a^3) ----
     qp6, qw6 = QUADRATURE
     for bary, wq in zip(qp6, qw6):
@@ -272,8 +316,8 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
     work = load.variable / norm if load.rigid else 1.0
     factor = (sol.objective - held_work) / work
     # each triangle's dissipation (its share of the bound, for the refinement)
-    for sel_e, y0, weights in Ys:
-        np.add.at(cost, sel_e, (sol.x[y0] * weights).sum(axis=1))
+    for sel_e, share in shares:
+        np.add.at(cost, sel_e, share(sol.x))
     with np.errstate(divide="ignore", invalid="ignore"):
         vel = np.where(x[:, :1] > 1e-12, sol.x[V] / x[:, :1], 0.0)
     # (on the axis u = v / r is drawn as its limit dv/dr there, the mean over the triangles

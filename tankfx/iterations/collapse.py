@@ -69,8 +69,13 @@ class CollapseSearch:
     #: a trial's Newton iterations at most, and the iterations over which its out-of-balance
     #: force must halve: near the limit Newton converges slowly (a c-phi footing 0.3 % below
     #: its limit: 42 iterations; budgets of 25 and 30 called such trials failures, 1-2 %
-    #: low), beyond it the force stalls
+    #: low), beyond it the force stalls. The load's trial, 0.5 % above a plateau reached
+    #: under settlement control: TRIAL_ITERATIONS, STALL. A strength trial, a step in c and
+    #: tan phi from the last converged factor: twice that (with the apex's tangent near its
+    #: own zero, a c-phi footing's trial 0.5 % below its limit took 62 iterations, and a
+    #: stall of 50 put the strength factor 1 % low against the load factor)
     TRIAL_ITERATIONS, STALL = 100, 50
+    STRENGTH_ITERATIONS, STRENGTH_STALL = 200, 100
     #: the stall test of a strength trial more than 4 brackets above the last converged one
     FAR_STALL = 15
 
@@ -271,8 +276,9 @@ class CollapseSearch:
                 # false failure there only brings the next trial nearer, and the bracket's
                 # own failed trial is always one within 4 brackets of its converged state)
                 near = F / F_ok - 1.0 <= 4.0 * BRACKET
-                ok, its, residual, why = nw._newton(self.inner, self.TRIAL_ITERATIONS,
-                                                    self.STALL if near else self.FAR_STALL)
+                ok, its, residual, why = nw._newton(
+                    self.inner, self.STRENGTH_ITERATIONS,
+                    self.STRENGTH_STALL if near else self.FAR_STALL)
                 iterations += its
                 ok, why = self._small(ok, why)
                 log.info("  %5d  %9.5f  %9s  %6d  %19s  %6.2f", trial, F, ok, its,
