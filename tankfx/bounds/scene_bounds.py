@@ -110,4 +110,9 @@ def _record(scene, b, seconds: float, elastoplastic: dict | None) -> dict:
         F = elastoplastic["load_factor"]
         out["elastoplastic_factor"] = F
         out["elastoplastic_between"] = bool(b.lower.factor <= F <= b.upper.factor)
+        out["elastoplastic_position"] = ("between" if out["elastoplastic_between"] else
+                                         "above" if F > b.upper.factor else "below")
+        out["elastoplastic_failure"] = elastoplastic.get("failure")
+        out["associated"] = all((st.dilation_angle or 0.0) == (st.friction_angle or 0.0)
+                                for st in scene.soil.strata)
     return out

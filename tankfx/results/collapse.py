@@ -84,8 +84,28 @@ def bounds_words(b: dict) -> str:
            f"loads (gap {100 * b['gap']:.2g} %, {b['triangles']} triangles)")
     if "elastoplastic_factor" in b:
         out += (f"; the elastoplastic analysis says {b['elastoplastic_factor']:.4g}"
-                + ("" if b["elastoplastic_between"] else ", outside the bounds"))
+                + elastoplastic_against_bounds(b))
     return out
+
+
+def elastoplastic_against_bounds(b: dict) -> str:
+    """Where the elastoplastic factor lies against the bounds, and why where it is not
+    between them (a clause, empty where it is)."""
+    where = b.get("elastoplastic_position",
+                  "between" if b["elastoplastic_between"] else "outside")
+    if where == "between":
+        return ""
+    if where == "above":
+        return (", above the upper bound: its displacement elements overestimate the "
+                "collapse load on this mesh (a finer mesh.edge_size and near_size, or a "
+                "higher mesh.degree, brings it down)")
+    if where == "below" and b.get("elastoplastic_failure") == "settlement":
+        return (", below the lower bound: it failed by the settlement criterion (0.1 D) "
+                "before the plastic limit")
+    if where == "below" and not b.get("associated", True):
+        return (", below the lower bound: its soil's flow is not associated (psi < phi), "
+                "and such a soil fails below the associated one's limit")
+    return ", outside the bounds"
 
 
 def bounds_rows(r: dict) -> list[tuple[str, str, str]]:
@@ -101,5 +121,9 @@ def bounds_rows(r: dict) -> list[tuple[str, str, str]]:
              f"(upper - lower) / lower on {b['triangles']} triangles, asked "
              f"{100 * b['requested_gap']:.3g} %" + ("" if b["reached"] else ": not reached "
                                                     "within analysis.bounds_cells"))]
+    if "elastoplastic_factor" in b:
+        rows.append(("elastoplastic factor against the bounds",
+                     f"{b['elastoplastic_factor']:.4g}",
+                     elastoplastic_against_bounds(b).lstrip(", ") or "between them"))
     rows += [("bounds: note", "-", note) for note in b["notes"]]
     return rows
