@@ -163,16 +163,16 @@ def test_the_scene_asks_for_the_bounds_beside_the_elastoplastic_factor(tmp_path)
 def test_c_phi_soils_bounds_bracket_their_elastoplastic_collapse(soil, condition, pressure):
     """phi = 30 degrees weightless (smooth), and phi = 20 degrees with 18 kN/m^3 (rough,
     gamma B / c = 3.6): the elastoplastic collapse by load (cubic elements) lies between the
-    bounds, here refined to 10 % (measured: q / c in [46.8, 49.98] with 49.72, and
-    [29.76, 31.96] with 31.80, at 8 %; at 3 % the benchmark's). No published circular
-    value of these was found: docs/development/2026-11-27-bounds.md."""
+    bounds, here refined to 15 % (measured: q / c in [45.18, 50.61] with 49.72, and
+    [28.83, 32.41] with 31.80, gaps of 12 %; refined to 3 % in the benchmark). No
+    published circular value of these was found: docs/development/2026-11-27-bounds.md."""
     from tankfx import analyse
     from test_collapse import footing
 
     data = footing(condition, collapse="bounds", pressure=pressure, mesh=(0.02, 0.4),
                    soil=soil)
     data["mesh"]["degree"] = 3
-    data["analysis"]["bounds_gap"] = 0.1
+    data["analysis"]["bounds_gap"] = 0.15
     b = analyse(Scene.from_dict(data)).results["bounds"]
     assert b["reached"] and b["lower"] < b["upper"]
     assert b["lower"] <= b["elastoplastic_factor"] <= b["upper"]
