@@ -119,6 +119,31 @@ def _bernstein(bary: np.ndarray) -> np.ndarray:
                             2 * L[:, 1] * L[:, 2], 2 * L[:, 2] * L[:, 0]])
 
 
+def _shear_bound(P: ConeProgram, C: np.ndarray, dofs: np.ndarray) -> np.ndarray:
+    """Two new variables (t, s) per control point (C (n, 4, 12): G's components on the dofs
+    (n, 12)), t in the cone t >= |(G_r - G_z, G_gamma)|, the in-plane rates' difference
+    e_1 - e_2. Returns them (n, 2)."""
+    n = len(C)
+    T = P.variables(2 * n).reshape(n, 2)
+    # (t; G_r - G_z, G_gamma) in the cone: s = b - A x
+    i = np.concatenate([3 * np.arange(n), np.repeat(3 * np.arange(n) + 1, 12),
+                        np.repeat(3 * np.arange(n) + 2, 12)])
+    j = np.concatenate([T[:, 0], dofs.ravel(), dofs.ravel()])
+    v = np.concatenate([-np.ones(n), -(C[:, 0] - C[:, 1]).ravel(), -C[:, 2].ravel()])
+    P.cones(i, j, v, np.zeros(3 * n), 3)
+    return T
+
+
+def _at_least_abs(P: ConeProgram, part: np.ndarray, dofs: np.ndarray,
+                  var: np.ndarray) -> None:
+    """var >= |part . dofs| per control point (part (n, 12), var (n,)): two rows each."""
+    n = len(var)
+    for sign in (1.0, -1.0):
+        P.nonnegative(np.concatenate([np.repeat(np.arange(n), 12), np.arange(n)]),
+                      np.concatenate([dofs.ravel(), var]),
+                      np.concatenate([(sign * part).ravel(), -np.ones(n)]), np.zeros(n))
+
+
 def _tresca(P: ConeProgram, C: np.ndarray, dofs: np.ndarray) -> np.ndarray:
     """Tresca's dissipation at control points C (n, 4, 12: G's components on the dofs (n,
     12)) in closed form, G isochoric (div v = 0, set per triangle by :func:`_isochoric`):
@@ -126,21 +151,9 @@ def _tresca(P: ConeProgram, C: np.ndarray, dofs: np.ndarray) -> np.ndarray:
     t >= |G_theta| and s >= |G_theta| (c (|e1| + |e2| + |e3|) with e1,2 = -G_theta / 2 +- rho).
     Eight rows and two variables a point, against the three cones' thirteen and nine.
     Returns the variables (n, 2) whose sum, times the weights, is the dissipation."""
-    n = len(C)
-    T = P.variables(2 * n).reshape(n, 2)
-    rows12 = np.repeat(np.arange(n), 12)
-    # (t; G_r - G_z, G_gamma) in the cone: s = b - A x
-    i = np.concatenate([3 * np.arange(n), np.repeat(3 * np.arange(n) + 1, 12),
-                        np.repeat(3 * np.arange(n) + 2, 12)])
-    j = np.concatenate([T[:, 0], dofs.ravel(), dofs.ravel()])
-    v = np.concatenate([-np.ones(n), -(C[:, 0] - C[:, 1]).ravel(), -C[:, 2].ravel()])
-    P.cones(i, j, v, np.zeros(3 * n), 3)
-    # +-G_theta - t <= 0 and +-G_theta - s <= 0
-    for k in range(4):
-        sign, var = (1.0, -1.0, 1.0, -1.0)[k], T[:, k // 2]
-        P.nonnegative(np.concatenate([rows12, np.arange(n)]),
-                      np.concatenate([dofs.ravel(), var]),
-                      np.concatenate([(sign * C[:, 3]).ravel(), -np.ones(n)]), np.zeros(n))
+    T = _shear_bound(P, C, dofs)
+    _at_least_abs(P, C[:, 3], dofs, T[:, 0])
+    _at_least_abs(P, C[:, 3], dofs, T[:, 1])
     return T
 
 
@@ -156,19 +169,10 @@ def _mohr_coulomb(P: ConeProgram, C: np.ndarray, dofs: np.ndarray,
     is finite (the control points lie in the cone, so G does on the whole triangle).
     Returns D_1's coefficients on the dofs (n, 12)."""
     n = len(C)
-    T = P.variables(2 * n).reshape(n, 2)
+    T = _shear_bound(P, C, dofs)
+    _at_least_abs(P, C[:, 0] + C[:, 1], dofs, T[:, 0])
+    _at_least_abs(P, C[:, 3], dofs, T[:, 1])
     rows12 = np.repeat(np.arange(n), 12)
-    i = np.concatenate([3 * np.arange(n), np.repeat(3 * np.arange(n) + 1, 12),
-                        np.repeat(3 * np.arange(n) + 2, 12)])
-    j = np.concatenate([T[:, 0], dofs.ravel(), dofs.ravel()])
-    v = np.concatenate([-np.ones(n), -(C[:, 0] - C[:, 1]).ravel(), -C[:, 2].ravel()])
-    P.cones(i, j, v, np.zeros(3 * n), 3)
-    # +-(G_r + G_z) - t <= 0 and +-G_theta - s <= 0
-    for sign in (1.0, -1.0):
-        for part, var in (((C[:, 0] + C[:, 1]), T[:, 0]), (C[:, 3], T[:, 1])):
-            P.nonnegative(np.concatenate([rows12, np.arange(n)]),
-                          np.concatenate([dofs.ravel(), var]),
-                          np.concatenate([(sign * part).ravel(), -np.ones(n)]), np.zeros(n))
     trace = C[:, 0] + C[:, 1] + C[:, 3]                            # (n, 12)
     # sin phi (t + s) - tr G <= 0
     P.nonnegative(np.concatenate([rows12, np.arange(n), np.arange(n)]),
