@@ -128,14 +128,14 @@ def test_the_scene_asks_for_the_bounds_beside_the_elastoplastic_factor(tmp_path,
                                                                        exact):
     """collapse = "bounds" on the smooth and the rough footing: lower <= 5.69 (Shield) and
     6.05 (Eason & Shield) <= upper with the gap below 3 %, and the elastoplastic factor
-    (cubic elements) between them (measured: 5.704 in [5.589, 5.729], 6.069 in [5.954,
+    (cubic elements) between them (measured: 5.705 in [5.589, 5.729], 6.070 in [5.954,
     6.084]); the summary's rows and the figure of the upper bound's mechanism."""
     from tankfx import analyse
     from tankfx.results.figures import write_figures
     from tankfx.results.report import summary_table
     from test_collapse import footing
 
-    data = footing(condition, collapse="bounds", mesh=(0.01, 0.3))
+    data = footing(condition, collapse="bounds", mesh=(0.01, 0.4))
     data["mesh"]["degree"] = 3          # (smooth: 5.704; quadratic elements give 5.745)
     solution = analyse(Scene.from_dict(data))
     r = solution.results
@@ -147,8 +147,9 @@ def test_the_scene_asks_for_the_bounds_beside_the_elastoplastic_factor(tmp_path,
     assert np.allclose(vel[under, 1], -1.0, atol=1e-6)
     far = np.hypot(*pts.T) > 4.0
     assert np.max(np.abs(vel[far])) < 1e-3
-    written = write_figures(solution, tmp_path, "stress_level")
-    assert tmp_path / "bounds.png" in written
+    if condition == "smooth":           # (the figure's code is the same for both)
+        written = write_figures(solution, tmp_path, "stress_level")
+        assert tmp_path / "bounds.png" in written
     b = r["bounds"]
     assert b["lower"] <= exact <= b["upper"] and b["gap"] <= 0.03 and b["reached"]
     assert b["elastoplastic_factor"] == r["collapse"]["load_factor"]
@@ -167,13 +168,13 @@ def test_the_scene_asks_for_the_bounds_beside_the_elastoplastic_factor(tmp_path,
 def test_c_phi_soils_bounds_bracket_their_elastoplastic_collapse(soil, condition, pressure):
     """phi = 30 degrees weightless (smooth), and phi = 20 degrees with 18 kN/m^3 (rough,
     gamma B / c = 3.6): the elastoplastic collapse by load (cubic elements) lies between the
-    bounds, here refined to 15 % (measured: q / c in [45.18, 50.61] with 49.72, and
-    [28.83, 32.41] with 31.80, gaps of 12 %; refined to 3 % in the benchmark). No
+    bounds, here refined to 15 % (measured: q / c in [45.18, 50.61] with 49.79, and
+    [28.83, 32.41] with 31.79, gaps of 12 %; refined to 3 % in the benchmark). No
     published circular value of these was found: docs/development/2026-11-27-bounds.md."""
     from tankfx import analyse
     from test_collapse import footing
 
-    data = footing(condition, collapse="bounds", pressure=pressure, mesh=(0.02, 0.4),
+    data = footing(condition, collapse="bounds", pressure=pressure, mesh=(0.02, 0.6),
                    soil=soil)
     data["mesh"]["degree"] = 3
     data["analysis"]["bounds_gap"] = 0.15
