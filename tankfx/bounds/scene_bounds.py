@@ -86,11 +86,12 @@ def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> tuple[d
 def _record(scene, b, seconds: float, elastoplastic: dict | None) -> dict:
     import clarabel
 
-    notes = []
+    notes, associated = [], True
     for k, st in enumerate(scene.soil.strata):
         phi, psi = st.friction_angle or 0.0, st.dilation_angle or 0.0
         where = "soil" if k == 0 else f"soil.layers[{k}]"
         if psi != phi:
+            associated = False
             notes.append(f"{where}: the dilation angle {psi:g} differs from the friction angle "
                          f"{phi:g}: limit analysis assumes associated flow (psi = phi), and "
                          f"these are the associated soil's bounds")
@@ -113,6 +114,5 @@ def _record(scene, b, seconds: float, elastoplastic: dict | None) -> dict:
         out["elastoplastic_position"] = ("between" if out["elastoplastic_between"] else
                                          "above" if F > b.upper.factor else "below")
         out["elastoplastic_failure"] = elastoplastic.get("failure")
-        out["associated"] = all((st.dilation_angle or 0.0) == (st.friction_angle or 0.0)
-                                for st in scene.soil.strata)
+        out["associated"] = associated
     return out

@@ -196,8 +196,9 @@ def _isochoric(P: ConeProgram, cells: np.ndarray, grad_lambda: np.ndarray,
 def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
                 three_cones: bool = False) -> UpperBound:
     """The least factor on ``load.variable`` a kinematically admissible field allows.
-    ``scale`` (Pa) makes the stresses of order one. Tresca's dissipation is taken in
-    closed form (``three_cones``: by the three cones' dual instead, a check)."""
+    ``scale`` (Pa) makes the stresses of order one. Tresca's and Mohr-Coulomb's
+    dissipations are taken in closed form (``three_cones``: by the three cones' dual
+    instead, a check)."""
     a, m = tri.a, len(tri.cells)
     points, cn, bn = p2_nodes(tri)
     x = points / a
@@ -244,7 +245,9 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
     live = (rC > 1e-12) & ~on_axis_edge
     # ---- dissipation: per control point, in closed form (or by the three cones' dual) ----
     cost = np.zeros(m)
-    shares = []                       # (triangles, the points' dissipation from a solution)
+    # (each control point's dissipation is linear in the program's variables: the
+    # objective's terms, kept per triangle for the refinement)
+    shares = []                       # (triangles (n,), variables (n, k), coefficients (n, k))
     for phi in np.unique(ground.phi):
         sel_e, sel_j = np.nonzero(live & (ground.phi == phi)[:, None])
         ws = w[sel_e, sel_j]
@@ -252,14 +255,11 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
         if phi == 0.0 and not three_cones:
             _isochoric(P, np.flatnonzero(ground.phi == 0.0), grad_lambda, dofs)
             T = _tresca(P, C[sel_e, sel_j], dsel)
-            P.minimise(T, np.repeat(ws[:, None], 2, axis=1))
-            shares.append((sel_e, lambda x, T=T, ws=ws: x[T].sum(axis=1) * ws))
+            shares.append((sel_e, T, np.repeat(ws[:, None], 2, axis=1)))
             continue
         if not three_cones:
             coef = _mohr_coulomb(P, C[sel_e, sel_j], dsel, math.sin(phi))
-            P.minimise(dsel, ws[:, None] * coef)
-            shares.append((sel_e, lambda x, coef=coef, dsel=dsel, ws=ws:
-                           (coef * x[dsel]).sum(axis=1) * ws))
+            shares.append((sel_e, dsel, ws[:, None] * coef))
             continue
         cones = mohr_coulomb_cones(float(phi))
         n = len(sel_e)
@@ -274,10 +274,9 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
             vals = np.column_stack([np.broadcast_to(M[:, :, comp].ravel(), (n, 9)),
                                     Csel[:, comp, :]]).ravel()
             P.equal(rows, cols, vals, np.zeros(n))
-        weights = ws[:, None] * cones.beta[None, :]
-        P.minimise(Y[:, :, 0], weights)
-        shares.append((sel_e, lambda x, Y0=Y[:, :, 0], weights=weights:
-                       (x[Y0] * weights).sum(axis=1)))
+        shares.append((sel_e, Y[:, :, 0], ws[:, None] * cones.beta[None, :]))
+    for _, variables, coefficients in shares:
+        P.minimise(variables, coefficients)
     # ---- the soil's weight: + 2 pi int gamma v_z dA (in scale a^3) ----
     qp6, qw6 = QUADRATURE
     for bary, wq in zip(qp6, qw6):
@@ -320,8 +319,8 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
     work = load.variable / norm if load.rigid else 1.0
     factor = (sol.objective - held_work) / work
     # each triangle's dissipation (its share of the bound, for the refinement)
-    for sel_e, share in shares:
-        np.add.at(cost, sel_e, share(sol.x))
+    for sel_e, variables, coefficients in shares:
+        np.add.at(cost, sel_e, (sol.x[variables] * coefficients).sum(axis=1))
     with np.errstate(divide="ignore", invalid="ignore"):
         vel = np.where(x[:, :1] > 1e-12, sol.x[V] / x[:, :1], 0.0)
     # (on the axis u = v / r is drawn as its limit dv/dr there, the mean over the triangles

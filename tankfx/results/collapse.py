@@ -91,21 +91,20 @@ def bounds_words(b: dict) -> str:
 def elastoplastic_against_bounds(b: dict) -> str:
     """Where the elastoplastic factor lies against the bounds, and why where it is not
     between them (a clause, empty where it is)."""
-    where = b.get("elastoplastic_position",
-                  "between" if b["elastoplastic_between"] else "outside")
+    where = b["elastoplastic_position"]
     if where == "between":
         return ""
     if where == "above":
         return (", above the upper bound: its displacement elements overestimate the "
                 "collapse load on this mesh (a finer mesh.edge_size and near_size, or a "
                 "higher mesh.degree, brings it down)")
-    if where == "below" and b.get("elastoplastic_failure") == "settlement":
+    if b.get("elastoplastic_failure") == "settlement":
         return (", below the lower bound: it failed by the settlement criterion (0.1 D) "
                 "before the plastic limit")
-    if where == "below" and not b.get("associated", True):
+    if not b.get("associated", True):
         return (", below the lower bound: its soil's flow is not associated (psi < phi), "
                 "and such a soil fails below the associated one's limit")
-    return ", outside the bounds"
+    return ", below the lower bound"
 
 
 def bounds_rows(r: dict) -> list[tuple[str, str, str]]:
