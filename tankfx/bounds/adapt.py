@@ -39,9 +39,10 @@ class Bounds:
 
 
 def bounds(tri: Triangles, ground_of, load: Loading, scale: float, gap: float = 0.03,
-           max_cells: int = 20000, log=None) -> Bounds:
-    """Lower and upper bound on ``tri``, refined until their gap is below ``gap`` or the
-    next mesh would pass ``max_cells``. ``ground_of(tri)`` is the soil on a mesh."""
+           max_cells: int = 20000, log=None, max_rounds: int = 1000) -> Bounds:
+    """Lower and upper bound on ``tri``, refined until their gap is below ``gap``, the
+    next mesh would pass ``max_cells`` or ``max_rounds`` are done. ``ground_of(tri)`` is the
+    soil on a mesh."""
     rounds = []
     while True:
         t0 = time.perf_counter()
@@ -51,12 +52,13 @@ def bounds(tri: Triangles, ground_of, load: Loading, scale: float, gap: float = 
         result = Bounds(lo, up, tri, rounds)
         rounds.append({"cells": len(tri.cells), "lower": lo.factor, "upper": up.factor,
                        "gap": result.gap, "seconds": time.perf_counter() - t0,
-                       "lower_seconds": lo.seconds, "upper_seconds": up.seconds})
+                       "lower_seconds": lo.seconds, "upper_seconds": up.seconds,
+                       "lower_check": lo.check, "upper_check": up.check})
         if log:
             log.info("  bounds: %6d triangles  lower %.5g  upper %.5g  gap %5.2f %%  (%.1f s)",
                      len(tri.cells), lo.factor, up.factor, 100 * result.gap,
                      rounds[-1]["seconds"])
-        if result.gap <= gap:
+        if result.gap <= gap or len(rounds) >= max_rounds:
             return result
         marked = doerfler(np.maximum(local_gap(tri, ground, lo, up), 0.0), SHARE)
         if len(tri.cells) + 3 * len(marked) > max_cells:

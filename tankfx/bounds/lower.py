@@ -13,12 +13,25 @@ positive), which is in equilibrium with it and free of traction at the surface; 
 added to it.
 
 Across every edge the traction r t = S . n is continuous, at both of its vertices. On the free
-surface it is zero there. The domain's side and base are its supports, as in the
-elastoplastic analysis: a fixed one takes any traction, a smooth one (a roller) no shear.
-The bound is therefore one of the soil in that box, as the elastoplastic collapse is. The
-box only stiffens the ground, so the half-space's own collapse load lies below it, by an
-amount that vanishes as the box grows. Under a smooth foundation T = 0. The load is the
-foundation's resultant, -2 pi int S_z dr.
+surface it is zero there. The box's side and base are either the ground's own supports (a given ``[domain]``): a
+fixed one takes any traction, a smooth one (a roller) no shear; or open, the ground going
+on beyond them. Beyond an open box the field is continued to infinity in closed form, with
+no shear on the box (T = 0 there) and any normal traction the box's field puts on it:
+
+- beyond the side r = R, Lame's ring sigma_r = -sigma_theta = s(z) (R / r)^2,
+  sigma_z = tau = 0, s(z) the side's sigma_r. With tau = sigma_z = 0 it is in equilibrium
+  for any s(z), free at the surface, and its layers at different z may jump;
+- under the base z = -D, the column of the z-independent field sigma_z(r) (the base's),
+  tau = 0 and r sigma_r = S_c(r) linear on each of the base's edges with
+  sigma_theta = dS_c/dr (its own unknowns): in equilibrium for any such profile; beyond
+  r = R below the base, the ring again, with s = sigma_r of the column at R.
+
+Both are admissible if the cones hold at the box's boundary vertices (the ring) and along
+the column at z = -D and at each deeper stratum's top (:class:`FarField`): the excess is
+convex along each edge or constant in z, the ground at rest admissible, and the yield
+margin affine in z within a stratum and growing with depth. The field in the whole
+half-space is then statically admissible, and the bound is the half-space's. Under a smooth foundation T = 0. The load is
+the foundation's resultant, -2 pi int S_z dr.
 
 The yield condition, multiplied by r > 0, is a cone in (S, r sigma_theta)
 (:mod:`tankfx.laws.limit_cones`). Its left side is convex along the triangle and its right
@@ -36,8 +49,27 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..laws.limit_cones import mohr_coulomb_cones
-from .program import ConeProgram
+from .program import ConeProgram, ProgramError
 from .triangles import BASE, CONTACT, SIDE, SURFACE, Triangles
+
+
+#: a lower bound's field counts where equilibrium and continuity hold to this share of their
+#: largest term, and the yield condition to this share of the strength scale (round-off of
+#: the interior-point solution: measured 1e-12 and 2e-9)
+EQUILIBRIUM_TOLERANCE = 1e-8
+YIELD_TOLERANCE = 1e-7
+
+
+@dataclass(frozen=True)
+class FarField:
+    """The soil under an open base, where the lower bound's closed-form column (and the
+    ring beyond it) must be admissible: ``rows`` (z, c, phi, gamma), the heights (m,
+    z <= -D) of the base and of each deeper stratum's top, the cohesion there (Pa), the
+    friction angle (radians) and the unit weight. The excess stress there is constant in z
+    and the yield margin grows with depth within a stratum (non-negative cohesion
+    gradient, gamma z sin phi), so its top suffices."""
+
+    rows: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -45,12 +77,13 @@ class Ground:
     """What a bound needs of the soil, per triangle (m of them), SI units: its cohesion as a
     line in z, ``c_top`` (m,) at z = 0 and ``dc_dz`` (m,) its change with z (negative where
     it grows with depth), the friction angle ``phi`` (m,, radians) and the unit weight
-    ``gamma`` (m,)."""
+    ``gamma`` (m,); ``far`` the soil beyond an open box."""
 
     c_top: np.ndarray
     dc_dz: np.ndarray
     phi: np.ndarray
     gamma: np.ndarray
+    far: FarField | None = None
 
     def cohesion(self, e: np.ndarray, z: np.ndarray) -> np.ndarray:
         """The cohesion at heights z (m) in triangles e (linear within a stratum)."""
@@ -62,14 +95,15 @@ class Loading:
     """The foundation's load, SI: the variable load's resultant ``variable`` (N, downward),
     the held one ``held`` (N), ``rigid`` (a rigid foundation: only the resultant is given;
     else a uniform pressure on the contact), ``rough`` (its contact takes shear), and the
-    domain's supports: ``smooth_side`` (a roller), ``smooth_base``."""
+    box's ``side`` ("fixed", "roller" or "open": the ground goes on) and ``base`` ("rough",
+    "smooth" or "open")."""
 
     variable: float
     held: float
     rigid: bool
     rough: bool
-    smooth_side: bool = False
-    smooth_base: bool = False
+    side: str = "fixed"
+    base: str = "rough"
 
 
 @dataclass(frozen=True)
@@ -80,6 +114,8 @@ class LowerBound:
     sigma_theta: np.ndarray     # (m,): sigma_theta beyond sigma0, Pa
     equilibrium_residual: float  # the largest relative residual of equilibrium and continuity
     yield_violation: float       # the largest violation of the yield cones over the checks, Pa
+    far_margin: dict             # the far field's least yield margin / scale, side and base
+    check: dict                  # the solver's status, iterations, duality gap and residuals
     seconds: float
     iterations: int
     variables: int
@@ -130,8 +166,10 @@ def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
     owner = tri.owner
     free = tri.kind == SURFACE
     contact = tri.kind == CONTACT
-    # (a smooth support takes no shear: T on the side (n = e_r) and on the base (n = -e_z))
-    no_shear = ((tri.kind == SIDE) & load.smooth_side) | ((tri.kind == BASE) & load.smooth_base)
+    # (a smooth support takes no shear: T on the side (n = e_r) and on the base (n = -e_z);
+    # nor does an open one: the far field has none)
+    no_shear = ((tri.kind == SIDE) & (load.side != "fixed")) | \
+        ((tri.kind == BASE) & (load.base != "rough"))
     bt = x[tri.edges[:, 1]] - x[tri.edges[:, 0]]
     bn = np.column_stack([bt[:, 1], -bt[:, 0]])
     for v in (0, 1):
@@ -180,14 +218,27 @@ def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
         cones = mohr_coulomb_cones(float(phi))
         for k in range(3):
             _yield_cone(P, cones, k, sel, S, st, r, z, h2, ground, a, scale, ~on_axis[sel])
+    far_points = _far_field(P, tri, ground, load, S, x, scale)
     P.minimise([F], [-1.0])
     sol = P.solve("the lower bound")
     stress = _stresses(sol.x, S, st, r, z, ground, a, scale)
-    return LowerBound(factor=float(sol.x[F]), stress=stress, S=sol.x[S] * scale * a,
-                      sigma_theta=sol.x[st] * scale,
-                      equilibrium_residual=P.equality_residual(sol.x),
-                      yield_violation=_violation(sol.x, S, st, r, z, tri, ground, a, scale),
-                      seconds=sol.seconds, iterations=sol.iterations, variables=sol.variables)
+    out = LowerBound(factor=float(sol.x[F]), stress=stress, S=sol.x[S] * scale * a,
+                     sigma_theta=sol.x[st] * scale,
+                     equilibrium_residual=P.equality_residual(sol.x),
+                     yield_violation=_violation(sol.x, S, st, r, z, tri, ground, a, scale),
+                     far_margin=_far_margin(sol.x, far_points, scale),
+                     seconds=sol.seconds, iterations=sol.iterations, variables=sol.variables,
+                     check=sol.record())
+    # (the field, not the solver's word, decides: a solve stopped early counts where its
+    # field is admissible)
+    if not (out.equilibrium_residual <= EQUILIBRIUM_TOLERANCE
+            and out.yield_violation <= YIELD_TOLERANCE * scale and math.isfinite(out.factor)):
+        raise ProgramError(
+            f"the lower bound: the conic solver's stress field (status {sol.status}) is not "
+            f"statically admissible: equilibrium off by {out.equilibrium_residual:.2e} of its "
+            f"terms, the yield condition by {out.yield_violation:.3g} Pa: no valid lower bound "
+            f"on this mesh")
+    return out
 
 
 def _yield_cone(P, cones, k, sel, S, st, r, z, h2, ground, a, scale, where) -> None:
@@ -224,6 +275,112 @@ def _yield_cone(P, cones, k, sel, S, st, r, z, h2, ground, a, scale, where) -> N
     new = np.cumsum(keep) - 1
     mask = keep[rows]
     P.cones(new[rows[mask]], cols[mask], vals[mask], bvec[keep], 3)
+
+
+def _far_field(P, tri: Triangles, ground: Ground, load: Loading, S, x, scale) -> None:
+    """The closed-form field beyond an open box (the module's docstring): the ring's cones
+    at the side's vertices, on the box's own S_r there; the column's unknowns S_c (one at
+    each vertex of the base) and sigma_theta (one on each of its edges), its equilibrium,
+    and its cones (and the ring's below the base) at ``ground.far``'s rows."""
+    a, owner, local = tri.a, tri.owner, _local_index(tri.cells)
+    points = []           # (S_r, (S_z, sigma_theta) or None for the ring, r, c, phi, gamma z)
+    if load.side == "open":
+        sel = np.flatnonzero(tri.kind == SIDE)
+        for v in (0, 1):
+            vert = tri.edges[sel, v]
+            e, iv = owner[sel], local(owner[sel], vert)
+            Sr = S[e, iv, 0]
+            R = x[vert, 0]
+            # r times (s, 0, 0, -s): (S_r, 0, 0, -S_r), at the vertex's height
+            zz = x[vert, 1] * a
+            for phi in np.unique(ground.phi[e]):
+                k = ground.phi[e] == phi
+                _cones_at(P, float(phi), np.column_stack([Sr[k], Sr[k], Sr[k], Sr[k]]),
+                          np.tile([1.0, 0.0, 0.0, -1.0], (k.sum(), 1)),
+                          R[k] * ground.cohesion(e[k], zz[k]) / scale,
+                          R[k] * ground.gamma[e[k]] * zz[k] / scale)
+            points.append((Sr, None, R, ground.cohesion(e, zz), ground.phi[e],
+                           ground.gamma[e] * zz))
+    if load.base != "open":
+        return points
+    sel = np.flatnonzero(tri.kind == BASE)
+    verts = np.unique(tri.edges[sel])
+    Sc = P.variables(len(verts))                  # the column's r sigma_r at the base's vertices
+    st = P.variables(len(sel))                    # its sigma_theta on the base's edges
+    index = np.searchsorted(verts, tri.edges[sel])            # (k, 2)
+    r = x[tri.edges[sel], 0]                                  # (k, 2), in radii
+    # dS_c/dr = sigma_theta on each edge
+    k = len(sel)
+    P.equal(np.repeat(np.arange(k), 3),
+            np.column_stack([Sc[index[:, 1]], Sc[index[:, 0]], st]).ravel(),
+            np.column_stack([np.ones(k), -np.ones(k), -(r[:, 1] - r[:, 0])]).ravel(),
+            np.zeros(k))
+    on_axis = np.flatnonzero(x[verts, 0] < 1e-12)
+    P.equal(np.arange(len(on_axis)), Sc[on_axis], np.ones(len(on_axis)), np.zeros(len(on_axis)))
+    outer = np.argmax(x[verts, 0])
+    Rb = x[verts[outer], 0]
+    for zz, c, phi, gamma in ground.far.rows:
+        for v in (0, 1):
+            vert = tri.edges[sel, v]
+            keep = x[vert, 0] > 1e-12
+            e, iv = owner[sel][keep], local(owner[sel][keep], vert[keep])
+            rv = x[vert[keep], 0]
+            cols = np.column_stack([Sc[index[keep, v]], S[e, iv, 1], S[e, iv, 1], st[keep]])
+            coef = np.column_stack([np.ones(keep.sum()), np.ones(keep.sum()),
+                                    np.zeros(keep.sum()), rv])
+            _cones_at(P, phi, cols, coef, rv * c / scale, rv * gamma * zz / scale)
+            n = keep.sum()
+            points.append((Sc[index[keep, v]], (S[e, iv, 1], st[keep]), rv, np.full(n, c),
+                           np.full(n, phi), np.full(n, gamma * zz)))
+        if load.side == "open":                   # the ring below the base: s = S_c(R) / R
+            _cones_at(P, phi, np.full((1, 4), Sc[outer]), np.array([[1.0, 0.0, 0.0, -1.0]]),
+                      np.array([Rb * c / scale]), np.array([Rb * gamma * zz / scale]))
+            points.append((Sc[[outer]], None, np.array([Rb]), np.array([c]), np.array([phi]),
+                           np.array([gamma * zz])))
+    return points
+
+
+def _far_margin(sol_x, points, scale) -> dict:
+    """The far field's least yield margin beyond the box's ``side`` (the ring) and under its
+    ``base`` (the column), in units of ``scale`` (the cohesion under the foundation): near
+    0 where the box's size limits the bound; inf for a closed side or base."""
+    from ..laws.limit_cones import admissible
+    worst = {"side": math.inf, "base": math.inf}
+    for Sr, col, r, c, phi, gz in points:
+        sr = sol_x[Sr] / r
+        zero = np.zeros_like(sr)
+        if col is None:                                  # the ring: (s, 0, 0, -s)
+            ex, where = np.column_stack([sr, zero, zero, -sr]), "side"
+        else:
+            ex, where = np.column_stack([sr, sol_x[col[0]] / r, zero, sol_x[col[1]]]), "base"
+        sig = ex * scale + gz[:, None] * np.array([1.0, 1.0, 0.0, 1.0])
+        for p in np.unique(phi):
+            k = phi == p
+            margin = float(np.min(-admissible(sig[k], c[k], float(p)))) / scale
+            worst[where] = min(worst[where], margin)
+    return worst
+
+
+def _cones_at(P, phi: float, cols: np.ndarray, coef: np.ndarray, rc: np.ndarray,
+              rgz: np.ndarray) -> None:
+    """Mohr-Coulomb's three cones at n points whose stress times r is sum coef x[cols] by
+    component (n, 4: sigma_r, sigma_z, tau, sigma_theta), beside r c (``rc``, n) and
+    r gamma z (``rgz``, n) of the ground at rest, all in the program's units."""
+    cones = mohr_coulomb_cones(phi)
+    n = len(cols)
+    for k in range(3):
+        al, be, g = cones.alpha[k], cones.beta[k], cones.g[k]
+        G = g[0] + g[1] + g[3]
+        # s = (be r c + r gamma z G + g . Sx, al (Sx_r - Sx_z) / 2, al Sx_tau) = b - A x
+        rows = np.concatenate([np.repeat(3 * np.arange(n), 4), np.repeat(3 * np.arange(n) + 1, 2),
+                               3 * np.arange(n) + 2])
+        cc = np.concatenate([cols.ravel(), cols[:, :2].ravel(), cols[:, 2]])
+        vals = np.concatenate([-(coef * g[None, :]).ravel(),
+                               -(coef[:, :2] * np.array([0.5 * al, -0.5 * al])).ravel(),
+                               -al * coef[:, 2]])
+        b = np.zeros(3 * n)
+        b[0::3] = be * rc + G * rgz
+        P.cones(rows, cc, vals, b, 3)
 
 
 def _local_index(cells: np.ndarray):

@@ -122,17 +122,22 @@ class ConeProgram:
         sol = clarabel.DefaultSolver(P, q, A, b, cones, settings).solve()
         seconds = time.perf_counter() - t0
         status = str(sol.status).split(".")[-1]
-        # (a bound holds at any feasible point, optimal or not: a solve that stalled near
-        # its optimum with its primal residual small is kept, its feasibility checked by the
-        # bound afterwards, and its duality gap reported)
-        stalled = status in ("NumericalError", "InsufficientProgress", "MaxIterations") and \
-            np.isfinite(sol.r_prim) and sol.r_prim < 1e3 * tolerance
-        if status not in ("Solved", "AlmostSolved") and not stalled:
+        # (a bound holds at any admissible field, optimal or not: a solve that stopped
+        # early is returned, and the bound recomputes its field, checks it and keeps it only
+        # where it is admissible; its status and duality gap are recorded)
+        stopped = status in ("NumericalError", "InsufficientProgress", "MaxIterations") and \
+            np.all(np.isfinite(sol.x))
+        if status not in ("Solved", "AlmostSolved") and not stopped:
             raise ProgramError(_words(status, what))
         gap = abs(sol.obj_val - sol.obj_val_dual) / max(abs(sol.obj_val), 1e-300)
         return Solved(x=np.asarray(sol.x), s=np.asarray(sol.s), z=np.asarray(sol.z),
                       objective=float(sol.obj_val), status=status, iterations=sol.iterations,
-                      seconds=seconds, variables=self.n, rows=self.m, duality_gap=gap)
+                      seconds=seconds, variables=self.n, rows=self.m, duality_gap=gap,
+                      primal_residual=float(sol.r_prim), dual_residual=float(sol.r_dual))
+
+    @staticmethod
+    def words(status: str, what: str) -> str:
+        return _words(status, what)
 
 
 @dataclass(frozen=True)
@@ -148,6 +153,14 @@ class Solved:
     rows: int
     #: |primal - dual| / |primal| objective: how far from optimal (not from feasible)
     duality_gap: float
+    primal_residual: float
+    dual_residual: float
+
+    def record(self) -> dict:
+        """What results.json keeps of the solve."""
+        return {"status": self.status, "iterations": self.iterations,
+                "duality_gap": self.duality_gap, "primal_residual": self.primal_residual,
+                "dual_residual": self.dual_residual}
 
 
 def _words(status: str, what: str) -> str:

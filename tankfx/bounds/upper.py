@@ -40,7 +40,7 @@ import numpy as np
 
 from ..laws.limit_cones import mohr_coulomb_cones
 from .lower import Ground, Loading
-from .program import ConeProgram
+from .program import ConeProgram, ProgramError
 from .triangles import AXIS, BASE, CONTACT, SIDE, Triangles
 
 #: the six Lagrange points of the quadratic triangle, barycentric: vertices, then the
@@ -61,9 +61,81 @@ class UpperBound:
     nodes: np.ndarray             # (nodes, 2), their (r, z)
     dissipation: np.ndarray       # (m,) each triangle's dissipated power, W at a settlement rate of 1 m/s
     control: np.ndarray           # (m, 6, 4): the Bernstein control points of G = r^2 eps, m^2/s
+    #: the field's check: the solver's record (status, duality gap, residuals), its factor
+    #: ``solver_factor`` (for comparison), ``projection`` (the largest change the exact
+    #: supports and div v = 0 made to a flux, relative to the largest), ``flow_violation``
+    #: (<= 0: in the flow cone)
+    check: dict
     seconds: float
     iterations: int
     variables: int
+
+
+#: the flow cone's violation, relative to the largest rate, above which a Mohr-Coulomb field
+#: is refused: the interior-point solver's feasibility (its tolerance 1e-8 on the scaled
+#: program; measured up to 4.9e-10 on the c-phi footings). A frictional field is checked
+#: to it, not projected: its dissipation is infinite outside the cone, and the cone holds
+#: at tiny-rate control points only to the solver's round-off
+FLOW_TOLERANCE = 1e-8
+
+
+def _admissible_flux(flux: np.ndarray, fixed: list, isochoric: np.ndarray,
+                     grad_lambda: np.ndarray, cn: np.ndarray) -> tuple[np.ndarray, float]:
+    """The solver's fluxes (n, 2) made kinematically admissible: the supports' values set
+    exactly, then (Tresca's triangles ``isochoric``) div v = 0 at their vertices by the
+    least change of the other fluxes (a minimum-norm correction: sparse normal equations,
+    refined). Returns the fluxes and the largest change, relative to the largest flux."""
+    from scipy import sparse
+    from scipy.sparse.linalg import splu
+
+    out = flux.copy()
+    free = np.ones(out.shape, bool)
+    for nodes, comp, values in fixed:
+        out[nodes, comp] = values
+        free[nodes, comp] = False
+    if len(isochoric):
+        n = len(isochoric)
+        rows, cols, vals = [], [], []
+        for i in range(3):
+            g = _basis_gradients(NODES[i], grad_lambda[isochoric])       # (n, 6, 2)
+            for comp in (0, 1):
+                rows.append(np.repeat(3 * np.arange(n) + i, 6))
+                cols.append((2 * cn[isochoric] + comp).ravel())
+                vals.append(g[..., comp].ravel())
+        A = sparse.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
+                                                     np.concatenate(cols))),
+                              shape=(3 * n, out.size))
+        Af = A[:, np.flatnonzero(free.ravel())]
+        keep = np.flatnonzero(np.abs(Af).sum(axis=1).A1 > 0)       # (rows with free fluxes)
+        Af = Af[keep]
+        normal = (Af @ Af.T).tocsc()
+        lu = splu(normal + sparse.identity(normal.shape[0]) * 1e-14 * normal.diagonal().max())
+        flat = out.ravel()
+        for _ in range(3):                     # (refined: the normal equations' round-off)
+            residual = (A @ flat)[keep]
+            flat[free.ravel()] -= Af.T @ lu.solve(residual)
+        out = flat.reshape(out.shape)
+    change = float(np.max(np.abs(out - flux))) / max(float(np.max(np.abs(out))), 1e-300)
+    return out, change
+
+
+def _closed_form_dissipation(G: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray, float]:
+    """The dissipation at unit cohesion of control points G (m, 6, 4) of triangles of
+    friction angle ``phi`` (m,), in closed form: Tresca's max(rho, |G_theta|) + |G_theta|
+    (rho = |(G_r - G_z, G_gamma)|) of an isochoric rate, Mohr-Coulomb's cot phi tr G of a
+    rate in its flow cone tr G >= sin phi (max(|G_r + G_z|, rho) + |G_theta|). Returns it
+    (m, 6) and the flow cone's largest violation, relative to the rate's size."""
+    rho = np.hypot(G[..., 0] - G[..., 1], G[..., 2])
+    hoop = np.abs(G[..., 3])
+    tresca = np.maximum(rho, hoop) + hoop
+    trace = G[..., 0] + G[..., 1] + G[..., 3]
+    s = np.sin(phi)[:, None]
+    plastic = np.maximum(np.abs(G[..., 0] + G[..., 1]), rho) + hoop
+    frictional = phi[:, None] > 0.0
+    mc = trace / np.tan(np.where(phi > 0.0, phi, 1.0))[:, None]
+    size = max(float(np.max(np.abs(G))), 1e-300)
+    violation = np.where(frictional, s * plastic - trace, -np.inf)
+    return np.where(frictional, mc, tresca), float(np.max(violation, initial=-np.inf)) / size
 
 
 def p2_nodes(tri: Triangles):
@@ -244,7 +316,6 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
         on_axis_edge[:, 3 + k] = (r[:, i] < 1e-12) & (r[:, j] < 1e-12)
     live = (rC > 1e-12) & ~on_axis_edge
     # ---- dissipation: per control point, in closed form (or by the three cones' dual) ----
-    cost = np.zeros(m)
     # (each control point's dissipation is linear in the program's variables: the
     # objective's terms, kept per triangle for the refinement)
     shares = []                       # (triangles (n,), variables (n, k), coefficients (n, k))
@@ -278,24 +349,30 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
     for _, variables, coefficients in shares:
         P.minimise(variables, coefficients)
     # ---- the soil's weight: + 2 pi int gamma v_z dA (in scale a^3) ----
+    # (the objective's terms linear in the fluxes, kept to recompute it: (variables, coefs))
+    linear = []
     qp6, qw6 = QUADRATURE
     for bary, wq in zip(qp6, qw6):
         N = _shapes(bary)
         coef = 2.0 * math.pi * wq * A * ground.gamma * a / scale              # (m,)
-        P.minimise(V[cn, 1].ravel(), (coef[:, None] * N[None, :]).ravel())
+        linear.append((V[cn, 1].ravel(), (coef[:, None] * N[None, :]).ravel()))
     # ---- supports and the foundation ----
+    fixed = []                                 # (nodes, component, values)
+
     def fix(nodes, comp, value=0.0):
         nodes = np.unique(nodes)
-        P.equal(np.arange(len(nodes)), V[nodes, comp], np.ones(len(nodes)),
-                np.broadcast_to(value(nodes) if callable(value) else value, len(nodes)))
+        values = np.broadcast_to(value(nodes) if callable(value) else value, len(nodes))
+        P.equal(np.arange(len(nodes)), V[nodes, comp], np.ones(len(nodes)), values)
+        fixed.append((nodes, comp, np.asarray(values, dtype=float)))
     kind = tri.kind
     for comp in (0, 1):
         fix(bn[kind == AXIS].ravel(), comp)
+    # (an open box: v = 0 on it, the ground beyond at rest; the field stays admissible)
     fix(bn[kind == SIDE].ravel(), 0)
-    if not load.smooth_side:
+    if load.side != "roller":
         fix(bn[kind == SIDE].ravel(), 1)
     fix(bn[kind == BASE].ravel(), 1)
-    if not load.smooth_base:
+    if load.base != "smooth":
         fix(bn[kind == BASE].ravel(), 0)
     contact = bn[kind == CONTACT]
     if load.rough:
@@ -313,19 +390,37 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
         q = load.variable / norm / area
         P.equal(np.zeros(contact.size, int), V[contact, 1].ravel(), (-q * simpson).ravel(),
                 [1.0])
-        P.minimise(V[contact, 1].ravel(), (load.held / norm / area * simpson).ravel())
+        linear.append((V[contact, 1].ravel(), (load.held / norm / area * simpson).ravel()))
         held_work = 0.0
+    for variables, coefficients in linear:
+        P.minimise(variables, coefficients)
     sol = P.solve("the upper bound")
-    work = load.variable / norm if load.rigid else 1.0
-    factor = (sol.objective - held_work) / work
-    # each triangle's dissipation (its share of the bound, for the refinement)
-    for sel_e, variables, coefficients in shares:
-        np.add.at(cost, sel_e, (sol.x[variables] * coefficients).sum(axis=1))
+    # ---- the bound recomputed from the field, not the solver's objective ----
+    flux, projected = _admissible_flux(sol.x[V], fixed, np.flatnonzero(ground.phi == 0.0),
+                                       grad_lambda, cn)
+    values = flux.ravel()                       # (V's variables are consecutive)
+
+    def value_of(variables):
+        return values[np.asarray(variables) - V[0, 0]]
+    d1, outside = _closed_form_dissipation(np.einsum("mjcd,md->mjc", C, value_of(dofs)), ground.phi)
+    cost = (np.where(live, w * d1, 0.0)).sum(axis=1)
+    external = sum(float(value_of(j) @ v) for j, v in linear)
+    if load.rigid:
+        work = load.variable / norm
+    else:
+        work = float(value_of(V[contact, 1].ravel()) @ (-q * simpson).ravel())
+    factor = (cost.sum() + external - held_work) / work
+    check = {**sol.record(), "solver_factor": (sol.objective - held_work) / work,
+             "projection": projected, "flow_violation": outside}
+    if not (np.isfinite(factor) and outside <= FLOW_TOLERANCE and work > 0):
+        raise ProgramError(
+            f"the upper bound: the conic solver's velocity field (status {sol.status}) is not "
+            f"kinematically admissible (flow rule violated by {outside:.2e} of its rate after "
+            f"its supports were set exactly): no valid upper bound on this mesh")
     with np.errstate(divide="ignore", invalid="ignore"):
-        vel = np.where(x[:, :1] > 1e-12, sol.x[V] / x[:, :1], 0.0)
+        vel = np.where(x[:, :1] > 1e-12, flux / x[:, :1], 0.0)
     # (on the axis u = v / r is drawn as its limit dv/dr there, the mean over the triangles
     # at it: the limit depends on the direction where v's gradient has a z part)
-    flux = sol.x[V]
     total, count = np.zeros((len(x), 2)), np.zeros(len(x))
     for i in range(3):
         at = np.flatnonzero(r[:, i] < 1e-12)
@@ -337,7 +432,7 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
         np.add.at(count, cn[at, i], 1.0)
     axis = count > 0
     vel[axis] = total[axis] / count[axis, None]
-    control = np.einsum("mjcd,md->mjc", C, sol.x[dofs]) * a
+    control = np.einsum("mjcd,md->mjc", C, value_of(dofs)) * a
     return UpperBound(factor=float(factor), velocity=vel, nodes=points,
-                      dissipation=cost * norm, control=control,
+                      dissipation=cost * norm, control=control, check=check,
                       seconds=sol.seconds, iterations=sol.iterations, variables=sol.variables)

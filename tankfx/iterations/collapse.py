@@ -97,13 +97,15 @@ class CollapseSearch:
         return m.unknowns if isinstance(m.unknowns, list) else [m.unknowns]
 
     def snapshot(self):
-        """A converged state to come back to (histories, unknowns, loads)."""
+        """A converged state to come back to (histories, unknowns, loads, and the load
+        Newton last converged at: where its next load steps start)."""
         return ([h.snapshot() for h in self._histories()],
-                [u.x.array.copy() for u in self._unknowns()], self.model.scene.load)
+                [u.x.array.copy() for u in self._unknowns()], self.model.scene.load,
+                self.newton.converged_load)
 
     def restore(self, snap) -> None:
         """Back to ``snap``: the scene's own results and figures are of that state."""
-        histories, unknowns, load = snap
+        histories, unknowns, load, self.newton.converged_load = snap
         for h, s in zip(self._histories(), histories):
             h.restore(s)
         for u, values in zip(self._unknowns(), unknowns):
