@@ -19,6 +19,8 @@ from ..fem.solvers import SolveError
 
 #: Clarabel's sparse factorisation
 SOLVE_METHOD = "qdldl"
+#: Clarabel's equilibration passes at most
+EQUILIBRATION_PASSES = 50
 
 
 class ProgramError(SolveError):
@@ -117,6 +119,11 @@ class ConeProgram:
         settings.tol_gap_abs = settings.tol_gap_rel = tolerance
         settings.tol_feas = tolerance
         settings.max_iter = 200
+        # (Ruiz equilibration to convergence, not Clarabel's 10 passes: the lower bound's
+        # rows mix triangles of 1e-3 and 1 a^2 with the far field's; measured on a c-phi
+        # footing with weight: AlmostSolved, duality gaps to 1.6e-5 and lower bounds 0.1 %
+        # apart between units, against Solved to 5e-9)
+        settings.equilibrate_max_iter = EQUILIBRATION_PASSES
         settings.direct_solve_method = SOLVE_METHOD
         t0 = time.perf_counter()
         sol = clarabel.DefaultSolver(P, q, A, b, cones, settings).solve()

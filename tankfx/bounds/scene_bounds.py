@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene.sections import plain, vertical_load
+from ..scene.sections import vertical_load
 from .lower import FarField, Ground, Loading
 from .triangles import Triangles
 
@@ -87,6 +87,8 @@ MAX_GROWTHS = 8
 #: the far field's least yield margin (in the cohesion under the foundation) below which the
 #: box limits the lower bound
 FAR_MARGIN = 0.05
+#: ... as long as the last growth raised the lower bound (on the coarse mesh) by this share
+BOX_GAIN = 0.002
 #: the upper bound's mechanism reaches an open side or base where the triangles touching it
 #: dissipate more than this share of the whole
 REACH = 1e-3
@@ -111,8 +113,9 @@ def choose_box(scene, scale: float, log=None) -> Box:
     (within the scene's domain) while, on its first coarse mesh, the upper bound's mechanism
     reaches an open side or base (the triangles touching it dissipate more than REACH of
     the whole) or the lower bound's field beyond it is within FAR_MARGIN of yield (the box
-    then limits the lower bound: measured, a 2.5 a x 1.5 a box holds a smooth Tresca
-    footing's lower bound at 5.36 against 5.59)."""
+    may then limit the lower bound: measured, a 2.5 a x 1.5 a box holds a smooth Tresca
+    footing's lower bound at 5.36 against 5.59), the latter while the growth before raised
+    the lower bound by more than BOX_GAIN."""
     from mpi4py import MPI
 
     from .adapt import bounds
@@ -121,16 +124,21 @@ def choose_box(scene, scale: float, log=None) -> Box:
     a = scene.foundation_radius
     box = Box.around(scene, FIRST_BOX[0] * a, FIRST_BOX[1] * a)
     rigid = scene.plate is not None
+    last = None
     for _ in range(MAX_GROWTHS):
         if not (box.open_side or box.open_base):
             break
-        tri = box_triangles(scene, box, MPI.COMM_SELF)
+        tri = box_triangles(scene, box)
         probe = bounds(tri, lambda t: ground_of(scene.soil, t, box),
                        loading_of(scene, rigid, box), scale, max_rounds=1)
         t, D = probe.triangles, probe.upper.dissipation
         share = {where: D[np.unique(t.owner[t.kind == kind])].sum() / max(D.sum(), 1e-300)
                  for where, kind in (("side", SIDE), ("base", BASE))}
-        grow = {where: (share[where] > REACH or probe.lower.far_margin[where] < FAR_MARGIN)
+        # (a far field at yield limits the lower bound only while growing the box raises it)
+        gained = last is None or probe.lower.factor > (1.0 + BOX_GAIN) * last
+        last = probe.lower.factor
+        grow = {where: (share[where] > REACH or
+                        (gained and probe.lower.far_margin[where] < FAR_MARGIN))
                 for where in ("side", "base")}
         grow["side"] &= box.open_side
         grow["base"] &= box.open_base
@@ -145,19 +153,12 @@ def choose_box(scene, scale: float, log=None) -> Box:
     return box
 
 
-def box_triangles(scene, box: Box, comm_self) -> Triangles:
-    """The box meshed coarsely (edges of 0.1 a at the foundation's edge, 0.5 a near it:
-    the refinement puts the triangles where the mechanism is); layers below it are beyond
-    it, in the far field alone."""
-    from ..mesh import build_domain
-
-    a = scene.foundation_radius
-    layers = [plain(layer) for layer in scene.soil.layers if layer.depth < box.depth]
-    start = scene.with_changes(mesh={"edge_size": 0.1 * a, "near_size": 0.5 * a,
-                                     "growth": 0.3},
-                               domain={"radius": box.radius, "depth": box.depth},
-                               soil={"layers": layers or None})
-    return Triangles.from_mesh(build_domain(start, comm_self).mesh, a)
+def box_triangles(scene, box: Box) -> Triangles:
+    """The box on a coarse graded grid (edges of 0.1 a at the foundation's edge: the
+    refinement puts the triangles where the mechanism is), the layers' tops within it among
+    its lines; the same in any units."""
+    tops = [layer.depth for layer in scene.soil.layers if layer.depth < box.depth]
+    return Triangles.box(scene.foundation_radius, box.radius, box.depth, tops)
 
 
 def strength_scale(soil, a: float) -> float:
@@ -190,7 +191,7 @@ def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> tuple[d
                  "factor, refined to a gap of %.3g %%", 100 * scene.analysis.bounds_gap)
         try:
             box = choose_box(scene, scale, log)
-            b = bounds(box_triangles(scene, box, MPI.COMM_SELF),
+            b = bounds(box_triangles(scene, box),
                        lambda t: ground_of(scene.soil, t, box), loading_of(scene, rigid, box),
                        scale, gap=scene.analysis.bounds_gap,
                        max_cells=scene.analysis.bounds_cells, log=log)

@@ -60,6 +60,30 @@ class Triangles:
         return cls(points, cells, edges, kind, owner, a)
 
     @classmethod
+    def box(cls, a: float, radius: float, depth: float, lines=(), size: float = 0.1,
+            growth: float = 1.3) -> "Triangles":
+        """A graded grid of the box r <= radius, -depth <= z <= 0 (m), its cells split in
+        a checkerboard of diagonals: edges of ``size`` a at the foundation's edge (r = a,
+        z = 0), growing by ``growth`` away from it; the heights ``lines`` (m, z < 0: the
+        layers' tops) among its grid lines. Built in units of a and scaled, so that the
+        same box in other units is the same mesh."""
+        r = np.union1d(1.0 - _graded(1.0, size, growth), 1.0 + _graded(radius / a - 1.0, size,
+                                                                        growth))
+        z = -_graded(depth / a, size, growth, breaks=[-h / a for h in lines])
+        R, Z = np.meshgrid(r, z, indexing="ij")
+        points = np.column_stack([R.ravel(), Z.ravel()]) * a
+        nz = len(z)
+        i, j = np.meshgrid(np.arange(len(r) - 1), np.arange(nz - 1), indexing="ij")
+        i, j = i.ravel(), j.ravel()
+        p00, p10, p01, p11 = i * nz + j, (i + 1) * nz + j, i * nz + j + 1, (i + 1) * nz + j + 1
+        flip = (i + j) % 2 == 1
+        first = np.where(flip[:, None], np.column_stack([p00, p10, p01]),
+                         np.column_stack([p00, p10, p11]))
+        second = np.where(flip[:, None], np.column_stack([p10, p11, p01]),
+                          np.column_stack([p00, p11, p01]))
+        return cls.from_points(points, np.vstack([first, second]), a)
+
+    @classmethod
     def from_mesh(cls, msh, a: float) -> "Triangles":
         """The straight triangles of a DOLFINx mesh on one process (its cells' vertices)."""
         import dolfinx.mesh as dmesh
@@ -106,6 +130,25 @@ class Triangles:
         edges = np.unique(np.concatenate([c2e.links(c) for c in local])).astype(np.int32)
         fine, _, _ = dmesh.refine(msh, edges)
         return Triangles.from_mesh(fine, self.a)
+
+
+def _graded(length: float, size: float, growth: float, breaks=()) -> np.ndarray:
+    """Points from 0 to ``length`` (> 0), the first interval ``size``, each next ``growth``
+    times the one before, with the points ``breaks`` among them (a point of the grading
+    within 0.4 of its interval from one is dropped)."""
+    pts, h = [0.0], size
+    while pts[-1] + h < length:
+        pts.append(pts[-1] + h)
+        h *= growth
+    pts = np.array(pts)
+    if length - pts[-1] < 0.4 * h / growth and len(pts) > 1:
+        pts = pts[:-1]
+    pts = np.append(pts, length)
+    for b in breaks:
+        if 0.0 < b < length:
+            step = np.diff(pts)[np.clip(np.searchsorted(pts, b) - 1, 0, len(pts) - 2)]
+            pts = np.union1d(pts[np.abs(pts - b) > 0.4 * step], [b])
+    return pts
 
 
 def _edges(cells: np.ndarray):

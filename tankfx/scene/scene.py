@@ -227,6 +227,8 @@ class Scene:
             out["soil"].pop("layers", None)
         if self.plate is not None and not self.plate.annular_width:
             out["plate"].pop("annular_width")
+        if self.plate is not None:
+            out["load"].pop("load_radius", None)    # (the plate's: derived, not given)
         for name, K in (("plate", "Kp"), ("wall", "Kt")):
             if name in out and K in out[name] and not resolved:
                 del out[name]["thickness"]          # the rigidity decides it
