@@ -104,6 +104,26 @@ class Loading:
     rough: bool
     side: str = "fixed"
     base: str = "rough"
+    #: a flexible load's pressures, bands (r0, r1, q_variable, q_held) (m, Pa) on the
+    #: surface under the foundation; none: ``variable`` and ``held`` uniform on r <= a
+    bands: tuple = ()
+
+    def edges(self, a: float) -> np.ndarray:
+        """The points (k, 2) of the surface where the load's traction jumps: the
+        foundation's edge, a band's ends."""
+        radii = {a, *[r for band in self.bands for r in band[:2] if r > 0.0]}
+        return np.array([[r, 0.0] for r in sorted(radii)])
+
+    def pressures(self, r: np.ndarray, a: float) -> tuple[np.ndarray, np.ndarray]:
+        """A flexible load's variable and held pressures (Pa) at radii ``r`` (m)."""
+        bands = self.bands or ((0.0, a, self.variable / (math.pi * a ** 2),
+                                self.held / (math.pi * a ** 2)),)
+        qv, qh = np.zeros_like(r), np.zeros_like(r)
+        for r0, r1, v, h in bands:
+            inside = (r > r0) & (r < r1)
+            qv += np.where(inside, v, 0.0)
+            qh += np.where(inside, h, 0.0)
+        return qv, qh
 
 
 @dataclass(frozen=True)
@@ -188,13 +208,14 @@ def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
         if not load.rough:                  # (smooth: no shear under the foundation)
             P.equal(np.arange(len(sel)), S[owner[sel], iv[sel], 2], np.ones(len(sel)),
                     np.zeros(len(sel)))
-        if not load.rigid:                  # (a uniform pressure F q: S_z = -r F q)
-            q = load.variable / (math.pi * a ** 2) / scale
+        if not load.rigid:                  # (pressures F q + q_held: S_z = -r (F q + q_held))
+            qv, qh = load.pressures(0.5 * (tri.points[tri.edges[sel, 0], 0]
+                                           + tri.points[tri.edges[sel, 1], 0]), a)
             rv = x[tri.edges[sel, v], 0]
             P.equal(np.repeat(np.arange(len(sel)), 2),
                     np.column_stack([S[owner[sel], iv[sel], 1], np.full(len(sel), F)]).ravel(),
-                    np.column_stack([np.ones(len(sel)), rv * q]).ravel(),
-                    -rv * load.held / (math.pi * a ** 2) / scale)
+                    np.column_stack([np.ones(len(sel)), rv * qv / scale]).ravel(),
+                    -rv * qh / scale)
     # ---- a rigid foundation's resultant: -2 pi int S_z dr = F V + H (in scale a^2) ----
     sel = np.flatnonzero(contact) if load.rigid else np.empty(0, int)
     L = np.abs(bt[sel, 0])

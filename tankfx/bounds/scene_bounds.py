@@ -3,11 +3,11 @@ run (``[analysis] collapse = "bounds"``)."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..scene.sections import vertical_load
+from ..scene.sections import load_breakdown, vertical_load
 from .lower import FarField, Ground, Loading
 from .triangles import Triangles
 
@@ -96,16 +96,49 @@ REACH = 1e-3
 
 def loading_of(scene, rigid: bool, box: Box | None = None) -> Loading:
     """The foundation's held (the self-weight) and variable (the rest) vertical loads, and
-    the box's supports."""
+    the box's supports. A tank's (a [wall]) are pressures: the floor's (the liquid, a gas,
+    a pressure; its weight held) and the shell's (the roof, less a gas's lift; its weight
+    held) spread on the band :func:`ring_band` inside it."""
     full = scene.load
     held = full.held()
     H = vertical_load(held, scene.plate, scene.wall, scene.ringwall)
     V = vertical_load(full, scene.plate, scene.wall, scene.ringwall) - H
-    # (a flexible load is a pressure: no shear under it)
-    return Loading(variable=V, held=H, rigid=rigid,
-                   rough=rigid and scene.interface.condition != "smooth",
-                   side="open" if box is not None and box.open_side else scene.domain.side,
-                   base="open" if box is not None and box.open_base else scene.domain.base)
+    supports = {"side": "open" if box is not None and box.open_side else scene.domain.side,
+                "base": "open" if box is not None and box.open_base else scene.domain.base}
+    if scene.wall is None or scene.analysis.bounds_floor == "rigid":
+        # (a flexible load is a pressure: no shear under it)
+        return Loading(variable=V, held=H, rigid=rigid,
+                       rough=rigid and scene.interface.condition != "smooth", **supports)
+    plate, wall, ld = scene.plate, scene.wall, full
+    a_p, a_w = plate.radius, wall.radius
+    floor = math.pi * a_p ** 2
+    inner, outer = ring_band(scene)
+    band = math.pi * (outer ** 2 - inner ** 2)
+    weights = load_breakdown(replace(held, self_weight=full.self_weight), plate, None)
+    bands = ((0.0, a_p, ld.pressure, weights["self_weight"] / floor),
+             (0.0, a_w, ld.liquid_unit_weight * ld.liquid_height + ld.gas_pressure, 0.0),
+             (inner, outer, (ld.roof_weight - ld.gas_pressure * math.pi * a_w ** 2) / band,
+              (wall.unit_weight * wall.volume if full.self_weight else 0.0) / band))
+    return Loading(variable=V, held=H, rigid=False, rough=False, bands=bands, **supports)
+
+
+def flexible_tank(scene) -> bool:
+    return scene.wall is not None and scene.analysis.bounds_floor == "flexible"
+
+
+def ring_band(scene) -> tuple[float, float]:
+    """The radii (m) of the band inside the shell that takes its load:
+    ``analysis.bounds_ring_width``, by default the annular plate's width, else
+    RING_WIDTH a."""
+    a_w, plate = scene.wall.radius, scene.plate
+    width = scene.analysis.bounds_ring_width or min(plate.annular_width or RING_WIDTH * a_w,
+                                                    0.5 * a_w)
+    return a_w - width, a_w
+
+
+#: the band a tank's shell load is spread on, in shell radii, where the scene gives none
+#: (measured: docs/development/2026-11-28-bounds-anywhere.md)
+RING_WIDTH = 0.05
 
 
 def choose_box(scene, scale: float, log=None) -> Box:
@@ -155,10 +188,11 @@ def choose_box(scene, scale: float, log=None) -> Box:
 
 def box_triangles(scene, box: Box) -> Triangles:
     """The box on a coarse graded grid (edges of 0.1 a at the foundation's edge: the
-    refinement puts the triangles where the mechanism is), the layers' tops within it among
-    its lines; the same in any units."""
+    refinement puts the triangles where the mechanism is), the layers' tops and a tank's
+    shell band within it among its lines; the same in any units."""
     tops = [layer.depth for layer in scene.soil.layers if layer.depth < box.depth]
-    return Triangles.box(scene.foundation_radius, box.radius, box.depth, tops)
+    radii = ring_band(scene) if flexible_tank(scene) else ()
+    return Triangles.box(scene.foundation_radius, box.radius, box.depth, tops, radii)
 
 
 def strength_scale(soil, a: float) -> float:
@@ -231,7 +265,9 @@ def _record(scene, b, box: Box, seconds: float, elastoplastic: dict | None) -> d
            "box": {**box.record(), "far_margin": b.lower.far_margin},
            "lower_check": {"equilibrium_residual": b.lower.equilibrium_residual,
                            "yield_violation": b.lower.yield_violation},
-           "foundation": "rigid" if scene.plate is not None else "flexible load",
+           "foundation": (f"tank, its floor {scene.analysis.bounds_floor}"
+                          if scene.wall is not None else
+                          "rigid" if scene.plate is not None else "flexible load"),
            "contact": "smooth" if scene.interface.condition == "smooth" else "rough",
            "solver": f"Clarabel {clarabel.__version__}", "notes": notes}
     if elastoplastic is not None and elastoplastic.get("found"):

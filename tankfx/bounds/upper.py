@@ -386,11 +386,11 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
         # variable one's normalised to 1, the held one's in the objective
         L = np.abs(x[contact[:, 1], 0] - x[contact[:, 0], 0])
         simpson = 2.0 * math.pi * L[:, None] / 6.0 * np.array([1.0, 1.0, 4.0])[None, :]
-        area = math.pi                                            # (pi a^2 in radii)
-        q = load.variable / norm / area
+        qv, qh = load.pressures(0.5 * (points[contact[:, 0], 0] + points[contact[:, 1], 0]), a)
+        q = (qv / scale)[:, None]                                 # (in scale: work in scale a^3)
         P.equal(np.zeros(contact.size, int), V[contact, 1].ravel(), (-q * simpson).ravel(),
                 [1.0])
-        linear.append((V[contact, 1].ravel(), (load.held / norm / area * simpson).ravel()))
+        linear.append((V[contact, 1].ravel(), ((qh / scale)[:, None] * simpson).ravel()))
         held_work = 0.0
     for variables, coefficients in linear:
         P.minimise(variables, coefficients)
@@ -409,10 +409,14 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
         work = load.variable / norm
     else:
         work = float(value_of(V[contact, 1].ravel()) @ (-q * simpson).ravel())
+    if not work > 0.0:
+        raise ProgramError(f"the upper bound: the conic solver's velocity field (status "
+                           f"{sol.status}) does no work against the variable loads: no valid "
+                           f"upper bound on this mesh")
     factor = (cost.sum() + external - held_work) / work
     check = {**sol.record(), "solver_factor": (sol.objective - held_work) / work,
              "projection": projected, "flow_violation": outside}
-    if not (np.isfinite(factor) and outside <= FLOW_TOLERANCE and work > 0):
+    if not (np.isfinite(factor) and outside <= FLOW_TOLERANCE):
         raise ProgramError(
             f"the upper bound: the conic solver's velocity field (status {sol.status}) is not "
             f"kinematically admissible (flow rule violated by {outside:.2e} of its rate after "

@@ -487,10 +487,10 @@ def check_load(rd: Reader, load: dict | None, plate: dict | None, wall: dict | N
 
 
 def check_analysis(rd: Reader, analysis: dict, soil: dict, load: dict, plate: dict | None,
-                   wall: dict | None, layers: list) -> None:
+                   wall: dict | None, layers: list, ringwall: dict | None = None) -> None:
     """A collapse asked of a soil that can fail, with something to raise or reduce."""
     collapse = analysis.get("collapse")
-    for name in ("bounds_gap", "bounds_cells"):
+    for name in ("bounds_gap", "bounds_cells", "bounds_floor", "bounds_ring_width"):
         if analysis.get(name, getattr(Analysis, name)) != getattr(Analysis, name) and \
                 collapse != "bounds":
             rd.bad(f"analysis.{name} = {analysis[name]!r}: only used with analysis.collapse = "
@@ -516,17 +516,30 @@ def check_analysis(rd: Reader, analysis: dict, soil: dict, load: dict, plate: di
                "pressure, a liquid, a gas pressure or a roof's weight); give one, or ask for "
                "collapse = \"strength\"")
     if collapse == "bounds":
-        check_bounds(rd, soil, plate, wall, layers)
+        check_bounds(rd, soil, plate, wall, layers, analysis, ringwall)
 
 
 def check_bounds(rd: Reader, soil: dict, plate: dict | None, wall: dict | None,
-                 layers: list) -> None:
-    """What the limit analysis takes: a rigid foundation on the surface, or a flexible load,
-    and a frictional soil's weight without a water table."""
-    if wall is not None:
-        rd.bad("analysis.collapse = \"bounds\" with a [wall]: the limit analysis takes a "
-               "rigid foundation (a [plate] alone) or a flexible load (no [plate]), not yet a "
-               "tank's floor and shell; ask for collapse = \"load\" or \"strength\"")
+                 layers: list, analysis: dict, ringwall: dict | None) -> None:
+    """What the limit analysis takes: a rigid foundation, a flexible load or a tank's floor
+    and shell on the surface, and a frictional soil's weight without a water table."""
+    if ringwall is not None:
+        rd.bad("analysis.collapse = \"bounds\" with a [ringwall]: the limit analysis takes a "
+               "rigid foundation, a flexible load or a tank's floor and shell on the ground, "
+               "not yet a ringwall; ask for collapse = \"load\" or \"strength\"")
+    width = analysis.get("bounds_ring_width")
+    floor = analysis.get("bounds_floor")
+    if floor is not None and wall is None:
+        rd.bad(f"analysis.bounds_floor = {floor!r}: only used with a [wall] (a tank's floor); "
+               f"remove it")
+    if width is not None and (wall is None or floor != "flexible"):
+        rd.bad(f"analysis.bounds_ring_width = {width!r}: only used with a [wall] and "
+               f"analysis.bounds_floor = \"flexible\" (the band the shell's load is spread "
+               f"on); remove it")
+    if width is not None and wall is not None and isinstance(wall.get("radius"), (int, float)) \
+            and not 0.0 < width < wall["radius"]:
+        rd.bad(f"analysis.bounds_ring_width = {width!r} m: must lie between 0 and the shell's "
+               f"radius ({wall['radius']!r} m); about the annular plate's width")
     if plate is not None and plate.get("embedment"):
         rd.bad(f"plate.embedment = {plate['embedment']!r} with analysis.collapse = \"bounds\": "
                f"the limit analysis takes a foundation on the surface; remove the embedment "

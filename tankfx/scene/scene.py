@@ -321,7 +321,7 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
         check_ringwall(rd, secs["ringwall"], plate, wall, domain, a)
     if secs["analysis"] is not None:
         check_analysis(rd, secs["analysis"], soil or {}, load or {}, plate, secs["wall"],
-                       layers)
+                       layers, secs["ringwall"])
     if secs["consolidation"] is not None:
         check_consolidation(rd, secs["consolidation"], data, soil or {}, layers, deg, method)
     else:

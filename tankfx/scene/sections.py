@@ -842,6 +842,19 @@ class Analysis:
     bounds_cells: int = key(20000, unit="-", limit=POSITIVE,
                             meaning="with collapse = \"bounds\": the most triangles the refined "
                                     "mesh may have (about 1 min per 10^4 on two cores)")
+    bounds_floor: str = key(
+        "rigid", choices=("rigid", "flexible"),
+        meaning="with collapse = \"bounds\" and a [wall]: the tank's floor and shell as one "
+                "rigid body (\"rigid\": the elastic structure of the elastoplastic analysis "
+                "moves rigidly once the ground flows, so these bound its limit), or a floor "
+                "without bending strength (\"flexible\": the liquid's pressure on the ground, "
+                "the shell's load on a band inside it; a lower bound for any floor)")
+    bounds_ring_width: float | None = key(
+        None, unit="m", limit=POSITIVE, default_doc="the annular plate's width, else 0.05 a",
+        meaning="with collapse = \"bounds\", a [wall] and bounds_floor = \"flexible\": the "
+                "width of the band inside the shell over which the floor spreads the shell's load (its weight, the roof's) "
+                "onto the ground; rigid plasticity carries no line load, the floor's bending "
+                "spreads it (docs/theory/limit-analysis.md, \"The tank\")")
 
 
 @dataclass(frozen=True)
