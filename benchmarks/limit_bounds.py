@@ -4,7 +4,7 @@ by load on the same scene, the rounds' sizes and times, and how the time grows w
 number of triangles. Whole process per case, this machine.
 
     python benchmarks/limit_bounds.py            # Tresca smooth/rough, c-phi 20 and 30 degrees
-    python benchmarks/limit_bounds.py --quick    # the two Tresca footings only
+    python benchmarks/limit_bounds.py --quick    # the raft in the half-space, the Tresca footings
 
 Writes results/limit_bounds.json. Exact: N_c = 5.69 (smooth, Shield 1955) and 6.05 (rough,
 Eason & Shield 1960) for Tresca soil; for the c-phi soils no published circular value was
@@ -40,7 +40,18 @@ def footing(condition: str, soil: dict, pressure: float, E: float = 10e6) -> dic
             "analysis": {"collapse": "bounds", "bounds_gap": 0.03, "bounds_cells": 40000}}
 
 
-CASES = [("Tresca, smooth", footing("smooth", {}, C), 5.69),
+def raft(condition: str) -> dict:
+    """The scene a newcomer writes first: a 5 m raft (1 m of steel) on weightless clay of
+    25 kPa, 100 kPa on it, no [domain] (the half-space) and no [mesh] (the defaults)."""
+    return {"title": f"raft, {condition}, the default half-space",
+            "soil": {"model": "mohr_coulomb", "E": 20e6, "nu": 0.3, "cohesion": 25e3},
+            "plate": {"radius": 5.0, "thickness": 1.0, "E": 200e9, "nu": 0.3},
+            "interface": {"condition": condition}, "load": {"pressure": 100e3},
+            "analysis": {"collapse": "bounds"}}
+
+
+CASES = [("raft, smooth, half-space", raft("smooth"), 5.69),
+         ("Tresca, smooth", footing("smooth", {}, C), 5.69),
          ("Tresca, rough", footing("bonded", {}, C), 6.05),
          ("phi 20, smooth, weightless", footing("smooth", {"friction_angle": 20.0,
                                                            "dilation_angle": 20.0}, 100e3),
@@ -55,11 +66,11 @@ def main(quick: bool) -> None:
     # (progress: the collapse search's steps and the bounds' rounds as they go)
     logging.basicConfig(level=logging.INFO, format="%(message)s")
     rows = []
-    for name, data, exact in CASES[:2] if quick else CASES:
+    for name, data, exact in CASES[:3] if quick else CASES:
         t = time.perf_counter()
         r = analyse(Scene.from_dict(data)).results
         b, c = r["bounds"], r["collapse"]
-        q = data["load"]["pressure"] / C       # (the factors as q / c)
+        q = data["load"]["pressure"] / data["soil"]["cohesion"]    # (the factors as q / c)
         rows.append({"case": name, "exact": exact, "lower": q * b["lower"],
                      "upper": q * b["upper"], "gap": b["gap"], "triangles": b["triangles"],
                      "bounds_s": b["time_s"], "elastoplastic": q * c["load_factor"],
@@ -71,6 +82,8 @@ def main(quick: bool) -> None:
         say(f"\n{name}: q_ult / c in [{row['lower']:.4g}, {row['upper']:.4g}] (gap "
             f"{100 * row['gap']:.2f} %, {row['triangles']} triangles, {row['bounds_s']:.0f} s)"
             + (f", exact {exact}" if exact else "")
+            + f"; box {b['box']['radius']:.3g} m x {b['box']['depth']:.3g} m "
+              f"(side {b['box']['side']}, base {b['box']['base']})"
             + f"; elastoplastic {row['elastoplastic']:.4g} (cubic, "
               + (f"failed by {row['elastoplastic_failure']}" if c["found"]
                  else f"a lower bound: {c['reason']}") + f", {row['elastoplastic_s']:.0f} s)")

@@ -43,18 +43,26 @@ coarse = "--coarse" in sys.argv
 scene = load_scene(Path(__file__).resolve().parent / "scenes" / "tank_on_soft_clay.toml")
 if coarse:
     scene = scene.with_coarse_mesh()
-searches = ["load"] if coarse else ["strength", "load"]
+# ("bounds" is the search by load with the limit analysis' bounds beside it)
+searches = ["bounds"] if coarse else ["strength", "bounds"]
 found = {}
 for kind in searches:
     solution = analyse(scene.with_changes(analysis={"collapse": kind}), comm)
     found[kind] = solution
     c = solution.results["collapse"]
-    say(f"\ncollapse by {kind}: {c['kind']} factor {c[f'{kind}_factor']:.4g}"
+    factor = c[c["kind"] + "_factor"]
+    say(f"\ncollapse by {c['kind']}: factor {factor:.4g}"
         + (f" in [{c['bracket'][0]:.4g}, {c['bracket'][1]:.4g}], failed by {c['failure']}"
            if c["found"] else f" (a lower bound: {c['reason']})")
         + (f"; the mechanism forms at {c['knee_bracket'][0]:.4g}-{c['knee_bracket'][1]:.4g}"
            if c.get("knee_bracket") else "")
         + f"; mechanism: {c['mechanism']['kind']} ({c['time_s']:.0f} s)")
+    if kind == "bounds":
+        b = solution.results["bounds"]
+        say(f"limit analysis (floor and shell rigid): the ground fails between "
+            f"{b['lower']:.4g} and {b['upper']:.4g} times the water (gap {100 * b['gap']:.1f} "
+            f"%, {b['time_s']:.0f} s); the elastoplastic factor lies {b['elastoplastic_position']}"
+            f" them")
 r = found[searches[0]].results
 say(f"\nunder the full tank: w0 = {1e3 * r['w0']:.0f} mm, at the shell "
     f"{1e3 * r['w_edge']:.0f} mm; {r['soil']['plastic_points']} points of the clay yield")
@@ -75,7 +83,10 @@ say(f"\nunder the full tank: w0 = {1e3 * r['w0']:.0f} mm, at the shell "
 # against the fill height.
 
 # %%
-load = found["load"].results["collapse"]
+load = found["bounds"].results["collapse"]
+bounds = found["bounds"].results["bounds"]
+# the settlement criterion stops the search below the limit the rigid body reaches
+assert load["load_factor"] <= bounds["upper"]
 assert load["mechanism"]["kind"] == "edge"              # the shell's edge punches in
 assert load["found"] and load["failure"] == "settlement"  # no plateau: the criterion
 assert load["knee_bracket"][1] <= load["load_factor"]   # the knee below what it carries

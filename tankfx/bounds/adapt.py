@@ -68,7 +68,10 @@ def bounds(tri: Triangles, ground_of, load: Loading, scale: float, gap: float = 
 
 def doerfler(indicator: np.ndarray, share: float) -> np.ndarray:
     """The fewest indices whose indicator sums to ``share`` of the total."""
-    order = np.argsort(indicator)[::-1]
+    # (ties broken by the index, the values to 1e-9 of the largest: the same marks for the
+    # same mesh in other units, whose round-off differs)
+    key = np.round(indicator / max(float(np.max(indicator)), 1e-300), 9)
+    order = np.lexsort((np.arange(len(key)), -key))
     total = np.cumsum(indicator[order])
     return order[:int(np.searchsorted(total, share * total[-1])) + 1]
 

@@ -405,18 +405,32 @@ def plot_sweep(rows: list[dict], axes: dict, path, title: str = "", x_key: str |
 
 
 def plot_collapse(results: dict, path: str | Path, title: str = "") -> Path | None:
-    """The factor against the foundation's mean settlement along the collapse search, the
-    bracket's failed factor dashed. Rank 0 writes the PNG."""
+    """The factor against the foundation's mean settlement along the collapse search, and
+    the bracket's failed factor as what it is: a dashed level labelled with the failure (no
+    equilibrium found, or the settlement criterion), not a curve. Rank 0 writes the PNG."""
     c = results.get("collapse")
-    if not c:
+    if not c or not _rank0():
         return None
     x = 1e3 * np.asarray(c["curve"]["mean_settlement"])
     label = "load factor" if c["kind"] == "load" else "strength factor (c, tan phi divided)"
-    curves = {label: np.asarray(c["curve"]["factor"])}
+    fig, (ax,) = figure(1)
+    ax.plot(x, np.asarray(c["curve"]["factor"]), marker="o", markersize=3, label=label)
     if c["found"]:
-        curves["failed (no equilibrium)"] = np.full(len(x), c["bracket"][1])
-    return plot_curves(x, {label: curves}, path, "mean settlement of the foundation [mm]",
-                       title=title)
+        ax.axhline(c["bracket"][1], color="C3", linestyle="--", linewidth=1.0,
+                   label=f"failed at {c['bracket'][1]:.4g}: {failure_words(c.get('failure'))}")
+    ax.set_xlabel("mean settlement of the foundation [mm]")
+    ax.set_ylabel("factor [-]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="lower right", fontsize="small")
+    if title:
+        ax.set_title(title)
+    return save(fig, path)
+
+
+def failure_words(failure: str | None) -> str:
+    """How a collapse search's failed trial failed, for a legend."""
+    return {"settlement": "the settlement criterion (0.1 D)",
+            "no equilibrium": "no equilibrium"}.get(failure, failure or "failed")
 
 
 def plot_bounds(results: dict, mechanism: dict, path: str | Path, extent: float,

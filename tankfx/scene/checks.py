@@ -529,7 +529,7 @@ def check_bounds(rd: Reader, soil: dict, plate: dict | None, wall: dict | None,
                "not yet a ringwall; ask for collapse = \"load\" or \"strength\"")
     width = analysis.get("bounds_ring_width")
     floor = analysis.get("bounds_floor")
-    if floor is not None and wall is None:
+    if floor not in (None, "rigid") and wall is None:
         rd.bad(f"analysis.bounds_floor = {floor!r}: only used with a [wall] (a tank's floor); "
                f"remove it")
     if width is not None and (wall is None or floor != "flexible"):
