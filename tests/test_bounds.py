@@ -4,6 +4,7 @@ an upper bound whose gap the refinement closes below 3 %, the lower bound's fiel
 after the solve."""
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -394,6 +395,7 @@ def test_the_default_half_space_gets_its_bounds(condition, exact, a):
     assert b["box"]["side"] == "open" and b["box"]["base"] == "open"
     assert 2 * a < b["box"]["radius"] < 20 * a and b["box"]["depth"] < 20 * a
     assert b["box"]["far_margin"]["side"] >= 0.0 and b["box"]["far_margin"]["base"] >= 0.0
+    json.dumps(b, allow_nan=False)                      # (results.json's numbers are finite)
     for r in b["rounds"]:
         assert r["upper_check"]["projection"] < 1e-9
         assert r["upper_check"]["status"] in ("Solved", "AlmostSolved", "NumericalError",
@@ -425,6 +427,7 @@ def test_the_ground_beyond_an_open_box_only_weakens_the_lower_bound():
     assert lo_open.factor <= lo_held.factor + 1e-7
     assert lo_open.factor > 0.8 * lo_held.factor
     assert min(lo_open.far_margin.values()) >= -1e-7
+    assert lo_held.far_margin == {"side": None, "base": None}
     assert upper_bound(tri, g_open, opened, 25e3).factor == pytest.approx(
         upper_bound(tri, g_held, held, 25e3).factor, rel=1e-6)
 

@@ -364,7 +364,7 @@ def _far_field(P, tri: Triangles, ground: Ground, load: Loading, S, x, scale) ->
 def _far_margin(sol_x, points, scale) -> dict:
     """The far field's least yield margin beyond the box's ``side`` (the ring) and under its
     ``base`` (the column), in units of ``scale`` (the cohesion under the foundation): near
-    0 where the box's size limits the bound; inf for a closed side or base."""
+    0 where the box's size limits the bound; None for a closed side or base."""
     from ..laws.limit_cones import admissible
     worst = {"side": math.inf, "base": math.inf}
     for Sr, col, r, c, phi, gz in points:
@@ -379,7 +379,7 @@ def _far_margin(sol_x, points, scale) -> dict:
             k = phi == p
             margin = float(np.min(-admissible(sig[k], c[k], float(p)))) / scale
             worst[where] = min(worst[where], margin)
-    return worst
+    return {k: (v if math.isfinite(v) else None) for k, v in worst.items()}
 
 
 def _cones_at(P, phi: float, cols: np.ndarray, coef: np.ndarray, rc: np.ndarray,

@@ -170,8 +170,8 @@ def choose_box(scene, scale: float, log=None) -> Box:
         # (a far field at yield limits the lower bound only while growing the box raises it)
         gained = last is None or probe.lower.factor > (1.0 + BOX_GAIN) * last
         last = probe.lower.factor
-        grow = {where: (share[where] > REACH or
-                        (gained and probe.lower.far_margin[where] < FAR_MARGIN))
+        margin = {k: math.inf if v is None else v for k, v in probe.lower.far_margin.items()}
+        grow = {where: (share[where] > REACH or (gained and margin[where] < FAR_MARGIN))
                 for where in ("side", "base")}
         grow["side"] &= box.open_side
         grow["base"] &= box.open_base
@@ -181,7 +181,7 @@ def choose_box(scene, scale: float, log=None) -> Box:
             log.info("  bounds: the box %.3g m x %.3g m limits them (mechanism's share at the "
                      "side %.1e, base %.1e; far field's margin %.3g, %.3g): grown",
                      box.radius, box.depth, share["side"], share["base"],
-                     probe.lower.far_margin["side"], probe.lower.far_margin["base"])
+                     margin["side"], margin["base"])
         box = box.grown(scene, grow["side"], grow["base"])
     return box
 

@@ -64,7 +64,7 @@ class UpperBound:
     #: the field's check: the solver's record (status, duality gap, residuals), its factor
     #: ``solver_factor`` (for comparison), ``projection`` (the largest change the exact
     #: supports and div v = 0 made to a flux, relative to the largest), ``flow_violation``
-    #: (<= 0: in the flow cone)
+    #: (<= 0: in the flow cone; None for Tresca)
     check: dict
     seconds: float
     iterations: int
@@ -124,7 +124,8 @@ def _closed_form_dissipation(G: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray
     friction angle ``phi`` (m,), in closed form: Tresca's max(rho, |G_theta|) + |G_theta|
     (rho = |(G_r - G_z, G_gamma)|) of an isochoric rate, Mohr-Coulomb's cot phi tr G of a
     rate in its flow cone tr G >= sin phi (max(|G_r + G_z|, rho) + |G_theta|). Returns it
-    (m, 6) and the flow cone's largest violation, relative to the rate's size."""
+    (m, 6) and the flow cone's largest violation, relative to the rate's size (None: no
+    frictional triangle)."""
     rho = np.hypot(G[..., 0] - G[..., 1], G[..., 2])
     hoop = np.abs(G[..., 3])
     tresca = np.maximum(rho, hoop) + hoop
@@ -134,8 +135,10 @@ def _closed_form_dissipation(G: np.ndarray, phi: np.ndarray) -> tuple[np.ndarray
     frictional = phi[:, None] > 0.0
     mc = trace / np.tan(np.where(phi > 0.0, phi, 1.0))[:, None]
     size = max(float(np.max(np.abs(G))), 1e-300)
+    if not np.any(frictional):
+        return tresca, None
     violation = np.where(frictional, s * plastic - trace, -np.inf)
-    return np.where(frictional, mc, tresca), float(np.max(violation, initial=-np.inf)) / size
+    return np.where(frictional, mc, tresca), float(np.max(violation)) / size
 
 
 def p2_nodes(tri: Triangles):
@@ -416,7 +419,7 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
     factor = (cost.sum() + external - held_work) / work
     check = {**sol.record(), "solver_factor": (sol.objective - held_work) / work,
              "projection": projected, "flow_violation": outside}
-    if not (np.isfinite(factor) and outside <= FLOW_TOLERANCE):
+    if not (np.isfinite(factor) and (outside is None or outside <= FLOW_TOLERANCE)):
         raise ProgramError(
             f"the upper bound: the conic solver's velocity field (status {sol.status}) is not "
             f"kinematically admissible (flow rule violated by {outside:.2e} of its rate after "
