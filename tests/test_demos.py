@@ -103,6 +103,25 @@ def test_headline_demo_gives_the_same_numbers_on_two_ranks(runs):
         serial["profiles"]["plate"]["contact_status"]
 
 
+def test_the_tank_on_soft_clay_keeps_its_collapse_factors(runs):
+    """demos/tank_collapse.py --coarse: the 25 m tank's factor by load (the settlement
+    criterion, an edge mechanism, the knee below it) and its limit analysis bounds (floor
+    and shell rigid), against the values recorded on this mesh (2026-11-28: 1.190 in
+    [1.190, 1.196], knee 1.147-1.158, bounds [1.308, 1.338]; the default mesh: 1.178, knee
+    1.125-1.132, docs/development/2026-11-27-collapse.md). The tolerances are the search's
+    bracket (0.5 %) and the bounds' round-off across machines (1e-4)."""
+    proc, cwd = runs(ROOT / "demos" / "tank_collapse.py", 1)
+    assert proc.returncode == 0, proc.stdout[-3000:]
+    r = json.loads((cwd / "results" / "tank_collapse" / "bounds" / "results.json").read_text())
+    c, b = r["collapse"], r["bounds"]
+    assert c["failure"] == "settlement" and c["mechanism"]["kind"] == "edge"
+    assert c["load_factor"] == pytest.approx(1.190, rel=0.005)
+    assert c["knee_bracket"][0] == pytest.approx(1.147, rel=0.005)
+    assert b["lower"] == pytest.approx(1.3076, rel=1e-4)
+    assert b["upper"] == pytest.approx(1.3380, rel=1e-4)
+    assert b["elastoplastic_position"] == "below"
+
+
 def test_an_error_on_one_rank_ends_the_run_instead_of_hanging(tmp_path):
     """Rank 0 fails while rank 1 waits in a collective (as when only rank 0 writes the
     results): the run must end, with an error, well within the time bound."""
