@@ -275,7 +275,8 @@ def test_a_thick_cylinder_yields_as_hills_closed_form():
     limit = 2.0 * k * np.log(b / a)
     cyl.load(0.999 * limit)
     assert cyl.plastic_radius() > 1.9
-    with pytest.raises(RuntimeError, match="did not converge"):
+    # (beyond it no equilibrium: Newton does not converge, or its tangent is singular)
+    with pytest.raises(RuntimeError, match="did not converge|the linear solve"):
         cyl.load(1.01 * limit)
 
 

@@ -191,6 +191,10 @@ class Scene:
             The changed scene has problems (every one listed).
         """
         d = self.to_dict()
+        if self.plate is not None and "load_radius" not in sections.get("load", {}):
+            # (the plate's radius, resolved into the load: not the user's, and not to be
+            # checked again as theirs: an accepted small plate would be refused by it)
+            d.get("load", {}).pop("load_radius", None)
         for sec, changes in sections.items():
             if isinstance(changes, dict):
                 if sec == "soil" and "E" not in changes and set(E_FROM_KEYS) & set(changes):
@@ -227,8 +231,6 @@ class Scene:
             out["soil"].pop("layers", None)
         if self.plate is not None and not self.plate.annular_width:
             out["plate"].pop("annular_width")
-        if self.plate is not None:
-            out["load"].pop("load_radius", None)    # (the plate's: derived, not given)
         for name, K in (("plate", "Kp"), ("wall", "Kt")):
             if name in out and K in out[name] and not resolved:
                 del out[name]["thickness"]          # the rigidity decides it
