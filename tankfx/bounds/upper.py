@@ -88,6 +88,8 @@ def _admissible_flux(flux: np.ndarray, fixed: list, isochoric: np.ndarray,
     from scipy import sparse
     from scipy.sparse.linalg import splu
 
+    from ..fem.threads import limit_blas_threads
+    limit_blas_threads.__wrapped__()    # (scipy's own BLAS, loaded by splu: this rank's share)
     out = flux.copy()
     free = np.ones(out.shape, bool)
     for nodes, comp, values in fixed:
