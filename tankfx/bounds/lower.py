@@ -108,12 +108,6 @@ class Loading:
     #: surface under the foundation; none: ``variable`` and ``held`` uniform on r <= a
     bands: tuple = ()
 
-    def edges(self, a: float) -> np.ndarray:
-        """The points (k, 2) of the surface where the load's traction jumps: the
-        foundation's edge, a band's ends."""
-        radii = {a, *[r for band in self.bands for r in band[:2] if r > 0.0]}
-        return np.array([[r, 0.0] for r in sorted(radii)])
-
     def pressures(self, r: np.ndarray, a: float) -> tuple[np.ndarray, np.ndarray]:
         """A flexible load's variable and held pressures (Pa) at radii ``r`` (m)."""
         bands = self.bands or ((0.0, a, self.variable / (math.pi * a ** 2),

@@ -146,14 +146,6 @@ class Triangles:
         nodes = dmesh.entities_to_geometry(msh, tdim, cells)[:, :3]
         return cls.from_points(msh.geometry.x, nodes, a)
 
-    def at_points(self, points: np.ndarray) -> np.ndarray:
-        """The triangles with a vertex at one of ``points`` (k, 2), m."""
-        tol = 1e-9 * self.a
-        hit = np.zeros(len(self.points), bool)
-        for p in np.atleast_2d(points):
-            hit |= np.hypot(*(self.points - p).T) < tol
-        return np.flatnonzero(hit[self.cells].any(axis=1))
-
     @functools.cached_property
     def interior(self) -> tuple[np.ndarray, np.ndarray]:
         """The interior edges: for each, its two triangles (e, f) and its vertices as e
