@@ -5,6 +5,7 @@ number of triangles. Whole process per case, this machine.
 
     python benchmarks/limit_bounds.py            # Tresca smooth/rough, c-phi 20 and 30 degrees
     python benchmarks/limit_bounds.py --quick    # the raft in the half-space, the Tresca footings
+    python benchmarks/limit_bounds.py embedded   # only the cases whose names hold a word
 
 Writes results/limit_bounds.json. Exact: N_c = 5.69 (smooth, Shield 1955) and 6.05 (rough,
 Eason & Shield 1960) for Tresca soil; for the c-phi soils no published circular value was
@@ -29,11 +30,14 @@ say = print if MPI.COMM_WORLD.rank == 0 else (lambda *a, **k: None)
 C = 10e3
 
 
-def footing(condition: str, soil: dict, pressure: float, E: float = 10e6) -> dict:
-    """The rigid 1 m footing of tests/test_collapse.py, its soil's extra keys given."""
+def footing(condition: str, soil: dict, pressure: float, E: float = 10e6,
+            embedment: float = 0.0) -> dict:
+    """The rigid 1 m footing of tests/test_collapse.py, its soil's extra keys given, at the
+    bottom of a pit ``embedment`` deep (its side free: no wall)."""
     return {"title": f"footing, {condition}",
             "soil": {"model": "mohr_coulomb", "E": E, "nu": 0.3, "cohesion": C, **soil},
-            "plate": {"radius": 1.0, "Kp": 1000.0, "E": 30e9, "nu": 0.2},
+            "plate": {"radius": 1.0, "Kp": 1000.0, "E": 30e9, "nu": 0.2,
+                      "embedment": embedment},
             "interface": {"condition": condition}, "load": {"pressure": pressure},
             "mesh": {"edge_size": 0.01, "near_size": 0.2, "growth": 0.3, "degree": 3},
             "domain": {"radius": 5.0, "depth": 5.0},
@@ -59,14 +63,20 @@ CASES = [("raft, smooth, half-space", raft("smooth"), 5.69),
          ("phi 30, rough, 18 kN/m3", footing("bonded", {"friction_angle": 30.0,
                                                         "dilation_angle": 30.0,
                                                         "unit_weight": 18e3}, 200e3, E=100e6),
-          None)]
+          None),
+         # (stiffer, so that it reaches its limit before the settlement criterion of 0.1 D)
+         ("Tresca, rough, embedded a/2, free pit side",
+          footing("bonded", {}, 5 * C, E=100e6, embedment=0.5), None)]
 
 
 def main(quick: bool) -> None:
     # (progress: the collapse search's steps and the bounds' rounds as they go)
     logging.basicConfig(level=logging.INFO, format="%(message)s")
     rows = []
-    for name, data, exact in CASES[:3] if quick else CASES:
+    words = [w for w in sys.argv[1:] if not w.startswith("--")]
+    cases = [c for c in CASES if all(w in c[0] for w in words)] if words else \
+        CASES[:3] if quick else CASES
+    for name, data, exact in cases:
         t = time.perf_counter()
         r = analyse(Scene.from_dict(data)).results
         b, c = r["bounds"], r["collapse"]

@@ -50,7 +50,7 @@ import numpy as np
 
 from ..laws.limit_cones import mohr_coulomb_cones
 from .program import ConeProgram, ProgramError
-from .triangles import BASE, CONTACT, SIDE, SURFACE, Triangles
+from .triangles import BASE, CONTACT, PIT_SIDE, SIDE, SURFACE, Triangles
 
 
 #: a lower bound's field counts where equilibrium and continuity hold to this share of their
@@ -104,6 +104,8 @@ class Loading:
     rough: bool
     side: str = "fixed"
     base: str = "rough"
+    #: an embedded foundation's pit side: in contact with it (a tank's wall there), or free
+    pit_contact: bool = False
     #: a flexible load's pressures, bands (r0, r1, q_variable, q_held) (m, Pa) on the
     #: surface under the foundation; none: ``variable`` and ``held`` uniform on r <= a
     bands: tuple = ()
@@ -178,23 +180,29 @@ def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
             P.equal(rows, cols, vals, np.zeros(k))
     # ---- boundaries ----
     owner = tri.owner
-    free = tri.kind == SURFACE
+    # (an embedded foundation's pit: its side a contact with the tank's wall, else free)
+    free = (tri.kind == SURFACE) | ((tri.kind == PIT_SIDE) & (not load.pit_contact))
     contact = tri.kind == CONTACT
     # (a smooth support takes no shear: T on the side (n = e_r) and on the base (n = -e_z);
     # nor does an open one: the far field has none)
     no_shear = ((tri.kind == SIDE) & (load.side != "fixed")) | \
-        ((tri.kind == BASE) & (load.base != "rough"))
+        ((tri.kind == BASE) & (load.base != "rough")) | \
+        ((tri.kind == PIT_SIDE) & (not load.rough) & load.pit_contact)
     bt = x[tri.edges[:, 1]] - x[tri.edges[:, 0]]
     bn = np.column_stack([bt[:, 1], -bt[:, 0]])
     for v in (0, 1):
         iv = local(owner, tri.edges[:, v])
-        for comp in ((0, 2), (2, 1)):
-            sel = np.flatnonzero(free)
+        # (free: the whole traction zero, so S . n = -r sigma0 . n, sigma0 = gamma z I: zero
+        # on the surface, not on a free pit side below it)
+        sel = np.flatnonzero(free)
+        rv, zv = x[tri.edges[sel, v], 0], x[tri.edges[sel, v], 1]
+        at_rest = ground.gamma[owner[sel]] * a / scale * rv * zv          # r sigma0, in scale a
+        for k, comp in enumerate(((0, 2), (2, 1))):
             rows = np.repeat(np.arange(len(sel)), 2)
             cols = np.column_stack([S[owner[sel], iv[sel], comp[0]],
                                     S[owner[sel], iv[sel], comp[1]]]).ravel()
             vals = bn[sel].ravel()
-            P.equal(rows, cols, vals, np.zeros(len(sel)))
+            P.equal(rows, cols, vals, -at_rest * bn[sel, k])
         sel = np.flatnonzero(no_shear)
         P.equal(np.arange(len(sel)), S[owner[sel], iv[sel], 2], np.ones(len(sel)),
                 np.zeros(len(sel)))
@@ -202,26 +210,39 @@ def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
         if not load.rough:                  # (smooth: no shear under the foundation)
             P.equal(np.arange(len(sel)), S[owner[sel], iv[sel], 2], np.ones(len(sel)),
                     np.zeros(len(sel)))
-        if not load.rigid:                  # (pressures F q + q_held: S_z = -r (F q + q_held))
+        if not load.rigid:
+            # (pressures F q + q_held on the pit's bottom, where the ground at rest's sigma0
+            # is -gamma d: S_z = -r (F q + q_held - gamma d))
             qv, qh = load.pressures(0.5 * (tri.points[tri.edges[sel, 0], 0]
                                            + tri.points[tri.edges[sel, 1], 0]), a)
+            qh = qh - ground.gamma[owner[sel]] * tri.embedment
             rv = x[tri.edges[sel, v], 0]
             P.equal(np.repeat(np.arange(len(sel)), 2),
                     np.column_stack([S[owner[sel], iv[sel], 1], np.full(len(sel), F)]).ravel(),
                     np.column_stack([np.ones(len(sel)), rv * qv / scale]).ravel(),
                     -rv * qh / scale)
-    # ---- a rigid foundation's resultant: -2 pi int S_z dr = F V + H (in scale a^2) ----
+    # ---- a rigid foundation's resultant, upward on it (in scale a^2): under it
+    # -2 pi int S_z dr, and the ground at rest's gamma d there if it is embedded d deep; on
+    # the pit's side 2 pi int T dz; = F V + H ----
     sel = np.flatnonzero(contact) if load.rigid else np.empty(0, int)
-    L = np.abs(bt[sel, 0])
+    side = np.flatnonzero(tri.kind == PIT_SIDE) if load.rigid and load.pit_contact else \
+        np.empty(0, int)
     cols, vals = [], []
     for v in (0, 1):
         iv = local(owner[sel], tri.edges[sel, v])
         cols.append(S[owner[sel], iv, 1])
-        vals.append(-math.pi * L)
+        vals.append(-math.pi * np.abs(bt[sel, 0]))
+        iv = local(owner[side], tri.edges[side, v])
+        cols.append(S[owner[side], iv, 2])
+        vals.append(math.pi * np.abs(bt[side, 1]))
     norm = scale * a ** 2
+    r2 = x[tri.edges[sel], 0] ** 2
+    at_rest = float(np.sum(math.pi * ground.gamma[owner[sel]] * tri.embedment
+                           * np.abs(r2[:, 1] - r2[:, 0]))) / scale
     if load.rigid:
-        P.equal(np.zeros(2 * len(sel) + 1, int), np.concatenate(cols + [[F]]),
-                np.concatenate(vals + [[-load.variable / norm]]), [load.held / norm])
+        P.equal(np.zeros(len(np.concatenate(cols)) + 1, int), np.concatenate(cols + [[F]]),
+                np.concatenate(vals + [[-load.variable / norm]]),
+                [load.held / norm - at_rest])
     # ---- yield at every vertex: three cones; on the axis they say S = 0, set so (a cone
     # with an empty interior stalls an interior-point solver) ----
     h2 = (tri.h / a) ** 2

@@ -108,7 +108,10 @@ def loading_of(scene, rigid: bool, box: Box | None = None) -> Loading:
     if scene.wall is None or scene.analysis.bounds_floor == "rigid":
         # (a flexible load is a pressure: no shear under it)
         return Loading(variable=V, held=H, rigid=rigid,
-                       rough=rigid and scene.interface.condition != "smooth", **supports)
+                       rough=rigid and scene.interface.condition != "smooth",
+                       pit_contact=(scene.embedment > 0.0 and scene.wall is not None and
+                                    scene.wall.radius >= scene.plate.radius * (1 - 1e-9)),
+                       **supports)
     plate, wall, ld = scene.plate, scene.wall, full
     a_p, a_w = plate.radius, wall.radius
     floor = math.pi * a_p ** 2
@@ -155,7 +158,7 @@ def choose_box(scene, scale: float, log=None) -> Box:
     from .triangles import BASE, SIDE
 
     a = scene.foundation_radius
-    box = Box.around(scene, FIRST_BOX[0] * a, FIRST_BOX[1] * a)
+    box = Box.around(scene, FIRST_BOX[0] * a, FIRST_BOX[1] * a + scene.embedment)
     rigid = scene.plate is not None
     last = None
     for _ in range(MAX_GROWTHS):
@@ -192,7 +195,8 @@ def box_triangles(scene, box: Box) -> Triangles:
     shell band within it among its lines; the same in any units."""
     tops = [layer.depth for layer in scene.soil.layers if layer.depth < box.depth]
     radii = ring_band(scene) if flexible_tank(scene) else ()
-    return Triangles.box(scene.foundation_radius, box.radius, box.depth, tops, radii)
+    return Triangles.box(scene.foundation_radius, box.radius, box.depth, tops, radii,
+                         embedment=scene.embedment)
 
 
 def strength_scale(soil, a: float) -> float:

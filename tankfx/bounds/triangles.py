@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-AXIS, CONTACT, SURFACE, SIDE, BASE = 0, 1, 2, 3, 4
+AXIS, CONTACT, SURFACE, SIDE, BASE, PIT_SIDE = 0, 1, 2, 3, 4, 5
 #: the triangles of the fan at the foundation's edge (and a band's ends) of a box's mesh
 FAN = 24
 
@@ -23,7 +23,9 @@ FAN = 24
 class Triangles:
     """``points`` (n, 2) (r, z), ``cells`` (m, 3) counterclockwise, ``edges`` (k, 2) the
     boundary edges (their two vertices), ``kind`` (k,) and ``owner`` (k,) (its triangle) of
-    each, ``a`` the foundation's radius."""
+    each, ``a`` the foundation's radius, ``embedment`` its underside's depth (m): the
+    contact is then the pit's bottom (z = -embedment, r < a), and its side (r = a above it,
+    PIT_SIDE) a contact with the foundation's edge."""
 
     points: np.ndarray
     cells: np.ndarray
@@ -31,9 +33,11 @@ class Triangles:
     kind: np.ndarray
     owner: np.ndarray
     a: float
+    embedment: float = 0.0
 
     @classmethod
-    def from_points(cls, points: np.ndarray, cells: np.ndarray, a: float) -> "Triangles":
+    def from_points(cls, points: np.ndarray, cells: np.ndarray, a: float,
+                    embedment: float = 0.0) -> "Triangles":
         points = np.asarray(points, dtype=float)[:, :2]
         cells = np.asarray(cells, dtype=np.int64)
         # (counterclockwise, so that outward normals follow from the edge's direction)
@@ -54,89 +58,93 @@ class Triangles:
         kind[np.abs(mid[:, 0] - points[:, 0].max()) < tol] = SIDE
         kind[np.abs(mid[:, 1] - points[:, 1].min()) < tol] = BASE
         on_top = np.abs(mid[:, 1] - top) < tol
-        kind[on_top & (mid[:, 0] < a)] = CONTACT
+        bottom = np.abs(mid[:, 1] - (top - embedment)) < tol
+        kind[bottom & (mid[:, 0] < a)] = CONTACT
         kind[on_top & (mid[:, 0] > a)] = SURFACE
+        if embedment > 0.0:
+            kind[(np.abs(mid[:, 0] - a) < tol) & (mid[:, 1] > top - embedment)] = PIT_SIDE
         kind[np.abs(mid[:, 0]) < tol] = AXIS
         if np.any(kind < 0):
-            raise ValueError("a boundary edge off the axis, the surface, the side and the base: "
-                             "limit analysis takes a foundation on the surface of a box")
-        return cls(points, cells, edges, kind, owner, a)
+            raise ValueError("a boundary edge off the axis, the surface, the pit, the side and "
+                             "the base: limit analysis takes a foundation in a box")
+        return cls(points, cells, edges, kind, owner, a, embedment)
 
     @classmethod
     def box(cls, a: float, radius: float, depth: float, lines=(), radii=(), size: float = 0.1,
-            growth: float = 0.3) -> "Triangles":
-        """The box r <= radius, -depth <= z <= 0 (m) meshed by gmsh (serial), its edges
-        ``size`` a long at the foundation's edge (r = a, z = 0) and growing by ``growth``
-        times the distance from it (unstructured: the foundation's edge gets a fan of
-        triangles, which a lower bound's stress discontinuities need there); the heights
-        ``lines`` (m below the surface: layers' tops) and the radii ``radii`` (m: a load's
-        band edges on the surface) among its edges. Meshed in units of a and scaled, so that
-        the same box in other units is the same mesh."""
+            growth: float = 0.3, embedment: float = 0.0) -> "Triangles":
+        """The box r <= radius, -depth <= z <= 0 (m), less the pit r < a, z > -embedment,
+        meshed by gmsh (serial), its edges ``size`` a long at the foundation's edge
+        (r = a, z = -embedment) and growing by ``growth`` times the distance from it; the
+        heights ``lines`` (m below the surface: layers' tops) and the radii ``radii`` (m: a
+        load's band edges under the foundation) among its edges. At each point where the
+        surface's load jumps (the foundation's edge, a band's ends, the pit's rim) a fan
+        of triangles: the lower bound's stress fans out there, and bisection keeps the
+        number of triangles at a point. Meshed in units of a and scaled, so that the same
+        box in other units is the same mesh."""
         import gmsh
 
         # (rounded: a box grown in other units may differ from this one in its last bit)
-        R, D = round(radius / a, 9), round(depth / a, 9)
-        tops = sorted({0.0, *[h / a for h in lines if 0.0 < h / a < D], D})
-        marks = sorted({0.0, 1.0, *[b / a for b in radii if 0.0 < b / a < R], R})
-        fans = [m for m in marks if 0.0 < m < R]
+        R, D, P = (round(v / a, 9) for v in (radius, depth, embedment))
+        marks = sorted({1.0, *[b / a for b in radii if 0.0 < b / a < 1.0]})
         owns = not gmsh.isInitialized()
         if owns:
             gmsh.initialize(interruptible=False)
         gmsh.option.setNumber("General.Terminal", 0)
         try:
             gmsh.model.add("tankfx-bounds-box")
-            geo = gmsh.model.geo
-            # the left (r = 0) and right (r = R) points of each height, the surface's marks
-            left = [geo.addPoint(0.0, -h, 0.0) for h in tops]
-            right = [geo.addPoint(R, -h, 0.0) for h in tops]
-            top = [left[0]] + [geo.addPoint(m, 0.0, 0.0) for m in marks[1:-1]] + [right[0]]
-            rows = [[geo.addLine(p, q) for p, q in zip(top[:-1], top[1:])]]
-            rows += [[geo.addLine(left[k], right[k])] for k in range(1, len(tops))]
-            for k in range(len(tops) - 1):
-                sides = [geo.addLine(right[k], right[k + 1]), geo.addLine(left[k + 1], left[k])]
-                loop = geo.addCurveLoop(rows[k] + [sides[0]] + [-c for c in rows[k + 1][::-1]]
-                                        + [sides[1]])
-                geo.addPlaneSurface([loop])
-            # a fan of FAN triangles at each point of the surface where the load jumps: the
-            # lower bound's stress fans out there, and refinement (bisection) keeps the
-            # number of triangles at a point (measured: a flexible load's lower bound held
-            # at 4.26 c under refinement with the fan gmsh makes)
-            spokes = []
-            below = min(tops[1], 0.5 * size) if len(tops) > 1 else 0.5 * size
-            for m in fans:
-                centre = top[marks.index(m)]
-                # (within 0.4 of the distance to the next mark: two fans never meet)
-                rho = min([below] + [0.4 * abs(m - o) for o in marks if o != m])
-                for k in range(1, FAN):
-                    t = math.pi * k / FAN
-                    tip = geo.addPoint(m - rho * math.cos(t), -rho * math.sin(t), 0.0)
-                    spokes.append(geo.addLine(centre, tip))
-            geo.synchronize()
-            if spokes:
-                gmsh.model.mesh.embed(1, spokes, 2, 1)
+            occ = gmsh.model.occ
+            ground = [(2, occ.addRectangle(0.0, -D, 0.0, R, D))]
+            if P > 0.0:
+                ground, _ = occ.cut(ground, [(2, occ.addRectangle(0.0, -P, 0.0, 1.0, P))])
+            tools = []
+            for h in lines:
+                h = h / a
+                if 0.0 < h < D and abs(h - P) > 1e-9:
+                    x0 = 1.0 if h < P else 0.0
+                    tools.append((1, occ.addLine(occ.addPoint(x0, -h, 0.0),
+                                                 occ.addPoint(R, -h, 0.0))))
+            # the fans: at each mark on the contact the soil's half plane below it (and the
+            # pit's side beyond the bottom's edge: three quarters); at the pit's rim a quarter
+            fans = [(m, -P, math.pi, (1.5 if (P > 0.0 and m == 1.0) else 1.0) * math.pi)
+                    for m in marks]
+            if P > 0.0:
+                fans.append((1.0, 0.0, 1.5 * math.pi, 0.5 * math.pi))
+            below = 0.5 * size
+            for m, zc, start, span in fans:
+                others = [abs(m - o) for o in marks if o != m] + ([P] if P > 0.0 else [])
+                rho = min([below] + [0.4 * d for d in others if d > 0.0])
+                n = max(2, int(round(FAN * span / math.pi)))
+                centre = occ.addPoint(m, zc, 0.0)
+                tools.append((0, centre))
+                for k in range(1, n):
+                    t = start + span * k / n
+                    tip = occ.addPoint(m + rho * math.cos(t), zc + rho * math.sin(t), 0.0)
+                    tools.append((1, occ.addLine(centre, tip)))
+            occ.fragment(ground, tools)
+            occ.synchronize()
             field = gmsh.model.mesh.field
             f = field.add("MathEval")
-            field.setString(f, "F", f"{size} + {growth} * sqrt((x - 1)^2 + y^2)")
+            field.setString(f, "F", f"{size} + {growth} * sqrt((x - 1)^2 + (y + {P})^2)")
             field.setAsBackgroundMesh(f)
             for name in ("MeshSizeFromPoints", "MeshSizeFromCurvature",
                          "MeshSizeExtendFromBoundary"):
                 gmsh.option.setNumber(f"Mesh.{name}", 0)
             gmsh.model.mesh.generate(2)
-            _, xyz, _ = gmsh.model.mesh.getNodes()
+            tags, xyz, _ = gmsh.model.mesh.getNodes()
             types, _, nodes = gmsh.model.mesh.getElements(2)
-            tags, _, _ = gmsh.model.mesh.getNodes()
             index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
             index[tags.astype(np.int64)] = np.arange(len(tags))
-            cells = index[np.asarray(nodes[list(types).index(2)], dtype=np.int64)].reshape(-1, 3)
+            cells = np.concatenate([index[np.asarray(nd, dtype=np.int64)].reshape(-1, 3)
+                                    for tp, nd in zip(types, nodes) if tp == 2])
             points = xyz.reshape(-1, 3)[:, :2] * a
         finally:
             gmsh.model.remove()
             if owns:
                 gmsh.finalize()
-        return cls.from_points(points, cells, a)
+        return cls.from_points(points, cells, a, embedment)
 
     @classmethod
-    def from_mesh(cls, msh, a: float) -> "Triangles":
+    def from_mesh(cls, msh, a: float, embedment: float = 0.0) -> "Triangles":
         """The straight triangles of a DOLFINx mesh on one process (its cells' vertices)."""
         import dolfinx.mesh as dmesh
 
@@ -144,7 +152,7 @@ class Triangles:
         msh.topology.create_connectivity(tdim, 0)
         cells = np.arange(msh.topology.index_map(tdim).size_local, dtype=np.int32)
         nodes = dmesh.entities_to_geometry(msh, tdim, cells)[:, :3]
-        return cls.from_points(msh.geometry.x, nodes, a)
+        return cls.from_points(msh.geometry.x, nodes, a, embedment)
 
     @functools.cached_property
     def interior(self) -> tuple[np.ndarray, np.ndarray]:
@@ -181,7 +189,7 @@ class Triangles:
         c2e = msh.topology.connectivity(2, 1)
         edges = np.unique(np.concatenate([c2e.links(c) for c in local])).astype(np.int32)
         fine, _, _ = dmesh.refine(msh, edges)
-        return Triangles.from_mesh(fine, self.a)
+        return Triangles.from_mesh(fine, self.a, self.embedment)
 
 
 def _edges(cells: np.ndarray):

@@ -41,7 +41,7 @@ import numpy as np
 from ..laws.limit_cones import mohr_coulomb_cones
 from .lower import Ground, Loading
 from .program import ConeProgram, ProgramError
-from .triangles import AXIS, BASE, CONTACT, SIDE, Triangles
+from .triangles import AXIS, BASE, CONTACT, PIT_SIDE, SIDE, Triangles
 
 #: the six Lagrange points of the quadratic triangle, barycentric: vertices, then the
 #: midpoints of edges (0, 1), (1, 2), (2, 0)
@@ -382,6 +382,12 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
     contact = bn[kind == CONTACT]
     if load.rough:
         fix(contact.ravel(), 0)
+    # (an embedded tank's wall against the pit's side: it moves down with the foundation;
+    # a plate alone leaves the pit's side free)
+    pit = bn[kind == PIT_SIDE].ravel() if load.pit_contact else np.empty(0, int)
+    fix(pit, 0)
+    if load.rough:
+        fix(pit, 1, lambda nodes: -x[nodes, 0])
     norm = scale * a ** 2
     if load.rigid:
         fix(contact.ravel(), 1, lambda nodes: -x[nodes, 0])       # (u_z = -1)

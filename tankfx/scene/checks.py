@@ -540,10 +540,6 @@ def check_bounds(rd: Reader, soil: dict, plate: dict | None, wall: dict | None,
             and not 0.0 < width < wall["radius"]:
         rd.bad(f"analysis.bounds_ring_width = {width!r} m: must lie between 0 and the shell's "
                f"radius ({wall['radius']!r} m); about the annular plate's width")
-    if plate is not None and plate.get("embedment"):
-        rd.bad(f"plate.embedment = {plate['embedment']!r} with analysis.collapse = \"bounds\": "
-               f"the limit analysis takes a foundation on the surface; remove the embedment "
-               f"or ask for collapse = \"load\"")
     frictional = any(x.get("friction_angle") for x in [soil, *layers])
     if frictional and soil.get("water_table") is not None:
         rd.bad(f"soil.water_table = {soil['water_table']!r} with analysis.collapse = "
