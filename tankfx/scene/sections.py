@@ -848,7 +848,8 @@ class Analysis:
                 "rigid body (\"rigid\": the elastic structure of the elastoplastic analysis "
                 "moves rigidly once the ground flows, so these bound its limit), or a floor "
                 "without bending strength (\"flexible\": the liquid's pressure on the ground, "
-                "the shell's load on a band inside it; a lower bound for any floor)")
+                "the shell's load on a band inside it; a lower bound for any floor; "
+                "embedded, its pit's side free)")
     bounds_ring_width: float | None = key(
         None, unit="m", limit=POSITIVE, default_doc="the annular plate's width, else 0.05 a",
         meaning="with collapse = \"bounds\", a [wall] and bounds_floor = \"flexible\": the "
