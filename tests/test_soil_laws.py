@@ -110,3 +110,46 @@ def test_every_law_is_a_scene_word_with_keys_the_scene_declares(word):
     else:
         assert soil_iteration(law) is SOIL_ITERATIONS[law.iteration]
         assert law.max_iterations and law.iteration_keys
+
+
+#: a law's constants, by the names the Mohr-Coulomb soil keeps them under, and the scene's
+#: per-stratum reader: what the plastic state, the collapse study and the bounds once read
+LAW_CONSTANTS = re.compile(r"\b(friction_angle|dilation_angle|cohesion_gradient|"
+                           r"tensile_strength|sin_phi|sin_psi|point_constants|at_depth)\b|"
+                           r"\[\"(cohesion|tension)\"\]")
+THROUGH_THE_CONTRACT = ["model/plastic.py", "iterations/collapse.py", "iterations/newton.py",
+                        *[f"bounds/{p.name}" for p in (PACKAGE / "bounds").glob("*.py")]]
+
+
+def test_the_plastic_state_the_collapse_and_the_bounds_name_no_law_constant():
+    """They reach an elastoplastic law's numbers through the point-law contract
+    (tankfx.laws.point_law) and the law's strength for the bounds (``limit_strength``)."""
+    found = [f"{name}:{k + 1}: {line.strip()}" for name in THROUGH_THE_CONTRACT
+             for k, line in enumerate((PACKAGE / name).read_text().splitlines())
+             if LAW_CONSTANTS.search(line.split("#")[0])]
+    assert not found, "\n".join(found)
+
+
+@pytest.mark.parametrize("word", [w for w, law in SOIL_LAWS.items() if law.at_points])
+def test_a_law_at_points_gives_a_point_law_whose_reduction_is_its_own(word):
+    """Every law whose state lives at the points gives a PointLaw there; its strength
+    divided by 1 is itself, by 2 weaker (the stress level at a state rises), and a masked
+    point never yields."""
+    import numpy as np
+
+    from tankfx import Scene
+    from tankfx.laws.point_law import PointLaw
+
+    soil = Scene.from_dict({"soil": {"model": word, "E": 10e6, "nu": 0.3, "cohesion": 10e3,
+                                     "friction_angle": 20.0, "unit_weight": 18e3},
+                            "load": {"pressure": 1e3, "load_radius": 1.0}}).soil
+    depth = np.array([0.5, 1.0, 2.0])
+    law = soil.law.point_law(soil, depth)
+    assert isinstance(law, PointLaw)
+    sigma = law.initial_stress() + np.array([0.0, -20e3, 5e3, 0.0])
+    once, half = law.reduced(1.0).mobilised(sigma), law.reduced(2.0).mobilised(sigma)
+    assert np.allclose(once, law.mobilised(sigma), rtol=1e-12)
+    assert np.all(half > 1.2 * once)
+    rigid = law.elastic_where(np.array([True, False, False]))
+    up = rigid.update(np.full((3, 4), 0.5), np.zeros((3, 4)), rigid.initial_state())
+    assert not up.yielding[0] and up.yielding[1:].all()

@@ -13,34 +13,14 @@ from .triangles import Triangles
 
 
 def ground_of(soil, tri: Triangles, box: "Box | None" = None) -> Ground:
-    """The soil of each triangle: its stratum's (read at its centroid, a triangle lying in
-    one stratum) cohesion as a line in z, friction angle and unit weight. Depth is -z. With
-    an open ``box``, the soil beyond it too."""
-    depth = -tri.points[tri.cells, 1].mean(axis=1)
-    st = soil.at_depth(depth)
-    gradient = st["cohesion_gradient"]
-    # c = cohesion + gradient (depth - top) = (cohesion - gradient top) - gradient z
+    """The soil of each triangle, its law's strength for the bounds read at its centroid (a
+    triangle lies in one stratum). Depth is -z. With an open ``box``, the soil beyond it
+    too."""
+    law = soil.law
     far = None
     if box is not None and box.open_base:
-        far = FarField(rows=_far_rows(soil, box.depth, box.ground_depth))
-    return Ground(c_top=st["cohesion"] - gradient * st["top"], dc_dz=-gradient,
-                  phi=np.radians(st["friction_angle"]), gamma=st["unit_weight"], far=far)
-
-
-def _far_rows(soil, top: float, bottom: float) -> np.ndarray:
-    """Rows (z, c, phi, gamma) at the depth ``top`` and at each stratum's top below it,
-    above ``bottom`` (inf: the half-space): where the column under an open base is checked
-    (its excess stress is constant in z, and within a stratum the yield margin grows with
-    depth: the cohesion's gradient and gamma z sin phi are non-negative)."""
-    rows = []
-    for k, st in enumerate(soil.strata):
-        below = soil.strata[k + 1].depth if k + 1 < len(soil.strata) else math.inf
-        d = max(st.depth, top)
-        if d >= min(below, bottom):
-            continue
-        c = (st.cohesion or 0.0) + (st.cohesion_gradient or 0.0) * (d - st.depth)
-        rows.append((-d, c, math.radians(st.friction_angle or 0.0), st.unit_weight or 0.0))
-    return np.array(rows, dtype=float).reshape(-1, 4)
+        far = FarField(rows=law.limit_strata(soil, box.depth, box.ground_depth))
+    return Ground(**law.limit_strength(soil, -tri.points[tri.cells, 1].mean(axis=1)), far=far)
 
 
 @dataclass(frozen=True)
@@ -201,8 +181,8 @@ def box_triangles(scene, box: Box) -> Triangles:
 
 def strength_scale(soil, a: float) -> float:
     """A stress of order one for the programs: the cohesion at the surface, else gamma a."""
-    top = soil.at_depth(np.array([0.0]))
-    return max(float(top["cohesion"][0]), float(top["unit_weight"][0]) * a, 1.0)
+    top = soil.law.limit_strength(soil, np.array([0.0]))
+    return max(float(top["c_top"][0]), float(top["gamma"][0]) * a, 1.0)
 
 
 def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> tuple[dict, dict]:
@@ -250,18 +230,7 @@ def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> tuple[d
 def _record(scene, b, box: Box, seconds: float, elastoplastic: dict | None) -> dict:
     import clarabel
 
-    notes, associated = [], True
-    for k, st in enumerate(scene.soil.strata):
-        phi, psi = st.friction_angle or 0.0, st.dilation_angle or 0.0
-        where = "soil" if k == 0 else f"soil.layers[{k}]"
-        if psi != phi:
-            associated = False
-            notes.append(f"{where}: the dilation angle {psi:g} differs from the friction angle "
-                         f"{phi:g}: limit analysis assumes associated flow (psi = phi), and "
-                         f"these are the associated soil's bounds")
-        if st.tensile_strength is not None:
-            notes.append(f"{where}: the tension cut-off ({st.tensile_strength:g} Pa) is not "
-                         f"taken: the bounds are Mohr-Coulomb's without it")
+    notes, associated = scene.soil.law.limit_notes(scene.soil)
     out = {"lower": b.lower.factor, "upper": b.upper.factor, "gap": b.gap,
            "requested_gap": scene.analysis.bounds_gap,
            "reached": b.gap <= scene.analysis.bounds_gap,

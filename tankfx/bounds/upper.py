@@ -235,7 +235,7 @@ def _tresca(P: ConeProgram, C: np.ndarray, dofs: np.ndarray) -> np.ndarray:
 
 
 def _mohr_coulomb(P: ConeProgram, C: np.ndarray, dofs: np.ndarray,
-                  sin_phi: float) -> np.ndarray:
+                  sine: float) -> np.ndarray:
     """Mohr-Coulomb's dissipation (phi > 0, associated) at control points C (n, 4, 12) in
     closed form: D_1 = cot phi tr G, finite where the rate lies in the flow cone
     tr G >= sin phi (|e_1| + |e_2| + |e_3|) (Chen 1975; Salencon). In axial symmetry
@@ -244,7 +244,7 @@ def _mohr_coulomb(P: ConeProgram, C: np.ndarray, dofs: np.ndarray,
     tr G >= sin phi (t + s). Eight rows and two variables a point, against the three cones'
     thirteen and nine; the dissipation is then linear in the fluxes, and exact where it
     is finite (the control points lie in the cone, so G does on the whole triangle).
-    Returns D_1's coefficients on the dofs (n, 12)."""
+    ``sine`` is sin phi. Returns D_1's coefficients on the dofs (n, 12)."""
     n = len(C)
     T = _shear_bound(P, C, dofs)
     _at_least_abs(P, C[:, 0] + C[:, 1], dofs, T[:, 0])
@@ -254,8 +254,8 @@ def _mohr_coulomb(P: ConeProgram, C: np.ndarray, dofs: np.ndarray,
     # sin phi (t + s) - tr G <= 0
     P.nonnegative(np.concatenate([rows12, np.arange(n), np.arange(n)]),
                   np.concatenate([dofs.ravel(), T[:, 0], T[:, 1]]),
-                  np.concatenate([-trace.ravel(), np.full(2 * n, sin_phi)]), np.zeros(n))
-    return trace * (math.sqrt(1.0 - sin_phi ** 2) / sin_phi)
+                  np.concatenate([-trace.ravel(), np.full(2 * n, sine)]), np.zeros(n))
+    return trace * (math.sqrt(1.0 - sine ** 2) / sine)
 
 
 def _isochoric(P: ConeProgram, cells: np.ndarray, grad_lambda: np.ndarray,

@@ -243,15 +243,11 @@ class CollapseSearch:
         from the converged state at the full strength."""
         m, nw, log = self.model, self.newton, self.log
         t0 = time.perf_counter()
-        k = nw.plastic.constants
-        c0, sin_phi0, sin_psi0 = k["cohesion"].copy(), k["sin_phi"].copy(), k["sin_psi"].copy()
-        tan_phi0 = np.tan(np.arcsin(sin_phi0))
+        full = nw.plastic.points
 
         def reduce(F):
-            k["cohesion"][:] = c0 / F
-            k["sin_phi"][:] = np.sin(np.arctan(tan_phi0 / F))
-            # (the dilation angle kept until the reduced friction angle reaches it)
-            k["sin_psi"][:] = np.minimum(sin_psi0, k["sin_phi"])
+            # (the law's rule: c and tan phi for Mohr-Coulomb)
+            nw.plastic.use(full.reduced(F))
 
         F_ok, F_fail, dF = 1.0, None, 0.1
         w_start = m.mean_settlement()
@@ -307,7 +303,7 @@ class CollapseSearch:
             else:
                 reason = f"no bracket within {self.MAX_TRIALS} trials"
         finally:
-            reduce(1.0)
+            nw.plastic.use(full)
         found = F_fail is not None and F_fail / F_ok - 1.0 <= BRACKET
         return self._record("strength", F_ok, (F_ok, F_fail) if found else None, found,
                             reason, iterations, t0, load=m.scene.load,

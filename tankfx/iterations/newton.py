@@ -318,7 +318,7 @@ class NewtonIteration:
 
     def _plastic_points(self) -> int:
         own = self.model.domain.mesh.topology.index_map(2).size_local * self.plastic.n_points
-        return int(np.sum(self.plastic.code[:own] != -1))
+        return int(np.sum(self.plastic.yielding[:own]))
 
     def _newton(self, inner, max_iterations: int | None = None,
                 stall: int | None = None) -> tuple[bool, int, float, str]:

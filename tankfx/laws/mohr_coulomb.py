@@ -17,6 +17,16 @@ from __future__ import annotations
 import numpy as np
 
 
+def circle_strength(p, cohesion, sin_phi):
+    """The radius Mohr's circle of centre ``p`` (tension positive) reaches at failure,
+    c cos phi - p sin phi: the criterion (sigma_max - sigma_min) / 2 <= c cos phi -
+    (sigma_max + sigma_min) / 2 sin phi, which the elastoplastic return tests, the stress
+    level divides by and the ground at rest is checked against. The return's planes
+    (:mod:`tankfx.laws.plasticity`) and the bounds' cones (:mod:`tankfx.laws.limit_cones`)
+    are its forms, each tested against it."""
+    return cohesion * np.sqrt(1.0 - np.asarray(sin_phi) ** 2) - p * sin_phi
+
+
 def shear_strength(sigma_n, cohesion, tan_phi):
     """tau_f = c + sigma_n tan phi on a plane of normal stress ``sigma_n`` (compression
     positive; a plane in tension, sigma_n < 0, keeps only its cohesion)."""

@@ -14,10 +14,15 @@ water table, sigma'_h = K0 sigma'_v, which must lie inside the yield surface.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, replace
+from typing import ClassVar
 
 import numpy as np
 
 from .geostatic import geostatic_stress, lighter_than_water
+from .mohr_coulomb import circle_strength
+from .plasticity import ELASTIC, elastic_matrix, mobilised_strength, stress_update
+from .point_law import PointUpdate
 from .soil_law import WATER_UNIT_WEIGHT, SoilLaw
 
 #: the largest friction angle taken, degrees: beyond it no real soil, and the Mohr-Coulomb
@@ -43,11 +48,12 @@ class MohrCoulombSoil(SoilLaw):
     reports = ("plastic", "stress_level")
     #: its stress level is the mobilised shear strength
     stress_level_label = "tau / tau_f"
-    #: its state lives at the forms' quadrature points (stress, plastic strain, the
-    #: plastic flag): the soil block holds it for the Newton iteration
-    point_state = True
+    #: its state (stress, plastic strain) lives at the forms' quadrature points
+    at_points = True
     #: its ground fails: a collapse load and a strength factor are its to compute
     fails = True
+    #: the limit analysis' cones are its own
+    has_bounds = True
     #: the displacement form only: a stratum's nu at most MAX_NU
     displacement_form_only = True
     #: its plastic strain stays when the load comes off
@@ -73,7 +79,7 @@ class MohrCoulombSoil(SoilLaw):
         E given, nu <= 0.49."""
         out = []
         if "E" not in given:
-            out.append(f"{name}.E: missing for model = \"mohr_coulomb\"; add it (Pa: the "
+            out.append(f"{name}.E: missing for model = \"{cls.word}\"; add it (Pa: the "
                        f"soil's Young's modulus inside the yield surface)")
         c = table.get("cohesion", 0.0) or 0.0
         phi = table.get("friction_angle", 0.0) or 0.0
@@ -97,7 +103,7 @@ class MohrCoulombSoil(SoilLaw):
                        f"leave it out for none beyond the Mohr-Coulomb apex")
         nu = table.get("nu")
         if isinstance(nu, float) and nu > MAX_NU:
-            out.append(f"{name}.nu = {nu!r}: at most {MAX_NU} with model = \"mohr_coulomb\" "
+            out.append(f"{name}.nu = {nu!r}: at most {MAX_NU} with model = \"{cls.word}\" "
                        f"(it is solved in the displacement form; the collapse load does not "
                        f"depend on nu); lower it")
         return out
@@ -149,7 +155,7 @@ class MohrCoulombSoil(SoilLaw):
                 where = "load" if k == 0 else f"stages[{k}]"
                 out.append(f"{where}.overturning_moment, {where}.base_shear: the overturning "
                            f"load is solved as a harmonic about a linear soil's state, not yet "
-                           f"with soil.model = \"mohr_coulomb\"; remove them, or use a linear "
+                           f"with soil.model = \"{cls.word}\"; remove them, or use a linear "
                            f"or secant soil")
                 break
         out += cls._at_rest_outside(scene.soil, scene.domain.depth)
@@ -221,11 +227,128 @@ class MohrCoulombSoil(SoilLaw):
                 "sin_psi": np.sin(np.radians(st["dilation_angle"])), "tension": cut}
 
     @classmethod
+    def limit_strength(cls, soil, depth) -> dict:
+        """Each depth's stratum's cohesion as a line in z: c = cohesion + gradient (depth -
+        top) = (cohesion - gradient top) - gradient z."""
+        st = soil.at_depth(depth)
+        gradient = st["cohesion_gradient"]
+        return {"c_top": st["cohesion"] - gradient * st["top"], "dc_dz": -gradient,
+                "phi": np.radians(st["friction_angle"]), "gamma": st["unit_weight"]}
+
+    @classmethod
+    def limit_strata(cls, soil, top: float, bottom: float) -> np.ndarray:
+        """Within a stratum the yield margin of a field constant in z grows with depth (the
+        cohesion's gradient and gamma z sin phi are non-negative), so its top suffices."""
+        rows = []
+        for k, st in enumerate(soil.strata):
+            below = soil.strata[k + 1].depth if k + 1 < len(soil.strata) else math.inf
+            d = max(st.depth, top)
+            if d >= min(below, bottom):
+                continue
+            c = (st.cohesion or 0.0) + (st.cohesion_gradient or 0.0) * (d - st.depth)
+            rows.append((-d, c, math.radians(st.friction_angle or 0.0), st.unit_weight or 0.0))
+        return np.array(rows, dtype=float).reshape(-1, 4)
+
+    @classmethod
+    def limit_notes(cls, soil) -> tuple[list[str], bool]:
+        """Limit analysis assumes associated flow and takes no tension cut-off."""
+        notes, associated = [], True
+        for k, st in enumerate(soil.strata):
+            phi, psi = st.friction_angle or 0.0, st.dilation_angle or 0.0
+            where = "soil" if k == 0 else f"soil.layers[{k}]"
+            if psi != phi:
+                associated = False
+                notes.append(f"{where}: the dilation angle {psi:g} differs from the friction "
+                             f"angle {phi:g}: limit analysis assumes associated flow (psi = "
+                             f"phi), and these are the associated soil's bounds")
+            if st.tensile_strength is not None:
+                notes.append(f"{where}: the tension cut-off ({st.tensile_strength:g} Pa) is not "
+                             f"taken: the bounds are Mohr-Coulomb's without it")
+        return notes, associated
+
+    @classmethod
+    def point_law(cls, soil, depth) -> MohrCoulombPoints:
+        """The law at the points at ``depth`` (m): :class:`MohrCoulombPoints`."""
+        return MohrCoulombPoints.at(soil, depth)
+
+    @classmethod
     def initial_stress(cls, soil, depth) -> np.ndarray:
         """The geostatic effective stress at ``depth`` as Mandel vectors (N x 4, tension
         positive): sigma_rr = sigma_theta = -K0 sigma'_v, sigma_zz = -sigma'_v."""
         sv, sh = geostatic_stress(soil, depth)
         return np.column_stack([-sh, -sv, 0.0 * sv, -sh])
+
+
+@dataclass(frozen=True)
+class MohrCoulombPoints:
+    """Mohr-Coulomb (Tresca at phi = 0) at N points (:class:`tankfx.laws.point_law.PointLaw`):
+    per point ``E``, ``nu``, the ``cohesion`` (inf: never yields), ``sin_phi``,
+    ``sin_psi``, the ``tension`` cut-off (inf: none) and the ground at rest ``sigma0``
+    (N, 4). Perfect plasticity: no state of its own. The return is
+    :func:`tankfx.laws.plasticity.stress_update`."""
+
+    E: np.ndarray
+    nu: np.ndarray
+    cohesion: np.ndarray
+    sin_phi: np.ndarray
+    sin_psi: np.ndarray
+    tension: np.ndarray
+    sigma0: np.ndarray
+    state: ClassVar[dict[str, int]] = {}
+
+    def __post_init__(self):
+        # (the elastic matrices, read at every update: made once)
+        object.__setattr__(self, "_D", elastic_matrix(self.E, self.nu))
+
+    @classmethod
+    def at(cls, soil, depth) -> "MohrCoulombPoints":
+        """The points at ``depth`` (m) of a resolved [soil]."""
+        k = MohrCoulombSoil.point_constants(soil, depth)
+        return cls(E=k["E"], nu=k["nu"], cohesion=k["cohesion"], sin_phi=k["sin_phi"],
+                   sin_psi=k["sin_psi"], tension=k["tension"],
+                   sigma0=MohrCoulombSoil.initial_stress(soil, depth))
+
+    @property
+    def symmetric(self) -> bool:
+        """Associated flow (psi = phi at every point that can yield)."""
+        can = np.isfinite(self.cohesion)
+        return bool(np.all(self.sin_psi[can] == self.sin_phi[can]))
+
+    def initial_stress(self) -> np.ndarray:
+        return self.sigma0
+
+    def initial_state(self) -> dict[str, np.ndarray]:
+        return {}
+
+    def elastic_matrix(self) -> np.ndarray:
+        return self._D
+
+    def update(self, d_eps, stress, state) -> PointUpdate:
+        sigma, C, code, d_eps_p = stress_update(
+            d_eps, stress, self.E, self.nu, self.cohesion, self.sin_phi, self.sin_psi,
+            self.tension, D=self._D, reference=self.sigma0)
+        return PointUpdate(stress=sigma, tangent=C, yielding=code != ELASTIC,
+                           plastic_strain=d_eps_p, state={})
+
+    def reduced(self, factor: float) -> "MohrCoulombPoints":
+        """c / F and tan phi / F; the dilation angle kept until the reduced friction angle
+        reaches it."""
+        tan_phi = np.tan(np.arcsin(self.sin_phi))
+        sin_phi = np.sin(np.arctan(tan_phi / factor))
+        return replace(self, cohesion=self.cohesion / factor, sin_phi=sin_phi,
+                       sin_psi=np.minimum(self.sin_psi, sin_phi))
+
+    def elastic_where(self, mask, E=None, nu=None) -> "MohrCoulombPoints":
+        return replace(self, E=self.E if E is None else np.where(mask, E, self.E),
+                       nu=self.nu if nu is None else np.where(mask, nu, self.nu),
+                       cohesion=np.where(mask, np.inf, self.cohesion))
+
+    def mobilised(self, stress, per: int = 1) -> np.ndarray:
+        """tau / tau_f of Mohr's largest circle (:func:`tankfx.laws.plasticity.mobilised_strength`)."""
+        if per == 1:
+            return mobilised_strength(stress, self.cohesion, self.sin_phi)
+        return mobilised_strength(stress, self.cohesion.reshape(-1, per).mean(axis=1),
+                                  self.sin_phi.reshape(-1, per)[:, 0])
 
 
 def _at_rest(soil, depths):
@@ -235,5 +358,5 @@ def _at_rest(soil, depths):
     st = soil.at_depth(depths)
     c = st["cohesion"] + st["cohesion_gradient"] * (depths - st["top"])
     s = np.sin(np.radians(st["friction_angle"]))
-    # (s1 - s3) / 2 <= c cos phi + (s1 + s3) / 2 sin phi
-    return sv, sh, 0.5 * np.abs(sv - sh) - c * np.sqrt(1.0 - s * s) - 0.5 * (sv + sh) * s
+    # (compression positive here: the circle's centre is -(sv + sh) / 2 in tension)
+    return sv, sh, 0.5 * np.abs(sv - sh) - circle_strength(-0.5 * (sv + sh), c, s)

@@ -40,6 +40,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .mohr_coulomb import circle_strength
+
 SQRT2 = np.sqrt(2.0)
 #: the Mandel vector of the identity
 IDENTITY = np.array([1.0, 1.0, 0.0, 1.0])
@@ -210,8 +212,7 @@ def stress_update(d_eps, sigma_n, E, nu, cohesion, sin_phi, sin_psi, tension=Non
     # (which points leave the surface: the largest Mohr circle and the largest stress)
     vals, proj = principal(s_tr)
     top, bottom = vals.max(axis=1), vals.min(axis=1)
-    cos_phi = np.sqrt(1.0 - sp * sp)
-    f = (top - bottom) + (top + bottom) * sp - 2.0 * c * cos_phi
+    f = (top - bottom) - 2.0 * circle_strength(0.5 * (top + bottom), c, sp)
     scale = np.max(np.abs(vals), axis=1) + c + 1.0
     out = np.flatnonzero((f > 1e-10 * scale) | (top > t + 1e-10 * scale))
     if len(out) == 0:
@@ -255,8 +256,7 @@ def mobilised_strength(sigma, cohesion, sin_phi) -> np.ndarray:
     (sigma_1 + sigma_3) / 2 sin phi (tension positive); 1 on the yield surface."""
     vals = np.sort(principal(sigma)[0], axis=1)
     s1, s3 = vals[:, 2], vals[:, 0]
-    cos_phi = np.sqrt(1.0 - np.asarray(sin_phi) ** 2)
-    strength = cohesion * cos_phi - 0.5 * (s1 + s3) * sin_phi
+    strength = circle_strength(0.5 * (s1 + s3), cohesion, sin_phi)
     # (at the apex both vanish: a point there is at its strength)
     tiny = 1e-9 * (np.abs(vals).max(axis=1) + cohesion + 1.0)
     return np.where(strength > tiny, 0.5 * (s1 - s3) / np.maximum(strength, tiny), 1.0)

@@ -35,7 +35,11 @@ class SoilLaw:
     max_iterations : int or None
         That iteration's default limit (``soil.max_iterations``).
     keys, layer_keys : tuple of str
-        The ``[soil]`` and ``[[soil.layers]]`` keys this law alone uses.
+        The ``[soil]`` and ``[[soil.layers]]`` keys this law uses.
+    own_keys : dict of str to dict
+        Keys no other law has, declared here: name -> ``type``, ``default`` and the scene
+        key's attributes (``unit``, ``meaning``, ``choices``, ``limit``:
+        :class:`tankfx.scene.keys.Key`); the scene's sections take them as fields.
     iteration_keys : tuple of str
         The ``[soil]`` keys of its iteration (``tolerance``, ``max_iterations``).
     E_keys : tuple of str
@@ -65,6 +69,12 @@ class SoilLaw:
     fixed_constants : bool
         Its constants are the stratum's, not the stress's (a derivative with respect to one
         of them is defined: :mod:`tankfx.studies.excess`).
+    at_points : bool
+        Its state lives at the quadrature points of the soil's forms (an elastoplastic
+        law): :meth:`point_law` gives it there (:class:`tankfx.laws.point_law.PointLaw`).
+    has_bounds : bool
+        Its strength is one the limit analysis bounds (Mohr-Coulomb's cones, what
+        :meth:`limit_strength` gives); else ``why_no_bounds`` says why not.
     """
 
     word: ClassVar[str] = "linear"
@@ -74,6 +84,7 @@ class SoilLaw:
     max_iterations: ClassVar[int | None] = None
     keys: ClassVar[tuple[str, ...]] = ()
     layer_keys: ClassVar[tuple[str, ...]] = ()
+    own_keys: ClassVar[dict[str, dict]] = {}
     E_keys: ClassVar[tuple[str, ...]] = ()
     all_mixed: ClassVar[str | None] = None
     displacement_form_only: ClassVar[bool] = False
@@ -86,6 +97,9 @@ class SoilLaw:
     stress_level_label: ClassVar[str] = "q / q_ult"
     state_fields: ClassVar[tuple[str, ...]] = ()
     fixed_constants: ClassVar[bool] = True
+    at_points: ClassVar[bool] = False
+    has_bounds: ClassVar[bool] = False
+    why_no_bounds: ClassVar[str] = "the limit analysis takes Mohr-Coulomb's strength"
 
     @classmethod
     def stratum_text(cls, st: Mapping[str, Any]) -> str:
@@ -136,6 +150,32 @@ class SoilLaw:
     def symmetric_tangent(cls, soil) -> bool:
         """Whether its stiffness (or tangent) matrix is symmetric for this ``soil``."""
         return True
+
+    @classmethod
+    def point_law(cls, soil, depth):
+        """The law at points at ``depth`` (m, N) of a resolved [soil]: a
+        :class:`tankfx.laws.point_law.PointLaw` where ``at_points``."""
+        raise NotImplementedError(f"{cls.title} has no state at points")
+
+    @classmethod
+    def limit_strength(cls, soil, depth) -> dict:
+        """Its strength for the bounds where ``has_bounds``, per depth (m, N): Mohr-Coulomb's
+        ``c_top`` (Pa, the cohesion's line in z = -depth at z = 0), ``dc_dz`` (Pa/m),
+        ``phi`` (radians) and the unit weight ``gamma`` (N/m^3)."""
+        raise NotImplementedError(f"{cls.title}: {cls.why_no_bounds}")
+
+    @classmethod
+    def limit_strata(cls, soil, top: float, bottom: float):
+        """Rows (z, c, phi, gamma) at the depth ``top`` (m) and at each stratum's top below
+        it, above ``bottom`` (inf: the half-space): where the bounds' far field under an
+        open box is checked."""
+        raise NotImplementedError(f"{cls.title}: {cls.why_no_bounds}")
+
+    @classmethod
+    def limit_notes(cls, soil) -> tuple[list[str], bool]:
+        """What of the soil the bounds do not take, in words, and whether its flow is
+        associated (the bounds are then its own)."""
+        return [], True
 
     @classmethod
     def undrained_strength(cls, soil, depth: float) -> float | None:

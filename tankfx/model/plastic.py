@@ -28,13 +28,7 @@ import ufl
 from dolfinx import fem
 
 from ..laws import elasticity as soil_forms
-from ..laws.plasticity import (
-    ELASTIC,
-    elastic_matrix,
-    mobilised_strength,
-    principal,
-    stress_update,
-)
+from ..laws.plasticity import principal
 from .history import quadrature_space
 
 
@@ -82,39 +76,41 @@ class PlasticState:
         x = fem.Expression(ufl.SpatialCoordinate(msh), points).eval(msh, self.cells)
         x = x.reshape(-1, 2)
         depth = -x[:, 1]
-        #: per point: E, nu, cohesion, sin phi, sin psi, the tension cut-off
-        self.constants = law.point_constants(soil, depth)
+        #: the law at the points (tankfx.laws.point_law.PointLaw)
+        points_law = law.point_law(soil, depth)
         # the points of the cells that carry no soil (an excavation, the tank's inside)
         # never yield: their strains are no soil's
         void = np.ones(len(self.cells), dtype=bool)
         void[block.domain.cells("soil")] = False
         #: per point, whether it is the soil's (not the void's)
         self.in_soil = np.repeat(~void, self.n_points)
-        self.constants["cohesion"] = np.where(self.in_soil, self.constants["cohesion"],
-                                              np.inf)
+        points_law = points_law.elastic_where(~self.in_soil)
         if ring is not None:
             # a ringwall's (and its fill's) points: its own elasticity, never yielding
             in_ring = np.repeat(block.ringwall_cells, self.n_points)
             in_fill = np.repeat(block.fill_cells, self.n_points)
             for mask, E, nu in ((in_ring, ring.E, ring.nu), (in_fill, ring.fill_E, ring.fill_nu)):
                 if mask.any():
-                    self.constants["E"] = np.where(mask, E, self.constants["E"])
-                    self.constants["nu"] = np.where(mask, nu, self.constants["nu"])
-                    self.constants["cohesion"] = np.where(mask, np.inf,
-                                                          self.constants["cohesion"])
+                    points_law = points_law.elastic_where(mask, E, nu)
+        self.points = points_law
         # the dofs of each point's values, in point order (cell by cell)
         dofs = self.S1.dofmap.list[self.cells].reshape(-1)
         self._dofs4 = (4 * dofs[:, None] + np.arange(4)).reshape(-1)
         self._dofs16 = (16 * dofs[:, None] + np.arange(16)).reshape(-1)
         self._dofs1 = dofs
         self._strain_expr = fem.Expression(mandel(soil_forms.strain(block.u, block.r)), points)
-        self.D = elastic_matrix(self.constants["E"], self.constants["nu"])
-        sigma0 = law.initial_stress(soil, depth)
-        self._put(self.geostatic, sigma0, self._dofs4)
-        #: the same, per point (the update's reference: read once, not at every update)
-        self._sigma0 = sigma0
-        self._put(self.tangent, self.D.reshape(-1, 16), self._dofs16)
-        self.code = np.full(len(depth), ELASTIC)
+        self._put(self.geostatic, self.points.initial_stress(), self._dofs4)
+        self._put(self.tangent, self.points.elastic_matrix().reshape(-1, 16), self._dofs16)
+        #: the law's own state (committed; its trial in the update), each a field of
+        #: values at the points
+        self.own = {name: f(quadrature_space(msh, degree, (w,)), name=name)
+                    for name, w in self.points.state.items()}
+        self._dofs_w = {w: (w * dofs[:, None] + np.arange(w)).reshape(-1)
+                        for w in set(self.points.state.values())}
+        for name, values in self.points.initial_state().items():
+            self._put(self.own[name], values, self._dofs_w[self.points.state[name]])
+        #: per point, whether the current iterate yields
+        self.yielding = np.zeros(len(depth), dtype=bool)
         # the rule's weights (the points' own: quadrature_space's default scheme)
         points_, self.weights = basix.make_quadrature(msh.basix_cell(),
                                                       soil_forms.quadrature_degree(degree))
@@ -135,7 +131,16 @@ class PlasticState:
         """What a stage carries, for the soil's history."""
         return {"stress": self.stress, "tangent": self.tangent, "stress_offset": self.offset,
                 "committed_stress": self.stress_n, "strain": self.strain, "plastic_strain": self.plastic_strain,
-                "plastic": self.plastic}
+                "plastic": self.plastic, **self.own}
+
+    def use(self, points) -> None:
+        """The law at the points from now on (the same points: a reduced strength)."""
+        self.points = points
+
+    def _own_state(self) -> dict:
+        return {name: self._get(field, self._dofs_w[self.points.state[name]],
+                                self.points.state[name])
+                for name, field in self.own.items()}
 
     # ---- the forms ---------------------------------------------------------------------
     def stiffness(self, trial, test, r, dx):
@@ -157,41 +162,42 @@ class PlasticState:
     # ---- the update --------------------------------------------------------------------
     def update(self) -> dict:
         """The stress and tangent of the current displacement from the committed state, at
-        every point (the return of :func:`tankfx.laws.plasticity.stress_update`), and the
-        offset sigma - C eps(u) the next solve's load reads. Returns the counts of plastic
-        points by kind."""
+        every point (the law's :meth:`~tankfx.laws.point_law.PointLaw.update`), and the
+        offset sigma - C eps(u) the next solve's load reads. Returns the count of plastic
+        points."""
         eps = self._strain_expr.eval(self.block.domain.mesh, self.cells).reshape(-1, 4)
-        k = self.constants
-        sigma, C, code, d_eps_p = stress_update(
-            eps - self._get(self.strain, self._dofs4, 4), self._get(self.stress_n, self._dofs4, 4),
-            k["E"],
-            k["nu"], k["cohesion"], k["sin_phi"], k["sin_psi"], k["tension"], D=self.D,
-            reference=self._sigma0)
+        trial = self.points.update(eps - self._get(self.strain, self._dofs4, 4),
+                                   self._get(self.stress_n, self._dofs4, 4), self._own_state())
+        sigma, C = trial.stress, trial.tangent
         self._put(self.stress, sigma, self._dofs4)
         self._put(self.tangent, C.reshape(-1, 16), self._dofs16)
         self._put(self.offset, sigma - (C @ eps[..., None])[..., 0], self._dofs4)
-        self.code = code
-        self._trial = (eps, d_eps_p)
-        return {"plastic_points": int(np.sum(code != ELASTIC))}
+        self.yielding = trial.yielding
+        self._trial = (eps, trial)
+        return {"plastic_points": int(np.sum(trial.yielding))}
 
     def elastic_predictor(self) -> None:
         """The next solve with the elastic stiffness from the committed state (offset
         sigma_n - D eps_n): exact where the step unloads, which the committed state's
         plastic tangent is not."""
-        self._put(self.tangent, self.D.reshape(-1, 16), self._dofs16)
+        D = self.points.elastic_matrix()
+        self._put(self.tangent, D.reshape(-1, 16), self._dofs16)
         sigma_n = self._get(self.stress_n, self._dofs4, 4)
         eps_n = self._get(self.strain, self._dofs4, 4)
-        self._put(self.offset, sigma_n - (self.D @ eps_n[..., None])[..., 0], self._dofs4)
+        self._put(self.offset, sigma_n - (D @ eps_n[..., None])[..., 0], self._dofs4)
 
     def commit(self) -> None:
         """The current iterate is converged: its strain, stress, plastic strain and flag are
         the state to go on from."""
-        eps, d_eps_p = self._trial
+        eps, trial = self._trial
         self._put(self.strain, eps, self._dofs4)
         self.stress_n.x.array[:] = self.stress.x.array
-        self._put(self.plastic_strain, self._get(self.plastic_strain, self._dofs4, 4) + d_eps_p,
-                  self._dofs4)
-        self._put(self.plastic, (self.code != ELASTIC).astype(float), self._dofs1)
+        if trial is not None:
+            self._put(self.plastic_strain, self._get(self.plastic_strain, self._dofs4, 4)
+                      + trial.plastic_strain, self._dofs4)
+            for name, values in trial.state.items():
+                self._put(self.own[name], values, self._dofs_w[self.points.state[name]])
+        self._put(self.plastic, self.yielding.astype(float), self._dofs1)
 
     def restart_strain(self) -> None:
         """The displacement is set to zero with the stress kept (a structure built on an
@@ -200,7 +206,7 @@ class PlasticState:
         self.strain.x.array[:] = 0.0
         self.stress.x.array[:] = self.stress_n.x.array
         self.offset.x.array[:] = self.stress_n.x.array
-        self._trial = (np.zeros((len(self.code), 4)), np.zeros((len(self.code), 4)))
+        self._trial = (np.zeros((len(self.yielding), 4)), None)
 
     def cell_average(self, field, width: int) -> np.ndarray:
         """Each local cell's mean of a field over its points (the rule's weights), N x
@@ -222,15 +228,10 @@ class PlasticState:
 
     def cell_mobilised(self) -> np.ndarray:
         """tau / tau_f of each local cell's mean stress (its strength at its mean depth)."""
-        k = self.constants
-        n = self.n_points
         mean = self.cell_average(self.stress, 4) + self.cell_average(self.geostatic, 4)
-        c = k["cohesion"].reshape(-1, n).mean(axis=1)
-        return mobilised_strength(mean, c, k["sin_phi"].reshape(-1, n)[:, 0])
+        return self.points.mobilised(mean, per=self.n_points)
 
     def mobilised(self) -> np.ndarray:
         """tau / tau_f per point of the current stress (1 on the yield surface)."""
-        k = self.constants
-        return mobilised_strength(self._get(self.stress, self._dofs4, 4)
-                                  + self._get(self.geostatic, self._dofs4, 4), k["cohesion"],
-                                  k["sin_phi"])
+        return self.points.mobilised(self._get(self.stress, self._dofs4, 4)
+                                     + self._get(self.geostatic, self._dofs4, 4))

@@ -130,7 +130,7 @@ class SoilBlock:
         #: an elastoplastic soil's stress and history at the forms' quadrature points,
         #: and its embedded foundation's pit's relief (tankfx.model.excavation)
         self.plastic = self.pit = None
-        if getattr(s.law, "point_state", False):
+        if s.law.at_points:
             self.plastic = PlasticState(self, s.law, s, setting.degree, setting.ringwall)
             self.a = self.plastic.stiffness(self.trial, self.test, self.r, self.dx)
             for name, field in self.plastic.carried().items():

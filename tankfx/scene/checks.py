@@ -515,7 +515,10 @@ def check_analysis(rd: Reader, analysis: dict, soil: dict, load: dict, plate: di
         rd.bad(f"analysis.collapse = {collapse!r}: the [load] has no variable load to raise (a "
                "pressure, a liquid, a gas pressure or a roof's weight); give one, or ask for "
                "collapse = \"strength\"")
-    if collapse == "bounds":
+    if collapse == "bounds" and law is not None and law.fails and not law.has_bounds:
+        rd.bad(f"analysis.collapse = \"bounds\" with soil.model = {law.word!r}: "
+               f"{law.why_no_bounds}")
+    elif collapse == "bounds":
         check_bounds(rd, soil, plate, wall, layers, analysis, ringwall)
 
 

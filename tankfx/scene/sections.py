@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ..laws.soil_law import ATMOSPHERIC_PRESSURE, WATER_UNIT_WEIGHT, SoilLaw
+from ..laws.soil_law import ATMOSPHERIC_PRESSURE, WATER_UNIT_WEIGHT, SoilLaw, words
 from ..laws.soil_laws import SOIL_LAWS
 from .keys import NON_NEGATIVE, POSITIVE, Key, Limit, key
 
@@ -90,8 +90,14 @@ class SceneError(ValueError):
 #: (a layer's p_a is the soil's): their keys' units, limits, defaults and meanings, where
 #: "{its}" is the soil's or the layer's
 _DC = 'for model = "duncan_chang"'
-_MC = 'for model = "mohr_coulomb"'
-_DC_MC = 'for model = "duncan_chang" or "mohr_coulomb"'
+
+
+def for_models(name: str) -> str:
+    """'for model = "a" or "b"': the laws that take the [soil] key ``name`` (the registry's
+    word, so that a new law's keys say it)."""
+    return f"for model = {words(SOIL_LAWS.values(), lambda law: name in law.keys)}"
+
+
 _DUNCAN_CHANG_KEYS: dict[str, Key] = {
     "modulus_number": Key(
         unit="-", limit=POSITIVE,
@@ -112,42 +118,42 @@ _DUNCAN_CHANG_KEYS: dict[str, Key] = {
                 "past q_f is perfectly plastic (R_f typically 0.7-0.9)"),
     "cohesion": Key(
         unit="Pa", limit=NON_NEGATIVE, default_doc="0",
-        meaning=f"{{its}} cohesion c, {_DC_MC}: with `friction_angle` phi it makes the "
+        meaning=f"{{its}} cohesion c, {{for_models}}: with `friction_angle` phi it makes the "
                 "Mohr-Coulomb strength q_f = (2 c cos phi + 2 sigma_3 sin phi) / (1 - sin phi) "
                 "at confinement sigma_3 (with phi = 0, Tresca's undrained strength s_u, q_f = "
                 "2 s_u); c or phi must be > 0"),
     "friction_angle": Key(
         unit="deg", limit=ANGLE, why="degrees", default_doc="0",
-        meaning=f"{{its}} friction angle phi (degrees), {_DC_MC}: with `cohesion` c it makes "
+        meaning=f"{{its}} friction angle phi (degrees), {{for_models}}: with `cohesion` c it makes "
                 "the strength q_f, which grows with the confinement as 2 sigma_3 sin phi / (1 - "
                 "sin phi); c or phi must be > 0; `K0` defaults to 1 - sin phi; 0 is Tresca's "
                 "soil, and mohr_coulomb takes less than 60"),
     "unit_weight": Key(
         unit="N/m^3", limit=NON_NEGATIVE, default_doc="required (duncan_chang); 0",
-        meaning=f"{{its}} unit weight gamma, {_DC_MC}: the geostatic vertical stress at a "
+        meaning=f"{{its}} unit weight gamma, {{for_models}}: the geostatic vertical stress at a "
                 "depth is the weight of the strata above it (less the pore pressure below the "
                 "soil's `water_table`, where gamma is the saturated unit weight), the "
                 "horizontal `K0` times it; mohr_coulomb's soil carries its weight as a load "
                 "from that state (0: weightless)"),
     "K0": Key(
         unit="-", limit=POSITIVE, default_doc="1 - sin(phi)",
-        meaning=f"{{its}} coefficient of earth pressure at rest K0, {_DC_MC}: the geostatic "
+        meaning=f"{{its}} coefficient of earth pressure at rest K0, {{for_models}}: the geostatic "
                 "horizontal stress is K0 times the vertical one (from `unit_weight`); by "
                 "default Jaky's 1 - sin phi of {its} `friction_angle`; mohr_coulomb refuses a "
                 "K0 that puts the ground at rest outside its yield surface"),
     "dilation_angle": Key(
         unit="deg", limit=ANGLE, why="degrees", default_doc="0",
-        meaning=f"{{its}} dilation angle psi (degrees), {_MC}: the plastic flow's volume "
+        meaning=f"{{its}} dilation angle psi (degrees), {{for_models}}: the plastic flow's volume "
                 "change, (sigma_1 - sigma_3) + (sigma_1 + sigma_3) sin psi its potential; "
                 "at most `friction_angle` (psi = phi: associated flow); 0: no volume change"),
     "tensile_strength": Key(
         unit="Pa", limit=NON_NEGATIVE, default_doc="none (the cone's apex, c cot phi)",
-        meaning=f"{{its}} tensile strength t, {_MC}: a Rankine cut-off, the largest "
+        meaning=f"{{its}} tensile strength t, {{for_models}}: a Rankine cut-off, the largest "
                 "principal stress at most t (tension positive); beyond the Mohr-Coulomb "
                 "apex c cot phi it never acts"),
     "cohesion_gradient": Key(
         unit="Pa/m", limit=NON_NEGATIVE, default_doc="0",
-        meaning=f"{{its}} cohesion's growth with depth k, {_MC}: c = `cohesion` + k (h - "
+        meaning=f"{{its}} cohesion's growth with depth k, {{for_models}}: c = `cohesion` + k (h - "
                 "top), h the depth, top the stratum's top (0 for the surface soil): a normally "
                 "consolidated clay's undrained strength s_u0 + k z"),
 }
@@ -159,10 +165,31 @@ def duncan_chang_key(name: str, layer: bool = False) -> Any:
     spec = _DUNCAN_CHANG_KEYS[name]
     values = {f.name: getattr(spec, f.name) for f in fields(spec)}
     its = "the layer's" if layer else "the soil's"
-    return key(None, **(values | {"meaning": spec.meaning.format(its=its)}))
+    return key(None, **(values | {"meaning": spec.meaning.format(its=its,
+                                                                  for_models=for_models(name))}))
+
+
+def with_law_keys(layer: bool):
+    """A class decorator, before ``dataclass``: every soil law's ``own_keys`` (those of its
+    ``layer_keys`` for a layer's table) as fields of the section, None unless given, so
+    that a new law declares its keys in its own module."""
+    def add(cls):
+        for law in SOIL_LAWS.values():
+            for name, spec in law.own_keys.items():
+                if name in cls.__annotations__ or (layer and name not in law.layer_keys):
+                    continue
+                spec = dict(spec)
+                kind = spec.pop("type")
+                default = spec.pop("default", None)
+                cls.__annotations__[name] = f"{kind.__name__} | None"
+                setattr(cls, name, key(None, **spec,
+                                       default_doc=f"{default!r}".replace("'", '"')))
+        return cls
+    return add
 
 
 @dataclass(frozen=True)
+@with_law_keys(layer=True)
 class Layer:
     """A stratum of the ground from ``depth`` down to the next layer's top (or to the rigid
     base): E(h) = E (1 + E_gradient (h - depth)) within it."""
@@ -224,6 +251,7 @@ STRATUM_LAW_KEYS = tuple(dict.fromkeys(k for law in SOIL_LAWS.values()
 
 
 @dataclass(frozen=True)
+@with_law_keys(layer=False)
 class Soil:
     """The ground: the surface soil, from the ground surface down to the first
     ``[[soil.layers]]`` table's top (the whole ground without layers), its model, which its
@@ -244,10 +272,8 @@ class Soil:
                                     "hyperbolic soil's 1/a too); not with model = "
                                     "\"duncan_chang\"")
     model: str = key("linear", choices=tuple(SOIL_LAWS),
-                     meaning="the soil's stress-strain law: \"linear\" elastic, \"hyperbolic\" "
-                             "(Kondner's, Eqs. 17-20: `hyperbolic_a`, `hyperbolic_b`) or "
-                             "\"duncan_chang\" (Kondner's law with constants that follow each "
-                             "cell's confinement: `modulus_number` to `K0`)")
+                     meaning="the soil's stress-strain law: " + "; ".join(
+                         f"\"{word}\", {law.title}" for word, law in SOIL_LAWS.items()))
     hyperbolic_a: float | None = key(None, unit="1/Pa", limit=POSITIVE,
                                      meaning="Kondner's a, for model = \"hyperbolic\" (required, "
                                              "with `hyperbolic_b`): 1/a is the initial tangent "
@@ -302,14 +328,14 @@ class Soil:
     water_table: float | None = key(None, unit="m", limit=NON_NEGATIVE,
                                     default_doc="below everything",
                                     meaning="the water table's depth below the ground surface, "
-                                            f"{_DC_MC}: below it the stresses are effective, the "
+                                            f"{for_models('water_table')}: below it the stresses are effective, the "
                                             "geostatic stress less the pore pressure gamma_w (h - "
                                             "water_table), gamma_w the `water_unit_weight`; the "
                                             "strata there take their saturated unit weights")
     water_unit_weight: float | None = key(None, unit="N/m^3", limit=POSITIVE,
                                           default_doc=f"{WATER_UNIT_WEIGHT:g} (with a "
                                                       f"water_table)",
-                                          meaning=f"gamma_w, the pore water's unit weight, {_DC_MC} "
+                                          meaning=f"gamma_w, the pore water's unit weight, {for_models('water_unit_weight')} "
                                                   "with a `water_table`: the pore pressure below "
                                                   "the table is gamma_w (h - water_table); each "
                                                   "stratum's unit weight there must exceed it")

@@ -77,6 +77,6 @@ class ThickCylinder:
         x = fem.Expression(ufl.SpatialCoordinate(self.mesh), s.S1.element.interpolation_points
                            ).eval(self.mesh, s.cells).reshape(-1, 2)
         own = self.mesh.topology.index_map(2).size_local * s.n_points
-        plastic = s.code[:own] != -1
+        plastic = s.yielding[:own]
         local = float(x[:own, 0][plastic].max(initial=self.a))
         return self.mesh.comm.allreduce(local, op=MPI.MAX)
