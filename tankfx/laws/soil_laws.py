@@ -3,6 +3,7 @@ law (:class:`tankfx.laws.soil_law.SoilLaw`). A new law is a class in its own mod
 line here."""
 from __future__ import annotations
 
+from .drucker_prager import DruckerPragerSoil
 from .duncan_chang import DuncanChang
 from .kondner import Kondner
 from .mohr_coulomb_soil import MohrCoulombSoil
@@ -13,4 +14,4 @@ __all__ = ["SOIL_LAWS", "SoilLaw"]
 #: soil.model -> its law, in the order the scene reference lists them
 SOIL_LAWS: dict[str, type[SoilLaw]] = {law.word: law
                                        for law in (LinearElastic, Kondner, DuncanChang,
-                                                   MohrCoulombSoil)}
+                                                   MohrCoulombSoil, DruckerPragerSoil)}
