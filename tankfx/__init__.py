@@ -18,7 +18,7 @@ import dolfinx_solver  # noqa: F401,E402  (must be imported before dolfinx / pet
 from .analysis import Solution, analyse, analyse_path  # noqa: E402
 from .fem.mpi import abort_on_uncaught_exception  # noqa: E402
 from .fem.solvers import SolveError  # noqa: E402
-from .iterations.secant import SoilFailure  # noqa: E402
+from .iterations.status import SoilFailure  # noqa: E402
 from .results.io import write_json  # noqa: E402
 from .scene import Scene, SceneError, load_scene  # noqa: E402
 from .studies.sweep import Sweep, load_sweep, run_sweep  # noqa: E402

@@ -22,7 +22,7 @@ from .fem.solvers import SolveError, make_solver
 from .fem.threads import limit_blas_threads
 from .bounds.scene_bounds import scene_bounds
 from .iterations.collapse import CollapseSearch
-from .iterations.secant import SoilFailure
+from .iterations.status import SoilFailure
 from .iterations.stage import StageIterations
 from .iterations.status import IterationStatus
 from .mesh import (

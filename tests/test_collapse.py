@@ -9,7 +9,7 @@ import pytest
 from mpi4py import MPI
 
 from tankfx import Scene, SceneError, analyse
-from tankfx.iterations.secant import SoilFailure
+from tankfx import SoilFailure
 from tankfx.results.report import summary_table
 
 S_U = 10e3

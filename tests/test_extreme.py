@@ -13,7 +13,7 @@ import pytest
 from conftest import COARSE, WATER_LOAD, small_tank
 from tankfx import Scene, SolveError, analyse
 from tankfx.laws import interface as ifc
-from tankfx.iterations.secant import SoilFailure
+from tankfx import SoilFailure
 from tankfx.verification.reference import gradient_surface_settlement
 
 

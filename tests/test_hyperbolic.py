@@ -8,7 +8,7 @@ import pytest
 from mpi4py import MPI
 
 from tankfx import Scene, SolveError, analyse
-from tankfx.iterations.secant import SoilFailure
+from tankfx import SoilFailure
 from tankfx.laws.kondner import kondner_deviator, principal_strains, secant_update
 
 A, B, NU = 2.1e-7, 1e-5, 0.3

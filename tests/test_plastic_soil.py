@@ -361,7 +361,7 @@ def test_a_pit_too_deep_for_its_clay_gives_way():
     gamma D = 14 s_u, beyond the 6-9 s_u a circular pit's bottom holds (Bjerrum & Eide
     1956): the excavation fails (measured: at 0.35 of the relief, 5 s_u), said in physical
     terms, before anything is built."""
-    from tankfx.iterations.secant import SoilFailure
+    from tankfx import SoilFailure
 
     soft = {"model": "mohr_coulomb", "cohesion": 10e3, "unit_weight": 18e3, "K0": 1.0,
             "max_iterations": 10}

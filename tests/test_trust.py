@@ -392,3 +392,22 @@ def test_a_tank_loaded_far_past_its_soils_strength_fails_in_the_soils_terms():
                   "reached the ultimate deviator 1/b = 100 kPa"):
         assert words in str(e), words
     assert "the model's limit" in str(e) and e.carried is None
+
+
+def test_a_failure_has_one_encoding():
+    """Every way a solve, an iteration, a collapse search or a limit analysis fails is a
+    member of tankfx.fem.failure.Failure: no module compares a failure with its word as a
+    string or raises one with a bare code; results.json's words are the members' values."""
+    import re
+    from pathlib import Path
+
+    from tankfx.fem.failure import Failure
+
+    words = "|".join(re.escape(m.value) for m in Failure)
+    bare = re.compile(rf"(==|!=)\s*\"({words})\"|\"({words})\"\s*(==|!=)|code=\"")
+    package = Path(__file__).resolve().parents[1] / "tankfx"
+    found = [f"{p.relative_to(package)}:{k + 1}: {line.strip()}"
+             for p in sorted(package.rglob("*.py")) if p.name != "failure.py"
+             for k, line in enumerate(p.read_text().splitlines()) if bare.search(line)]
+    assert not found, "\n".join(found)
+    assert Failure.SETTLEMENT == "settlement" and Failure("no equilibrium") is Failure.NO_EQUILIBRIUM

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..fem.failure import Failure
 from ..fem.solvers import SolveError
 
 
@@ -28,7 +29,7 @@ class ProgramError(SolveError):
     fails as any unsolved analysis does, its numbers not reported)."""
 
     def __init__(self, message: str):
-        super().__init__(message, code="limit_analysis")
+        super().__init__(message, code=Failure.LIMIT_ANALYSIS)
 
 
 @dataclass

@@ -10,6 +10,8 @@ import itertools
 import numpy as np
 from dolfinx import fem, la
 from dolfinx.fem import petsc as fem_petsc
+
+from .failure import Failure
 from petsc4py import PETSc
 
 from .evaluate import allsum
@@ -102,12 +104,12 @@ class SolveError(RuntimeError):
         none).
     code : str
         What failed, for a program to act on (the message says it for a person):
-        ``"linear_solve"`` unless the iteration that raised it says more
-        (:class:`tankfx.iterations.status.Failure`).
+        ``Failure.LINEAR_SOLVE`` unless the iteration that raised it says more
+        (:class:`tankfx.fem.failure.Failure`).
     """
 
     def __init__(self, message: str, history: list | None = None,
-                 code: str = "linear_solve"):
+                 code: str = Failure.LINEAR_SOLVE):
         super().__init__(message)
         self.history = history or []
         self.code = code

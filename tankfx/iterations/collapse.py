@@ -42,6 +42,7 @@ import numpy as np
 from dolfinx import fem
 
 from ..fem.evaluate import evaluate_at
+from ..fem.failure import Failure
 from ..scene.sections import factored_load, vertical_load
 from .stage import _AtDebug
 
@@ -198,12 +199,12 @@ class CollapseSearch:
         of FAILURE_SETTLEMENT radii): beyond it, the ground has failed. Records which failure
         it was (``self.failure``)."""
         if not ok:
-            self.failure = "no equilibrium"
+            self.failure = Failure.NO_EQUILIBRIUM
             return ok, why
         a = self.model.scene.foundation_radius
         w = self.model.mean_settlement()
         if w > self.FAILURE_SETTLEMENT * a * (1.0 + 1e-9):
-            self.failure = "settlement"
+            self.failure = Failure.SETTLEMENT
             return False, (f"its equilibrium lies at a mean settlement of {w:.4g} m, beyond "
                            f"the settlement criterion of failure ({self.FAILURE_SETTLEMENT:g} "
                            f"radii = {self.FAILURE_SETTLEMENT * a:.4g} m)")
@@ -211,7 +212,7 @@ class CollapseSearch:
 
     def _failed(self, why: str) -> str:
         """Why a trial failed, in words (after :meth:`_small`)."""
-        return f"Newton found no equilibrium: {why}" if self.failure == "no equilibrium" \
+        return f"Newton found no equilibrium: {why}" if self.failure == Failure.NO_EQUILIBRIUM \
             else why
 
     def _try_above(self, load_at, F: float):
@@ -347,7 +348,7 @@ class CollapseSearch:
                f"{kind}_factor": F, "bracket": list(bracket) if bracket else None,
                "knee_factor": knee[0] if knee else None, "knee_bracket": knee,
                "reason": reason, "bracket_width": BRACKET,
-               # (which failure bracketed it: "no equilibrium" or "settlement", the criterion)
+               # (which failure bracketed it: no equilibrium, or the settlement criterion)
                "failure": failure,
                "failure_settlement": self.FAILURE_SETTLEMENT * a,
                "curve": {k: [p[k] for p in self.curve] for k in ("factor", "mean_settlement")},

@@ -20,8 +20,7 @@ from mpi4py import MPI
 from ..fem.evaluate import evaluate_at
 from ..fem.solvers import SolveError
 from ..scene.sections import load_between, vertical_load
-from .secant import SoilFailure
-from .status import IterationStatus
+from .status import IterationStatus, SoilFailure
 
 
 class NewtonIteration:

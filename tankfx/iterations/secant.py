@@ -17,20 +17,11 @@ from ..fem.solvers import SolveError
 from ..laws import elasticity as soil_forms
 from ..laws.tensors import principal_strains
 from ..model.memory import MAX_SWITCHES, unloading_cells
-from .status import Failure, IterationStatus
+from .status import Failure, IterationStatus, SoilFailure
 
 #: The global criterion: the relative displacement update of the last iteration must be
 #: below this times the Eq. 18 tolerance.
 DISPLACEMENT_TOLERANCE_RATIO = 0.02
-
-
-class SoilFailure(SolveError):
-    """The soil cannot carry the load: its iteration reached cells at the ultimate deviator
-    (Kondner's 1/b) or at Duncan & Chang's strength. The message says where and under what
-    load; a :class:`SolveError` with its ``history``."""
-
-    def __init__(self, message: str, history: list | None = None):
-        super().__init__(message, history, code=Failure.SOIL_FAILURE)
 
 
 class HyperbolicIteration:

@@ -5,34 +5,27 @@ person."""
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import StrEnum
 
-
-class Failure(StrEnum):
-    """The reasons an iteration stops without a converged state."""
-
-    #: a linear solve failed (the default of tankfx.fem.solvers.SolveError)
-    LINEAR_SOLVE = "linear_solve"
-    #: no converged state within the iterations allowed
-    MAX_ITERATIONS = "max_iterations"
-    #: the soil cannot carry the load (cells at its strength)
-    SOIL_FAILURE = "soil_failure"
-    #: the interface's active set repeats its states
-    CYCLES = "cycles"
-    #: the interface separated everywhere: nothing holds the foundation
-    SEPARATED = "separated_everywhere"
-    #: no state changes but the out-of-balance force stays: the solve lost accuracy
-    LOST_ACCURACY = "lost_accuracy"
-    #: carriers held separated are pressed into by the soil
-    HELD_PENETRATION = "held_penetration"
-    #: a limit analysis' conic program not solved (tankfx.bounds.program.ProgramError)
-    LIMIT_ANALYSIS = "limit_analysis"
+from ..fem.failure import Failure
+from ..fem.solvers import SolveError
 
 
 #: the code of a status whose iteration converged
 CONVERGED = "converged"
 #: ... and of one pass of an iteration nested in another, whose states still change
 UNSETTLED = "unsettled"
+
+__all__ = ["CONVERGED", "UNSETTLED", "Failure", "IterationStatus", "SoilFailure"]
+
+
+class SoilFailure(SolveError):
+    """The soil cannot carry the load, whatever its law: a secant soil's cells at their
+    ultimate deviator or strength, an elastoplastic soil's load steps unable to carry the
+    stage's load. The message says where and under what load; a :class:`SolveError` with
+    its ``history``."""
+
+    def __init__(self, message: str, history: list | None = None):
+        super().__init__(message, history, code=Failure.SOIL_FAILURE)
 
 
 @dataclass(frozen=True)

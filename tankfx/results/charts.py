@@ -26,6 +26,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
+from ..fem.failure import Failure
 from ..laws.mohr_coulomb import shear_strength
 from ..scene.sections import STATES_CONDITION
 from .figure_choices import CHARTABLE, DEFAULT_CHARTS, numeric_axes
@@ -429,8 +430,8 @@ def plot_collapse(results: dict, path: str | Path, title: str = "") -> Path | No
 
 def failure_words(failure: str | None) -> str:
     """How a collapse search's failed trial failed, for a legend."""
-    return {"settlement": "the settlement criterion (0.1 D)",
-            "no equilibrium": "no equilibrium"}.get(failure, failure or "failed")
+    return {Failure.SETTLEMENT: "the settlement criterion (0.1 D)",
+            Failure.NO_EQUILIBRIUM: "no equilibrium"}.get(failure, failure or "failed")
 
 
 def plot_bounds(results: dict, mechanism: dict, path: str | Path, extent: float,

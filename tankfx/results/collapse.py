@@ -2,6 +2,8 @@
 :mod:`tankfx.iterations.collapse`; its chart is :func:`tankfx.results.charts.plot_collapse`)."""
 from __future__ import annotations
 
+from ..fem.failure import Failure
+
 
 def collapse_factor(record: dict) -> float:
     """The factor a collapse search found (on the loads, or on the strength)."""
@@ -29,7 +31,7 @@ def collapse_words(record: dict) -> str:
 
 def _how(record: dict) -> str:
     """How the failed state failed, where it was the settlement criterion."""
-    if record.get("failure") != "settlement":
+    if record.get("failure") != Failure.SETTLEMENT:
         return ""
     return (f": beyond the settlement criterion, a mean settlement of "
             f"{record['failure_settlement']:.3g} m = 0.1 D, on a curve still rising slowly")
@@ -63,7 +65,7 @@ def collapse_rows(r: dict) -> list[tuple[str, str, str]]:
     lo, hi = c["bracket"]
     rows = [(name, f"{lo:.4g}", f"carried at {lo:.4g}, not at {hi:.4g}{_how(c)} "
                                 f"({'c and tan phi divided by it' if kind == 'strength' else 'variable loads times it, self-weight held'})")]
-    if c.get("failure") == "settlement":
+    if c.get("failure") == Failure.SETTLEMENT:
         rows += _knee_row(c, " up to the settlement criterion")
     rows.append(("bearing pressure at collapse", f"{c['bearing_pressure'] / 1e3:.4g} kPa",
                  "mean, vertical load over the foundation's area"
@@ -98,7 +100,7 @@ def elastoplastic_against_bounds(b: dict) -> str:
         return (", above the upper bound: its displacement elements overestimate the "
                 "collapse load on this mesh (a finer mesh.edge_size and near_size, or a "
                 "higher mesh.degree, brings it down)")
-    if b.get("elastoplastic_failure") == "settlement":
+    if b.get("elastoplastic_failure") == Failure.SETTLEMENT:
         return (", below the lower bound: it failed by the settlement criterion (0.1 D) "
                 "before the plastic limit")
     if not b.get("associated", True):
