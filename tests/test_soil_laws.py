@@ -153,3 +153,14 @@ def test_a_law_at_points_gives_a_point_law_whose_reduction_is_its_own(word):
     rigid = law.elastic_where(np.array([True, False, False]))
     up = rigid.update(np.full((3, 4), 0.5), np.zeros((3, 4)), rigid.initial_state())
     assert not up.yielding[0] and up.yielding[1:].all()
+
+
+@pytest.mark.parametrize("word", [w for w, law in SOIL_LAWS.items()
+                                  if law.iteration == "secant"])
+def test_a_secant_law_satisfies_the_secant_contract(word):
+    """Every law the secant iteration solves has what tankfx.laws.secant_law.SecantLaw
+    declares (the iteration asks for nothing else)."""
+    from tankfx.laws.secant_law import SecantLaw
+
+    assert isinstance(SOIL_LAWS[word], SecantLaw)
+    assert not isinstance(SOIL_LAWS["linear"], SecantLaw)
