@@ -152,32 +152,9 @@ def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
     b = np.roll(z, -1, axis=1) - np.roll(z, -2, axis=1)
     c = np.roll(r, -2, axis=1) - np.roll(r, -1, axis=1)
     twoA = 2.0 * tri.area / a ** 2
-    e = np.arange(m)
-    # ---- equilibrium (2 rows per triangle, scaled by 2A) ----
-    rows = np.repeat(np.arange(m), 7)
-    cols = np.column_stack([S[:, :, 0], S[:, :, 2], st[:, None]]).ravel()
-    vals = np.column_stack([b, c, -twoA[:, None]]).ravel()
-    P.equal(rows, cols, vals, np.zeros(m))
-    rows = np.repeat(np.arange(m), 6)
-    cols = np.column_stack([S[:, :, 2], S[:, :, 1]]).ravel()
-    vals = np.column_stack([b, c]).ravel()
-    P.equal(rows, cols, vals, np.zeros(m))
-    # ---- continuity of the traction across interior edges, at both vertices ----
-    pair, verts = tri.interior
+    _equilibrium(P, S, st, b, c, twoA)
     local = _local_index(tri.cells)
-    t = x[verts[:, 1]] - x[verts[:, 0]]
-    n = np.column_stack([t[:, 1], -t[:, 0]])
-    ef, ff = pair[:, 0], pair[:, 1]
-    for v in (0, 1):
-        ie = local(ef, verts[:, v])
-        if_ = local(ff, verts[:, v])
-        for comp in ((0, 2), (2, 1)):      # (n_r S_r + n_z T), (n_r T + n_z S_z)
-            k = len(ef)
-            rows = np.repeat(np.arange(k), 4)
-            cols = np.column_stack([S[ef, ie, comp[0]], S[ef, ie, comp[1]],
-                                    S[ff, if_, comp[0]], S[ff, if_, comp[1]]]).ravel()
-            vals = np.column_stack([n[:, 0], n[:, 1], -n[:, 0], -n[:, 1]]).ravel()
-            P.equal(rows, cols, vals, np.zeros(k))
+    _continuity(P, tri, S, x, local)
     # ---- boundaries ----
     owner = tri.owner
     # (an embedded foundation's pit: its side a contact with the tank's wall, else free)
@@ -221,28 +198,8 @@ def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
                     np.column_stack([S[owner[sel], iv[sel], 1], np.full(len(sel), F)]).ravel(),
                     np.column_stack([np.ones(len(sel)), rv * qv / scale]).ravel(),
                     -rv * qh / scale)
-    # ---- a rigid foundation's resultant, upward on it (in scale a^2): under it
-    # -2 pi int S_z dr, and the ground at rest's gamma d there if it is embedded d deep; on
-    # the pit's side 2 pi int T dz; = F V + H ----
-    sel = np.flatnonzero(contact) if load.rigid else np.empty(0, int)
-    side = np.flatnonzero(tri.kind == PIT_SIDE) if load.rigid and load.pit_contact else \
-        np.empty(0, int)
-    cols, vals = [], []
-    for v in (0, 1):
-        iv = local(owner[sel], tri.edges[sel, v])
-        cols.append(S[owner[sel], iv, 1])
-        vals.append(-math.pi * np.abs(bt[sel, 0]))
-        iv = local(owner[side], tri.edges[side, v])
-        cols.append(S[owner[side], iv, 2])
-        vals.append(math.pi * np.abs(bt[side, 1]))
-    norm = scale * a ** 2
-    r2 = x[tri.edges[sel], 0] ** 2
-    at_rest = float(np.sum(math.pi * ground.gamma[owner[sel]] * tri.embedment
-                           * np.abs(r2[:, 1] - r2[:, 0]))) / scale
     if load.rigid:
-        P.equal(np.zeros(len(np.concatenate(cols)) + 1, int), np.concatenate(cols + [[F]]),
-                np.concatenate(vals + [[-load.variable / norm]]),
-                [load.held / norm - at_rest])
+        _resultant(P, tri, ground, load, S, F, x, bt, local, scale)
     # ---- yield at every vertex: three cones; on the axis they say S = 0, set so (a cone
     # with an empty interior stalls an interior-point solver) ----
     h2 = (tri.h / a) ** 2
@@ -275,6 +232,62 @@ def lower_bound(tri: Triangles, ground: Ground, load: Loading, scale: float) -> 
             f"terms, the yield condition by {out.yield_violation:.3g} Pa: no valid lower bound "
             f"on this mesh")
     return out
+
+
+def _resultant(P: ConeProgram, tri: Triangles, ground: Ground, load: Loading, S, F, x, bt,
+               local, scale) -> None:
+    """A rigid foundation's resultant, upward on it (in scale a^2): under it -2 pi int S_z dr,
+    and the ground at rest's gamma d there if it is embedded d deep; on the pit's side (a
+    wall there) 2 pi int T dz; = F V + H."""
+    a, owner = tri.a, tri.owner
+    sel = np.flatnonzero(tri.kind == CONTACT)
+    side = np.flatnonzero(tri.kind == PIT_SIDE) if load.pit_contact else np.empty(0, int)
+    cols, vals = [], []
+    for v in (0, 1):
+        iv = local(owner[sel], tri.edges[sel, v])
+        cols.append(S[owner[sel], iv, 1])
+        vals.append(-math.pi * np.abs(bt[sel, 0]))
+        iv = local(owner[side], tri.edges[side, v])
+        cols.append(S[owner[side], iv, 2])
+        vals.append(math.pi * np.abs(bt[side, 1]))
+    norm = scale * a ** 2
+    r2 = x[tri.edges[sel], 0] ** 2
+    at_rest = float(np.sum(math.pi * ground.gamma[owner[sel]] * tri.embedment
+                           * np.abs(r2[:, 1] - r2[:, 0]))) / scale
+    P.equal(np.zeros(len(np.concatenate(cols)) + 1, int), np.concatenate(cols + [[F]]),
+            np.concatenate(vals + [[-load.variable / norm]]), [load.held / norm - at_rest])
+
+
+def _equilibrium(P: ConeProgram, S, st, b, c, twoA) -> None:
+    """Equilibrium in each triangle, 2 rows, scaled by 2A (b, c the shape functions'
+    gradients times 2A): d(S_r)/dr + d(T)/dz - sigma_theta = 0, d(T)/dr + d(S_z)/dz = 0."""
+    m = len(twoA)
+    rows = np.repeat(np.arange(m), 7)
+    cols = np.column_stack([S[:, :, 0], S[:, :, 2], st[:, None]]).ravel()
+    vals = np.column_stack([b, c, -twoA[:, None]]).ravel()
+    P.equal(rows, cols, vals, np.zeros(m))
+    rows = np.repeat(np.arange(m), 6)
+    cols = np.column_stack([S[:, :, 2], S[:, :, 1]]).ravel()
+    vals = np.column_stack([b, c]).ravel()
+    P.equal(rows, cols, vals, np.zeros(m))
+
+
+def _continuity(P: ConeProgram, tri: Triangles, S, x, local) -> None:
+    """The traction r t = S . n continuous across every interior edge, at both vertices."""
+    pair, verts = tri.interior
+    t = x[verts[:, 1]] - x[verts[:, 0]]
+    n = np.column_stack([t[:, 1], -t[:, 0]])
+    ef, ff = pair[:, 0], pair[:, 1]
+    for v in (0, 1):
+        ie = local(ef, verts[:, v])
+        if_ = local(ff, verts[:, v])
+        for comp in ((0, 2), (2, 1)):      # (n_r S_r + n_z T), (n_r T + n_z S_z)
+            k = len(ef)
+            rows = np.repeat(np.arange(k), 4)
+            cols = np.column_stack([S[ef, ie, comp[0]], S[ef, ie, comp[1]],
+                                    S[ff, if_, comp[0]], S[ff, if_, comp[1]]]).ravel()
+            vals = np.column_stack([n[:, 0], n[:, 1], -n[:, 0], -n[:, 1]]).ravel()
+            P.equal(rows, cols, vals, np.zeros(k))
 
 
 def _yield_cone(P, cones, k, sel, S, st, r, z, h2, ground, a, scale, where) -> None:

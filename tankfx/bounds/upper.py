@@ -270,26 +270,11 @@ def _isochoric(P: ConeProgram, cells: np.ndarray, grad_lambda: np.ndarray,
                 np.concatenate([g[..., 0], g[..., 1]], axis=1).ravel(), np.zeros(n))
 
 
-def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
-                three_cones: bool = False) -> UpperBound:
-    """The least factor on ``load.variable`` a kinematically admissible field allows.
-    ``scale`` (Pa) makes the stresses of order one. Tresca's and Mohr-Coulomb's
-    dissipations are taken in closed form (``three_cones``: by the three cones' dual
-    instead, a check)."""
-    a, m = tri.a, len(tri.cells)
-    points, cn, bn = p2_nodes(tri)
-    x = points / a
-    P = ConeProgram()
-    V = P.variables(2 * len(x)).reshape(-1, 2)                # v = r u per node
-    p = x[tri.cells]
-    r, z = p[..., 0], p[..., 1]
-    twoA = 2.0 * tri.area / a ** 2
-    A = twoA / 2.0
-    b = np.roll(z, -1, axis=1) - np.roll(z, -2, axis=1)
-    c = np.roll(r, -2, axis=1) - np.roll(r, -1, axis=1)
-    grad_lambda = np.stack([b, c], axis=2) / twoA[:, None, None]      # (m, 3, 2)
-    # ---- G = r^2 eps at the six nodes, as coefficients on the element's 12 fluxes ----
-    dofs = np.concatenate([V[cn, 0], V[cn, 1]], axis=1)          # (m, 12): v_r x6, v_z x6
+def _control_points(r: np.ndarray, grad_lambda: np.ndarray) -> np.ndarray:
+    """The Bernstein control points of G = r^2 eps on each triangle (m, 6, 4, 12), as
+    coefficients on its 12 fluxes (v_r at its six nodes, then v_z): G at the six nodes,
+    then at the edges 2 G(mid) - (G_i + G_j) / 2."""
+    m = len(r)
     G = np.zeros((m, 6, 4, 12))
     for k, bary in enumerate(NODES):
         g = _basis_gradients(bary, grad_lambda)                   # (m, 6, 2)
@@ -305,8 +290,13 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
     C = G.copy()
     for k, (i, j) in enumerate(EDGES):
         C[:, 3 + k] = 2.0 * G[:, 3 + k] - 0.5 * (G[:, i] + G[:, j])
-    # their weights, 2 pi int c B_j / r dA (in scale a^3); none for a control point on the
-    # axis, where v = 0 makes it vanish
+    return C
+
+
+def _weights(tri: Triangles, ground: Ground, r, z, A, scale):
+    """Each control point's weight, 2 pi int c B_j / r dA (in scale a^3: r, z, A in radii),
+    and which are live (m, 6): none on the axis, where v = 0 makes it vanish."""
+    a, m = tri.a, len(tri.cells)
     qp, qw = _collapsed_gauss()
     rq = r @ qp.T                                                 # (m, q)
     zq = (z @ qp.T) * a
@@ -320,7 +310,53 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
     for k, (i, j) in enumerate(EDGES):
         on_axis_edge[:, 3 + k] = (r[:, i] < 1e-12) & (r[:, j] < 1e-12)
     live = (rC > 1e-12) & ~on_axis_edge
-    # ---- dissipation: per control point, in closed form (or by the three cones' dual) ----
+    return w, live
+
+
+def _fixer(P: ConeProgram, V: np.ndarray):
+    """``fix(nodes, component, value)``: fluxes held (a value, or a function of the nodes),
+    and the list of what it held, (nodes, component, values), to set them exactly after
+    the solve."""
+    fixed = []
+
+    def fix(nodes, comp, value=0.0):
+        nodes = np.unique(nodes)
+        values = np.broadcast_to(value(nodes) if callable(value) else value, len(nodes))
+        P.equal(np.arange(len(nodes)), V[nodes, comp], np.ones(len(nodes)), values)
+        fixed.append((nodes, comp, np.asarray(values, dtype=float)))
+    return fix, fixed
+
+
+def _supports(fix, tri: Triangles, bn: np.ndarray, load: Loading, x: np.ndarray) -> np.ndarray:
+    """The box's supports and the foundation's sides held; returns the contact's edges'
+    P2 nodes (k, 3)."""
+    kind = tri.kind
+    for comp in (0, 1):
+        fix(bn[kind == AXIS].ravel(), comp)
+    # (an open box: v = 0 on it, the ground beyond at rest; the field stays admissible)
+    fix(bn[kind == SIDE].ravel(), 0)
+    if load.side != "roller":
+        fix(bn[kind == SIDE].ravel(), 1)
+    fix(bn[kind == BASE].ravel(), 1)
+    if load.base != "smooth":
+        fix(bn[kind == BASE].ravel(), 0)
+    contact = bn[kind == CONTACT]
+    if load.rough:
+        fix(contact.ravel(), 0)
+    # (an embedded tank's wall against the pit's side: it moves down with the foundation;
+    # a plate alone leaves the pit's side free)
+    pit = bn[kind == PIT_SIDE].ravel() if load.pit_contact else np.empty(0, int)
+    fix(pit, 0)
+    if load.rough:
+        fix(pit, 1, lambda nodes: -x[nodes, 0])
+    return contact
+
+
+def _dissipation(P: ConeProgram, ground: Ground, live, w, C, dofs, grad_lambda,
+                 three_cones: bool) -> None:
+    """The dissipation's terms of the objective, per control point: in closed form (Tresca
+    with div v = 0 on its triangles; Mohr-Coulomb in its flow cone), or by the three cones'
+    dual (``three_cones``, a check). Each is linear in the program's variables."""
     # (each control point's dissipation is linear in the program's variables: the
     # objective's terms, kept per triangle for the refinement)
     shares = []                       # (triangles (n,), variables (n, k), coefficients (n, k))
@@ -353,6 +389,51 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
         shares.append((sel_e, Y[:, :, 0], ws[:, None] * cones.beta[None, :]))
     for _, variables, coefficients in shares:
         P.minimise(variables, coefficients)
+
+
+def _velocity(flux, x, r, grad_lambda, cn) -> np.ndarray:
+    """The velocity u = v / r at the P2 nodes (x in radii), for drawing; on the axis its
+    limit dv/dr there, the mean over the triangles at it (the limit depends on the
+    direction where v's gradient has a z part)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        vel = np.where(x[:, :1] > 1e-12, flux / x[:, :1], 0.0)
+    total, count = np.zeros((len(x), 2)), np.zeros(len(x))
+    for i in range(3):
+        at = np.flatnonzero(r[:, i] < 1e-12)
+        if not len(at):
+            continue
+        g = _basis_gradients(NODES[i], grad_lambda[at])[..., 0]            # (n, 6) d/dr
+        total_i = np.einsum("nk,nkc->nc", g, flux[cn[at]])
+        np.add.at(total, cn[at, i], total_i)
+        np.add.at(count, cn[at, i], 1.0)
+    axis = count > 0
+    vel[axis] = total[axis] / count[axis, None]
+    return vel
+
+
+def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
+                three_cones: bool = False) -> UpperBound:
+    """The least factor on ``load.variable`` a kinematically admissible field allows.
+    ``scale`` (Pa) makes the stresses of order one. Tresca's and Mohr-Coulomb's
+    dissipations are taken in closed form (``three_cones``: by the three cones' dual
+    instead, a check)."""
+    a = tri.a
+    points, cn, bn = p2_nodes(tri)
+    x = points / a
+    P = ConeProgram()
+    V = P.variables(2 * len(x)).reshape(-1, 2)                # v = r u per node
+    p = x[tri.cells]
+    r, z = p[..., 0], p[..., 1]
+    twoA = 2.0 * tri.area / a ** 2
+    A = twoA / 2.0
+    b = np.roll(z, -1, axis=1) - np.roll(z, -2, axis=1)
+    c = np.roll(r, -2, axis=1) - np.roll(r, -1, axis=1)
+    grad_lambda = np.stack([b, c], axis=2) / twoA[:, None, None]      # (m, 3, 2)
+    # ---- G = r^2 eps at the six nodes, as coefficients on the element's 12 fluxes ----
+    dofs = np.concatenate([V[cn, 0], V[cn, 1]], axis=1)          # (m, 12): v_r x6, v_z x6
+    C = _control_points(r, grad_lambda)
+    w, live = _weights(tri, ground, r, z, A, scale)
+    _dissipation(P, ground, live, w, C, dofs, grad_lambda, three_cones)
     # ---- the soil's weight: + 2 pi int gamma v_z dA (in scale a^3) ----
     # (the objective's terms linear in the fluxes, kept to recompute it: (variables, coefs))
     linear = []
@@ -362,32 +443,8 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
         coef = 2.0 * math.pi * wq * A * ground.gamma * a / scale              # (m,)
         linear.append((V[cn, 1].ravel(), (coef[:, None] * N[None, :]).ravel()))
     # ---- supports and the foundation ----
-    fixed = []                                 # (nodes, component, values)
-
-    def fix(nodes, comp, value=0.0):
-        nodes = np.unique(nodes)
-        values = np.broadcast_to(value(nodes) if callable(value) else value, len(nodes))
-        P.equal(np.arange(len(nodes)), V[nodes, comp], np.ones(len(nodes)), values)
-        fixed.append((nodes, comp, np.asarray(values, dtype=float)))
-    kind = tri.kind
-    for comp in (0, 1):
-        fix(bn[kind == AXIS].ravel(), comp)
-    # (an open box: v = 0 on it, the ground beyond at rest; the field stays admissible)
-    fix(bn[kind == SIDE].ravel(), 0)
-    if load.side != "roller":
-        fix(bn[kind == SIDE].ravel(), 1)
-    fix(bn[kind == BASE].ravel(), 1)
-    if load.base != "smooth":
-        fix(bn[kind == BASE].ravel(), 0)
-    contact = bn[kind == CONTACT]
-    if load.rough:
-        fix(contact.ravel(), 0)
-    # (an embedded tank's wall against the pit's side: it moves down with the foundation;
-    # a plate alone leaves the pit's side free)
-    pit = bn[kind == PIT_SIDE].ravel() if load.pit_contact else np.empty(0, int)
-    fix(pit, 0)
-    if load.rough:
-        fix(pit, 1, lambda nodes: -x[nodes, 0])
+    fix, fixed = _fixer(P, V)
+    contact = _supports(fix, tri, bn, load, x)
     norm = scale * a ** 2
     if load.rigid:
         fix(contact.ravel(), 1, lambda nodes: -x[nodes, 0])       # (u_z = -1)
@@ -432,22 +489,8 @@ def upper_bound(tri: Triangles, ground: Ground, load: Loading, scale: float,
             f"the upper bound: the conic solver's velocity field (status {sol.status}) is not "
             f"kinematically admissible (flow rule violated by {outside:.2e} of its rate after "
             f"its supports were set exactly): no valid upper bound on this mesh")
-    with np.errstate(divide="ignore", invalid="ignore"):
-        vel = np.where(x[:, :1] > 1e-12, flux / x[:, :1], 0.0)
-    # (on the axis u = v / r is drawn as its limit dv/dr there, the mean over the triangles
-    # at it: the limit depends on the direction where v's gradient has a z part)
-    total, count = np.zeros((len(x), 2)), np.zeros(len(x))
-    for i in range(3):
-        at = np.flatnonzero(r[:, i] < 1e-12)
-        if not len(at):
-            continue
-        g = _basis_gradients(NODES[i], grad_lambda[at])[..., 0]            # (n, 6) d/dr
-        total_i = np.einsum("nk,nkc->nc", g, flux[cn[at]])
-        np.add.at(total, cn[at, i], total_i)
-        np.add.at(count, cn[at, i], 1.0)
-    axis = count > 0
-    vel[axis] = total[axis] / count[axis, None]
     control = np.einsum("mjcd,md->mjc", C, value_of(dofs)) * a
-    return UpperBound(factor=float(factor), velocity=vel, nodes=points,
+    return UpperBound(factor=float(factor), velocity=_velocity(flux, x, r, grad_lambda, cn),
+                      nodes=points,
                       dissipation=cost * norm, control=control, check=check,
                       seconds=sol.seconds, iterations=sol.iterations, variables=sol.variables)

@@ -91,7 +91,7 @@ class CollapseSearch:
     # ---- the state a search starts from, given back afterwards ----------------------------
     def _histories(self):
         m = self.model
-        return [m.soil.history] + ([m.interface.history] if hasattr(m, "interface") else [])
+        return [m.soil.history] + ([m.interface.history] if m.interface is not None else [])
 
     def _unknowns(self):
         m = self.model

@@ -118,42 +118,42 @@ _DUNCAN_CHANG_KEYS: dict[str, Key] = {
                 "past q_f is perfectly plastic (R_f typically 0.7-0.9)"),
     "cohesion": Key(
         unit="Pa", limit=NON_NEGATIVE, default_doc="0",
-        meaning=f"{{its}} cohesion c, {{for_models}}: with `friction_angle` phi it makes the "
+        meaning="{its} cohesion c, {for_models}: with `friction_angle` phi it makes the "
                 "Mohr-Coulomb strength q_f = (2 c cos phi + 2 sigma_3 sin phi) / (1 - sin phi) "
                 "at confinement sigma_3 (with phi = 0, Tresca's undrained strength s_u, q_f = "
                 "2 s_u); c or phi must be > 0"),
     "friction_angle": Key(
         unit="deg", limit=ANGLE, why="degrees", default_doc="0",
-        meaning=f"{{its}} friction angle phi (degrees), {{for_models}}: with `cohesion` c it makes "
+        meaning="{its} friction angle phi (degrees), {for_models}: with `cohesion` c it makes "
                 "the strength q_f, which grows with the confinement as 2 sigma_3 sin phi / (1 - "
                 "sin phi); c or phi must be > 0; `K0` defaults to 1 - sin phi; 0 is Tresca's "
                 "soil, and mohr_coulomb takes less than 60"),
     "unit_weight": Key(
         unit="N/m^3", limit=NON_NEGATIVE, default_doc="required (duncan_chang); 0",
-        meaning=f"{{its}} unit weight gamma, {{for_models}}: the geostatic vertical stress at a "
+        meaning="{its} unit weight gamma, {for_models}: the geostatic vertical stress at a "
                 "depth is the weight of the strata above it (less the pore pressure below the "
                 "soil's `water_table`, where gamma is the saturated unit weight), the "
                 "horizontal `K0` times it; mohr_coulomb's soil carries its weight as a load "
                 "from that state (0: weightless)"),
     "K0": Key(
         unit="-", limit=POSITIVE, default_doc="1 - sin(phi)",
-        meaning=f"{{its}} coefficient of earth pressure at rest K0, {{for_models}}: the geostatic "
+        meaning="{its} coefficient of earth pressure at rest K0, {for_models}: the geostatic "
                 "horizontal stress is K0 times the vertical one (from `unit_weight`); by "
                 "default Jaky's 1 - sin phi of {its} `friction_angle`; mohr_coulomb refuses a "
                 "K0 that puts the ground at rest outside its yield surface"),
     "dilation_angle": Key(
         unit="deg", limit=ANGLE, why="degrees", default_doc="0",
-        meaning=f"{{its}} dilation angle psi (degrees), {{for_models}}: the plastic flow's volume "
+        meaning="{its} dilation angle psi (degrees), {for_models}: the plastic flow's volume "
                 "change, (sigma_1 - sigma_3) + (sigma_1 + sigma_3) sin psi its potential; "
                 "at most `friction_angle` (psi = phi: associated flow); 0: no volume change"),
     "tensile_strength": Key(
         unit="Pa", limit=NON_NEGATIVE, default_doc="none (the cone's apex, c cot phi)",
-        meaning=f"{{its}} tensile strength t, {{for_models}}: a Rankine cut-off, the largest "
+        meaning="{its} tensile strength t, {for_models}: a Rankine cut-off, the largest "
                 "principal stress at most t (tension positive); beyond the Mohr-Coulomb "
                 "apex c cot phi it never acts"),
     "cohesion_gradient": Key(
         unit="Pa/m", limit=NON_NEGATIVE, default_doc="0",
-        meaning=f"{{its}} cohesion's growth with depth k, {{for_models}}: c = `cohesion` + k (h - "
+        meaning="{its} cohesion's growth with depth k, {for_models}: c = `cohesion` + k (h - "
                 "top), h the depth, top the stratum's top (0 for the surface soil): a normally "
                 "consolidated clay's undrained strength s_u0 + k z"),
 }
