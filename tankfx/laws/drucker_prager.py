@@ -32,14 +32,13 @@ millionth of the elastic one (as Mohr-Coulomb's). Vectorised over the points.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
-from typing import ClassVar
+from dataclasses import dataclass
 
 import numpy as np
 
 from .geostatic import geostatic_stress
-from .mohr_coulomb_soil import MohrCoulombSoil
-from .plasticity import APEX_STIFFNESS, IDENTITY, compliance, elastic_matrix, lame
+from .mohr_coulomb_soil import FrictionalPoints, MohrCoulombSoil
+from .plasticity import APEX_STIFFNESS, IDENTITY, compliance, lame
 from .point_law import PointUpdate
 
 #: how the cone is laid on Mohr-Coulomb's pyramid (the module's docstring)
@@ -108,11 +107,11 @@ def drucker_prager_update(d_eps, stress, E, nu, strength, eta, eta_bar, referenc
 
 
 @dataclass(frozen=True)
-class DruckerPragerPoints:
+class DruckerPragerPoints(FrictionalPoints):
     """Drucker-Prager at N points (:class:`tankfx.laws.point_law.PointLaw`): per point ``E``,
     ``nu``, the ``cohesion`` (inf: never yields), ``sin_phi``, ``sin_psi`` and the ground at
-    rest ``sigma0`` (N, 4), the cone laid by ``match``. Perfect plasticity: no state of its
-    own."""
+    rest ``sigma0`` (N, 4), the cone laid by ``match``; its strength reduced through c and
+    tan phi (:class:`~tankfx.laws.mohr_coulomb_soil.FrictionalPoints`)."""
 
     E: np.ndarray
     nu: np.ndarray
@@ -121,28 +120,14 @@ class DruckerPragerPoints:
     sin_psi: np.ndarray
     sigma0: np.ndarray
     match: str = "compression"
-    state: ClassVar[dict[str, int]] = {}
 
     def __post_init__(self):
+        # (the cone of the Mohr-Coulomb constants, matched again after a reduction)
+        super().__post_init__()
         eta, xi = cone(self.sin_phi, self.match)
-        object.__setattr__(self, "_D", elastic_matrix(self.E, self.nu))
         object.__setattr__(self, "_eta", eta)
         object.__setattr__(self, "_strength", xi * self.cohesion)
         object.__setattr__(self, "_eta_bar", cone(self.sin_psi, self.match)[0])
-
-    @property
-    def symmetric(self) -> bool:
-        can = np.isfinite(self.cohesion)
-        return bool(np.all(self.sin_psi[can] == self.sin_phi[can]))
-
-    def initial_stress(self) -> np.ndarray:
-        return self.sigma0
-
-    def initial_state(self) -> dict[str, np.ndarray]:
-        return {}
-
-    def elastic_matrix(self) -> np.ndarray:
-        return self._D
 
     def update(self, d_eps, stress, state) -> PointUpdate:
         sigma, C, yielding, d_eps_p = drucker_prager_update(
@@ -150,19 +135,6 @@ class DruckerPragerPoints:
             self.sigma0, self._D)
         return PointUpdate(stress=sigma, tangent=C, yielding=yielding,
                            plastic_strain=d_eps_p, state={})
-
-    def reduced(self, factor: float) -> "DruckerPragerPoints":
-        """c / F and tan phi / F (the cone matched to the reduced Mohr-Coulomb); the dilation
-        angle kept until the reduced friction angle reaches it."""
-        tan_phi = np.tan(np.arcsin(self.sin_phi))
-        sin_phi = np.sin(np.arctan(tan_phi / factor))
-        return replace(self, cohesion=self.cohesion / factor, sin_phi=sin_phi,
-                       sin_psi=np.minimum(self.sin_psi, sin_phi))
-
-    def elastic_where(self, mask, E=None, nu=None) -> "DruckerPragerPoints":
-        return replace(self, E=self.E if E is None else np.where(mask, E, self.E),
-                       nu=self.nu if nu is None else np.where(mask, nu, self.nu),
-                       cohesion=np.where(mask, np.inf, self.cohesion))
 
     def mobilised(self, stress, per: int = 1) -> np.ndarray:
         """sqrt(J2) over the cone's radius xi c - eta p at the stress's p: 1 on the cone."""

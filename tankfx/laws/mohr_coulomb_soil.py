@@ -279,34 +279,18 @@ class MohrCoulombSoil(SoilLaw):
         return np.column_stack([-sh, -sv, 0.0 * sv, -sh])
 
 
-@dataclass(frozen=True)
-class MohrCoulombPoints:
-    """Mohr-Coulomb (Tresca at phi = 0) at N points (:class:`tankfx.laws.point_law.PointLaw`):
-    per point ``E``, ``nu``, the ``cohesion`` (inf: never yields), ``sin_phi``,
-    ``sin_psi``, the ``tension`` cut-off (inf: none) and the ground at rest ``sigma0``
-    (N, 4). Perfect plasticity: no state of its own. The return is
-    :func:`tankfx.laws.plasticity.stress_update`."""
+class FrictionalPoints:
+    """What a perfectly plastic law at points whose strength is a cohesion and a friction
+    angle (Mohr-Coulomb's, Drucker-Prager's) shares: its fields ``E``, ``nu``,
+    ``cohesion`` (inf: never yields), ``sin_phi``, ``sin_psi`` and ``sigma0`` (the ground
+    at rest), no state of its own, the strength reduced through c and tan phi. A subclass
+    is a frozen dataclass with those fields and its ``update``."""
 
-    E: np.ndarray
-    nu: np.ndarray
-    cohesion: np.ndarray
-    sin_phi: np.ndarray
-    sin_psi: np.ndarray
-    tension: np.ndarray
-    sigma0: np.ndarray
     state: ClassVar[dict[str, int]] = {}
 
     def __post_init__(self):
         # (the elastic matrices, read at every update: made once)
         object.__setattr__(self, "_D", elastic_matrix(self.E, self.nu))
-
-    @classmethod
-    def at(cls, soil, depth) -> "MohrCoulombPoints":
-        """The points at ``depth`` (m) of a resolved [soil]."""
-        k = MohrCoulombSoil.point_constants(soil, depth)
-        return cls(E=k["E"], nu=k["nu"], cohesion=k["cohesion"], sin_phi=k["sin_phi"],
-                   sin_psi=k["sin_psi"], tension=k["tension"],
-                   sigma0=MohrCoulombSoil.initial_stress(soil, depth))
 
     @property
     def symmetric(self) -> bool:
@@ -323,14 +307,7 @@ class MohrCoulombPoints:
     def elastic_matrix(self) -> np.ndarray:
         return self._D
 
-    def update(self, d_eps, stress, state) -> PointUpdate:
-        sigma, C, code, d_eps_p = stress_update(
-            d_eps, stress, self.E, self.nu, self.cohesion, self.sin_phi, self.sin_psi,
-            self.tension, D=self._D, reference=self.sigma0)
-        return PointUpdate(stress=sigma, tangent=C, yielding=code != ELASTIC,
-                           plastic_strain=d_eps_p, state={})
-
-    def reduced(self, factor: float) -> "MohrCoulombPoints":
+    def reduced(self, factor: float):
         """c / F and tan phi / F; the dilation angle kept until the reduced friction angle
         reaches it."""
         tan_phi = np.tan(np.arcsin(self.sin_phi))
@@ -338,10 +315,41 @@ class MohrCoulombPoints:
         return replace(self, cohesion=self.cohesion / factor, sin_phi=sin_phi,
                        sin_psi=np.minimum(self.sin_psi, sin_phi))
 
-    def elastic_where(self, mask, E=None, nu=None) -> "MohrCoulombPoints":
+    def elastic_where(self, mask, E=None, nu=None):
         return replace(self, E=self.E if E is None else np.where(mask, E, self.E),
                        nu=self.nu if nu is None else np.where(mask, nu, self.nu),
                        cohesion=np.where(mask, np.inf, self.cohesion))
+
+
+@dataclass(frozen=True)
+class MohrCoulombPoints(FrictionalPoints):
+    """Mohr-Coulomb (Tresca at phi = 0) at N points (:class:`tankfx.laws.point_law.PointLaw`):
+    per point ``E``, ``nu``, the ``cohesion`` (inf: never yields), ``sin_phi``,
+    ``sin_psi``, the ``tension`` cut-off (inf: none) and the ground at rest ``sigma0``
+    (N, 4). Perfect plasticity: no state of its own. The return is
+    :func:`tankfx.laws.plasticity.stress_update`."""
+
+    E: np.ndarray
+    nu: np.ndarray
+    cohesion: np.ndarray
+    sin_phi: np.ndarray
+    sin_psi: np.ndarray
+    tension: np.ndarray
+    sigma0: np.ndarray
+    @classmethod
+    def at(cls, soil, depth) -> "MohrCoulombPoints":
+        """The points at ``depth`` (m) of a resolved [soil]."""
+        k = MohrCoulombSoil.point_constants(soil, depth)
+        return cls(E=k["E"], nu=k["nu"], cohesion=k["cohesion"], sin_phi=k["sin_phi"],
+                   sin_psi=k["sin_psi"], tension=k["tension"],
+                   sigma0=MohrCoulombSoil.initial_stress(soil, depth))
+
+    def update(self, d_eps, stress, state) -> PointUpdate:
+        sigma, C, code, d_eps_p = stress_update(
+            d_eps, stress, self.E, self.nu, self.cohesion, self.sin_phi, self.sin_psi,
+            self.tension, D=self._D, reference=self.sigma0)
+        return PointUpdate(stress=sigma, tangent=C, yielding=code != ELASTIC,
+                           plastic_strain=d_eps_p, state={})
 
     def mobilised(self, stress, per: int = 1) -> np.ndarray:
         """tau / tau_f of Mohr's largest circle (:func:`tankfx.laws.plasticity.mobilised_strength`)."""
