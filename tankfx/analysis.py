@@ -16,15 +16,10 @@ import dolfinx_solver  # noqa: F401  (loads MPI before dolfinx / petsc4py)
 from dolfinx import fem
 from mpi4py import MPI
 
-from .fem.blocks import cell_field
-from .fem.memory import keep_freed_memory
+from .collapse_study import CollapseStudy
 from .fem.solvers import SolveError, make_solver
-from .fem.threads import limit_blas_threads
-from .bounds.scene_bounds import scene_bounds
-from .iterations.collapse import CollapseSearch
-from .iterations.status import SoilFailure
 from .iterations.stage import StageIterations
-from .iterations.status import IterationStatus
+from .iterations.status import IterationStatus, SoilFailure
 from .mesh import (
     SURFACE_GRADING,
     Domain,
@@ -36,9 +31,8 @@ from .mesh import (
 from .model.build import build_model
 from .model.overturning import RockingModel
 from .model.protocol import Model
-from .results.collapse import bounds_words, collapse_words
-from .results.consolidation import consolidation_record
-from .results.contract import results_of, settlement_kept, stage_summary, versions
+from .results.contract import results_of, settlement_kept, stage_summary
+from .results.run import excavation_record, run_record
 from .results.overturning import superpose
 from .results.validity import validity
 from .scene.plausible import geometry_warnings
@@ -177,13 +171,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         One solution per stage, in order.
     """
     stages = _load_stages(scene, loads)
-    est = estimate(scene, comm.size)
-    log.info("estimate: %s", est.text())
-    if not allow_large:
-        # (rank 0's answer for all: the memory free may differ between the ranks' nodes)
-        problem = comm.bcast(resource_problem(scene, est) if comm.rank == 0 else None)
-        if problem:
-            raise SceneError([problem])
+    _check_resources(scene, comm, allow_large)
     t_start = time.perf_counter()
     timings: dict[str, float] = {}
     domain, model, solver, iterations = _set_up(scene, stages[0], comm, timings, nested)
@@ -193,23 +181,10 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     dofs = model.dofs()
     log.info("dofs: %s (soil P%d); assembling and solving with MUMPS",
              ", ".join(f"{k} {v}" for k, v in dofs.items()), scene.mesh.degree)
+    excavation = _excavate(model, iterations, solver)
+    study = CollapseStudy.of(scene, model, iterations, solver, comm, log)
     solutions = []
     rocking = None          # the first harmonic, built by the first stage that overturns
-    excavation = None
-    before = None
-    if model.soil.pit is not None:
-        # (an elastoplastic soil's embedded foundation: its pit is dug first)
-        try:
-            with heartbeat("excavating the pit"):
-                excavation = iterations.excavate(log)
-        except SolveError as e:
-            e.dofs = solver.matrix_size
-            raise
-        log.info("the pit is dug: its bottom heaved %.4g m, %d points yield",
-                 excavation.record["heave"], excavation.record["plastic_points"])
-    if scene.analysis.collapse is not None:
-        # (the state a collapse by load starts from: the ground before the load)
-        before = CollapseSearch(model, iterations, solver, log).snapshot()
     for k, load in enumerate(stages):
         if k > 0:
             log.info("load stage %d of %d", k + 1, len(stages))
@@ -218,22 +193,11 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         try:
             with heartbeat("solving" + (f" load stage {k + 1}" if len(stages) > 1 else "")):
                 stage_scene, statuses = _solve_stage(scene, load, model, iterations)
-        except SoilFailure as e:
-            e.dofs = solver.matrix_size        # (what the failed run cost)
-            if scene.analysis.collapse in ("load", "bounds"):
-                # the scene's load fails: its collapse factor lies below 1
-                e.collapse, _ = _collapse(scene, load, model, iterations, solver, before)
-                e.args = (f"{e}; the collapse search (settlement-controlled, to where the "
-                          f"load-settlement curve flattens): {collapse_words(e.collapse)}",)
-            elif scene.analysis.collapse == "strength":
-                e.args = (f"{e}; the factor of safety on the strength is below 1: the ground "
-                          f"does not carry the load with its full strength (collapse = "
-                          f"\"load\" brackets the share of it that it carries)",)
-            elif len(stages) > 1:
-                _stage_failed(e, k, stages, solutions, scene)
-            raise
         except SolveError as e:
-            if len(stages) > 1:
+            e.dofs = solver.matrix_size        # (what the failed run cost)
+            if study is not None and isinstance(e, SoilFailure):
+                study.failed(e, load)
+            elif len(stages) > 1:
                 _stage_failed(e, k, stages, solutions, scene)
             raise
         timings["assemble_solve"] = time.perf_counter() - t
@@ -244,10 +208,10 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
         results = results_of(stage_scene, domain, model, sigma_zz, statuses)
         timings["post"] = time.perf_counter() - t
         timings["total"] = time.perf_counter() - t_start
-        _record_stage(results, scene, solver, dofs, timings, comm, warnings,
-                      k + 1 if len(stages) > 1 else None, statuses)
+        run_record(results, scene, solver, dofs, timings, comm.size, warnings,
+                   k + 1 if len(stages) > 1 else None, statuses, log)
         if excavation is not None:
-            results["excavation"] = excavation.record
+            results["excavation"] = excavation
         # (a consolidation's: the load at its last reported time, on the state then)
         load = stage_scene.load
         if load.overturning:
@@ -259,17 +223,13 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                                   sigma_zz=sigma_zz, results=results, model=model,
                                   harmonic=rocking if load.overturning else None,
                                   statuses=statuses))
-    if scene.analysis.collapse is not None:
-        record, fields = _collapse(scene, stages[0], model, iterations, solver, before)
-        solutions[-1].results["collapse"] = record
-        solutions[-1] = replace(solutions[-1], collapse=fields)
-        log.info("collapse: %s", collapse_words(record))
-        if scene.analysis.collapse == "bounds":
-            with heartbeat("bounding the collapse load (limit analysis)"):
-                bounds, mechanism = scene_bounds(scene, comm, log, record)
-            solutions[-1].results["bounds"] = bounds
-            solutions[-1] = replace(solutions[-1], bounds=mechanism)
-            log.info("bounds: %s", bounds_words(bounds))
+    if study is not None:
+        found = study.run(stages[0])
+        last = solutions[-1]
+        last.results["collapse"] = found.collapse
+        if found.bounds is not None:
+            last.results["bounds"] = found.bounds
+        solutions[-1] = replace(last, collapse=found.fields, bounds=found.bounds_mechanism)
     if len(solutions) > 1:
         summaries = [stage_summary(s.results) for s in solutions]
         if scene.soil.law.keeps_permanent_strain:
@@ -278,38 +238,43 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     return solutions
 
 
+def _check_resources(scene: Scene, comm: MPI.Comm, allow_large: bool) -> None:
+    """Refuse, before any meshing, a scene larger than the machine has memory for."""
+    est = estimate(scene, comm.size)
+    log.info("estimate: %s", est.text())
+    if not allow_large:
+        # (rank 0's answer for all: the memory free may differ between the ranks' nodes)
+        problem = comm.bcast(resource_problem(scene, est) if comm.rank == 0 else None)
+        if problem:
+            raise SceneError([problem])
+
+
+def _excavate(model: Model, iterations: StageIterations, solver) -> dict | None:
+    """An elastoplastic soil's embedded foundation: its pit dug first (its results.json
+    record), else None."""
+    if model.soil.pit is None:
+        return None
+    try:
+        with heartbeat("excavating the pit"):
+            status = iterations.excavate(log)
+    except SolveError as e:
+        e.dofs = solver.matrix_size
+        raise
+    record = excavation_record(status)
+    log.info("the pit is dug: its bottom heaved %.4g m, %d points yield", record["heave"],
+             record["plastic_points"])
+    return record
+
+
 def _stage_failed(e: SolveError, k: int, stages: list, solutions: list, scene: Scene) -> None:
-    """A load path keeps what converged (``e.converged_stages``), and its message names the
-    stage that failed and the largest load carried (the last converged stage's)."""
+    """A load path keeps what converged (``e.kept["converged_stages"]``), and its message
+    names the stage that failed and the largest load carried (the last converged stage's)."""
     P = solutions[-1].results["equilibrium"]["applied_load"] if solutions else 0.0
     a = scene.foundation_radius
     carried = (f"; the largest load carried is stage {k}'s, {P / 1e6:.4g} MN (a mean bearing "
                f"pressure of {P / (math.pi * a**2) / 1e3:.4g} kPa)" if solutions else "")
     e.args = (f"load stage {k + 1} of {len(stages)} failed{carried}: {e}",)
-    e.converged_stages = [s.results for s in solutions]
-
-
-def _collapse(scene: Scene, load: Load, model: Model, iterations: StageIterations, solver,
-              before) -> tuple[dict, dict]:
-    """The collapse the scene asks for (``analysis.collapse``): by load from the state
-    ``before`` the load (a snapshot), by strength from the load's converged state; the
-    state given back afterwards: (its record for results.json, its mechanism's fields)."""
-    search = CollapseSearch(model, iterations, solver, log)
-    end = search.snapshot()
-    try:
-        with heartbeat(f"searching the collapse by {scene.analysis.collapse}"):
-            if scene.analysis.collapse in ("load", "bounds"):
-                search.restore(before)
-                record = search.by_load(load)
-            else:
-                record = search.by_strength()
-        p = model.soil.plastic
-        fields = {"increment": search.increment,
-                  "plastic": cell_field(model.domain.mesh, p.cell_average(p.plastic, 1)[:, 0],
-                                        "plastic_at_collapse")}
-    finally:
-        search.restore(end)
-    return record, fields
+    e.kept["converged_stages"] = [s.results for s in solutions]
 
 
 def _load_stages(scene: Scene, loads: list) -> list[Load]:
@@ -396,44 +361,6 @@ def _solve_stage(scene: Scene, load: Load, model: Model,
     iterations.begin_stage()
     statuses = iterations.run(log)
     return replace(scene, load=model.scene.load), statuses
-
-
-def _record_stage(results: dict, scene: Scene, solver, dofs: dict, timings: dict,
-                  comm: MPI.Comm, warnings: list[str], stage: int | None,
-                  statuses: dict[str, IterationStatus]) -> None:
-    """Add to a stage's results what the run cost and how it converged: dofs, timings,
-    ranks, versions, the soil's iteration, the linear solver, the warnings, and a
-    consolidation's history."""
-    results["dofs"] = dofs | {"total": solver.matrix_size}
-    results["timings_s"] = dict(timings)
-    results["mpi_ranks"] = comm.size
-    results["versions"] = versions()
-    if stage is not None:
-        results["stage"] = stage
-    soil = statuses.get("soil")
-    results["soil"] = soil.record if soil is not None else {"model": "linear", "iterations": 0}
-    results["soil"]["model"] = scene.soil.model
-    results["linear_solves"] = solver.solves
-    results["warnings"] = list(warnings)
-    held = results["soil"].get("held_on_loading_curve")
-    if held:
-        results["warnings"].append(
-            f"{held} soil cells at their largest strain so far changed between their "
-            f"loading curve and their unloading line at every iteration and were held on "
-            f"the curve (the paper's law) to converge")
-        log.warning("warning: %s", results["warnings"][-1])
-    results["linear_solver"] = {
-        "method": scene.solver.method, "solves": solver.solves,
-        "factorisation": solver.factorisation, "assembly": solver.assembly,
-        "scaling": solver.scaling,
-        "last_relative_residual": solver.relative_residual,
-        "keeps_freed_memory": keep_freed_memory(),
-        "numpy_blas_threads": limit_blas_threads()}
-    if scene.solver.method == "iterative":
-        results["linear_solver"]["krylov_iterations"] = solver.krylov_iterations
-    if (consolidation := statuses.get("consolidation")) is not None:
-        results["consolidation"] = consolidation_record(consolidation.data,
-                                                        scene.consolidation)
 
 
 def _overturning(model, rocking, load, results: dict, log, sigma_zz):

@@ -201,14 +201,10 @@ def failure_record(scene, e: SolveError) -> dict:
     history, and what converged before (a load path's converged stages, in full)."""
     record = {"title": scene.title, "converged": False, "error": str(e),
               "history": e.history, "scene": scene.to_dict(resolved=True)}
-    if e.carried is not None:
-        record["largest_load_carried"] = e.carried
-    if e.collapse is not None:
-        record["collapse"] = e.collapse
-    done = e.converged_stages
-    if done:
-        record["failed_stage"] = len(done) + 1
-        record["converged_stages"] = done
+    # (what the analysis kept: largest_load_carried, collapse, converged_stages)
+    record |= e.kept
+    if e.kept.get("converged_stages"):
+        record["failed_stage"] = len(e.kept["converged_stages"]) + 1
     return record
 
 
@@ -292,15 +288,16 @@ def describe(scene) -> list[str]:
                      f"{c.permeability:g} m/s, drained at the {c.drainage.replace('_', ' ')})")
     out.append(f"  builds: {', '.join(parts)}; iterates: "
                f"{', '.join(iterations) if iterations else 'nothing (one linear solve a stage)'}")
-    if scene.analysis.collapse in ("load", "bounds"):
+    kind = scene.analysis.collapse_kind
+    if kind is not None and kind.search == "load":
         out.append("  then: the collapse by load (the variable loads raised from the ground "
                    "before them under control of the mean settlement, bracketed to 0.5 %)")
-    if scene.analysis.collapse == "bounds":
+    if kind is not None and kind.bounds:
         a = scene.analysis
         out.append(f"  then: the limit analysis' lower and upper bound on the variable loads' "
                    f"factor (conic programs, Clarabel, on rank 0), refined to a gap of "
                    f"{100 * a.bounds_gap:g} % or {a.bounds_cells} triangles")
-    elif scene.analysis.collapse == "strength":
+    elif kind is not None and kind.search == "strength":
         out.append("  then: the collapse by strength (c and tan phi divided by a factor under "
                    "the load, bisected to 0.5 %)")
     return out

@@ -290,7 +290,6 @@ def test_a_non_associated_soil_is_bounded_as_the_associated_one_and_said_so(capl
     bounds, with a note in the record and a warning, never silently."""
     import logging
 
-    from tankfx.bounds.scene_bounds import scene_bounds
     from test_collapse import footing
 
     data = footing("bonded", collapse="bounds",
@@ -299,7 +298,7 @@ def test_a_non_associated_soil_is_bounded_as_the_associated_one_and_said_so(capl
     scene = Scene.from_dict(data)
     log = logging.getLogger("tankfx")
     with caplog.at_level(logging.WARNING, logger="tankfx"):
-        record, mechanism = scene_bounds(scene, MPI.COMM_SELF, log)
+        record, mechanism = bounds_of(scene, log)
     assert any("associated flow" in note for note in record["notes"])
     assert "associated flow" in caplog.text
     assert record["lower"] <= record["upper"] and "elastoplastic_factor" not in record
@@ -379,15 +378,23 @@ def quiet():
     return logging.getLogger("tankfx.tests.bounds")
 
 
+def bounds_of(scene, log=None):
+    """A scene's bounds (results.json's record, without an elastoplastic factor beside
+    them) and the upper bound's mechanism, on this rank alone."""
+    from tankfx.bounds.scene_bounds import scene_bounds
+    from tankfx.results.collapse import bounds_record
+
+    run, mechanism = scene_bounds(scene, MPI.COMM_SELF, log or quiet())
+    return bounds_record(scene, run, None), mechanism
+
+
 @pytest.mark.parametrize("condition,exact,a", [("smooth", 5.69, 5.0), ("bonded", 6.05, 1.0)])
 def test_the_default_half_space_gets_its_bounds(condition, exact, a):
     """The default scene (no [domain]: 10 000 a deep) is bounded in a box tankfx chooses,
     open to the half-space beyond it: N_c = 5.69 (smooth) and 6.05 (rough) between bounds
     below a 3 % gap (measured on the 5 m raft: [5.592, 5.752] in 7 s), both fields checked,
     the box reported and far smaller than the domain."""
-    from tankfx.bounds.scene_bounds import scene_bounds
-
-    b, _ = scene_bounds(raft(condition, a), MPI.COMM_SELF, quiet())
+    b, _ = bounds_of(raft(condition, a))
     q = 100e3 / 25e3
     assert b["lower"] * q <= exact <= b["upper"] * q
     assert b["gap"] <= 0.03 and b["reached"]
@@ -439,8 +446,6 @@ def test_the_bounds_do_not_depend_on_the_units(length, stress):
     factors to 1e-6 at each round (the programs are in units of a and of the strength;
     measured 1e-8). Two rounds: a refinement's marks may differ where two triangles' gaps
     agree to round-off, and the meshes after them with it."""
-    from tankfx.bounds.scene_bounds import scene_bounds
-
     def scene(L, S):
         return Scene.from_dict({
             "soil": {"model": "mohr_coulomb", "E": 1e5 * S, "nu": 0.3, "cohesion": 10e3 * S,
@@ -451,8 +456,8 @@ def test_the_bounds_do_not_depend_on_the_units(length, stress):
             "analysis": {"collapse": "bounds", "bounds_gap": 0.3, "bounds_cells": 400},
             "accept": ["soil.unit_weight", "plate.radius", "soil.cohesion", "soil.E",
                        "load.pressure", "soil.cohesion_gradient"]})
-    base, _ = scene_bounds(scene(1.0, 1.0), MPI.COMM_SELF, quiet())
-    other, _ = scene_bounds(scene(length, stress), MPI.COMM_SELF, quiet())
+    base, _ = bounds_of(scene(1.0, 1.0))
+    other, _ = bounds_of(scene(length, stress))
     assert other["box"]["radius"] / length == pytest.approx(base["box"]["radius"], rel=1e-12)
     assert len(base["rounds"]) == len(other["rounds"]) == 2
     for one, two in zip(base["rounds"], other["rounds"]):
@@ -502,22 +507,19 @@ def test_a_tanks_floor_and_shell_get_their_bounds():
     from pathlib import Path
 
     from tankfx import load_scene
-    from tankfx.bounds.scene_bounds import scene_bounds
-
     tank = load_scene(Path(__file__).resolve().parents[1] / "demos" / "scenes" /
                       "tank_on_soft_clay.toml")
     tank = tank.with_changes(analysis={"collapse": "bounds", "bounds_gap": 0.1})
-    rigid, _ = scene_bounds(tank, MPI.COMM_SELF, quiet())
+    rigid, _ = bounds_of(tank)
     q = 9810.0 * 14.0
     plate = tank.with_changes(wall=None, load={"liquid_height": None,
                                                "liquid_unit_weight": None, "pressure": q})
-    alone, _ = scene_bounds(plate, MPI.COMM_SELF, quiet())
+    alone, _ = bounds_of(plate)
     assert rigid["foundation"] == "tank, its floor rigid"
     assert rigid["lower"] == pytest.approx(alone["lower"], rel=1e-9)
     assert rigid["upper"] == pytest.approx(alone["upper"], rel=1e-9)
     assert rigid["gap"] <= 0.1
-    flexible, _ = scene_bounds(tank.with_changes(analysis={"bounds_floor": "flexible"}),
-                               MPI.COMM_SELF, quiet())
+    flexible, _ = bounds_of(tank.with_changes(analysis={"bounds_floor": "flexible"}))
     assert flexible["lower"] < flexible["upper"] and flexible["lower"] < rigid["upper"]
 
 

@@ -101,7 +101,7 @@ def test_a_load_that_fails_is_bracketed_below_one():
         # (12 Newton iterations a step: the load steps' failures near the limit cost less)
         analyse(Scene.from_dict(footing(pressure=8.0 * S_U, mesh=(0.01, 0.25),
                                         soil={"max_iterations": 12})))
-    c = e.value.collapse
+    c = e.value.kept["collapse"]
     assert c["found"] and c["load_factor"] < 1.0
     assert c["N_c"] == pytest.approx(5.69, rel=0.015)
     assert "load factor" in str(e.value)
@@ -157,7 +157,7 @@ def test_the_mechanisms_kind_is_read_off_the_last_increment_under_the_foundation
     axis share 0.005, "edge"; the rigid footing: 1.0, "base")."""
     from dolfinx import fem, mesh
 
-    from tankfx.iterations.collapse import mechanism
+    from tankfx.results.collapse import mechanism
 
     msh = mesh.create_rectangle(MPI.COMM_WORLD, [[0.0, -3.0], [3.0, 0.0]], [30, 30])
     V = fem.functionspace(msh, ("Lagrange", 1, (2,)))

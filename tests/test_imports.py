@@ -76,3 +76,40 @@ def test_a_member_profile_reads_back_in_pyvista_as_its_own_polyline(tmp_path):
     assert line.point_data["contact_status"].tolist() == [STATUS_CODES[s] for s in
                                                           values["contact_status"]]
     assert set(line.point_data.keys()) == {"u", "M_r", "contact_status"}
+
+
+def _definitions():
+    """Every function and class of tankfx/ with its length in lines."""
+    import ast
+
+    for path in sorted((ROOT / "tankfx").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+                yield path.relative_to(ROOT), node, node.end_lineno - node.lineno + 1
+
+
+def test_no_function_over_100_lines_and_no_class_over_350():
+    """A reader holds a function on one screen's scroll and a class in one sitting."""
+    long = [f"{path}: {node.name} {n} lines" for path, node, n in _definitions()
+            if n > (350 if isinstance(node, __import__("ast").ClassDef) else 100)]
+    assert not long, "\n".join(long)
+
+
+def test_the_collapse_kind_is_read_in_one_place_and_no_private_method_of_another_is_called():
+    """``analysis.collapse`` is read by ``Analysis.collapse_kind`` alone (the scene's checks
+    read the table's word before any section exists); the elastoplastic soil's drivers and
+    the collapse study call no other object's private methods."""
+    import re
+
+    reads = [f"{p.relative_to(ROOT)}:{k + 1}" for p in (ROOT / "tankfx").rglob("*.py")
+             if p.name != "sections.py"
+             for k, line in enumerate(p.read_text().splitlines())
+             if re.search(r"\.analysis\.collapse\b(?!_kind)", line.split("#")[0])]
+    assert not reads, reads
+    private = re.compile(r"\b(?!self\b|cls\b)[a-z_][a-z0-9_]*\._[a-z][a-z0-9_]*\(")
+    calls = [f"{p.relative_to(ROOT)}:{k + 1}: {line.strip()}"
+             for p in [*(ROOT / "tankfx" / "iterations").glob("*.py"),
+                       ROOT / "tankfx" / "collapse_study.py", ROOT / "tankfx" / "analysis.py"]
+             for k, line in enumerate(p.read_text().splitlines())
+             if private.search(line.split("#")[0])]
+    assert not calls, "\n".join(calls)

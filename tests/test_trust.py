@@ -391,7 +391,7 @@ def test_a_tank_loaded_far_past_its_soils_strength_fails_in_the_soils_terms():
     for words in ("the soil cannot carry the vertical load", "kPa on the foundation",
                   "reached the ultimate deviator 1/b = 100 kPa"):
         assert words in str(e), words
-    assert "the model's limit" in str(e) and e.carried is None
+    assert "the model's limit" in str(e) and "largest_load_carried" not in e.kept
 
 
 def test_a_failure_has_one_encoding():

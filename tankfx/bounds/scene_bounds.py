@@ -132,8 +132,6 @@ def choose_box(scene, scale: float, log=None) -> Box:
     may then limit the lower bound: measured, a 2.5 a x 1.5 a box holds a smooth Tresca
     footing's lower bound at 5.36 against 5.59), the latter while the growth before raised
     the lower bound by more than BOX_GAIN."""
-    from mpi4py import MPI
-
     from .adapt import bounds
     from .triangles import BASE, SIDE
 
@@ -185,22 +183,42 @@ def strength_scale(soil, a: float) -> float:
     return max(float(top["c_top"][0]), float(top["gamma"][0]) * a, 1.0)
 
 
-def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> tuple[dict, dict]:
+@dataclass(frozen=True)
+class BoundsRun:
+    """What a limit analysis of a scene found, for results.json's ``bounds``
+    (:func:`tankfx.results.collapse.bounds_record`): the bounds on the variable loads'
+    factor and their gap, the refined mesh's triangles and rounds, the box (its record) and
+    the far field's least margin at its open side and base, the lower bound's checks (its
+    equilibrium residual and yield violation), the conic solver, the time (s)."""
+
+    lower: float
+    upper: float
+    gap: float
+    triangles: int
+    rounds: int
+    time_s: float
+    box: dict
+    far_margin: dict
+    equilibrium_residual: float
+    yield_violation: float
+    solver: str
+
+
+def scene_bounds(scene, comm, log) -> tuple[BoundsRun, dict]:
     """The lower and upper bound on the factor of the scene's variable loads (``[analysis]
     collapse = "bounds"``), refined to ``analysis.bounds_gap`` or ``bounds_cells``: (the
-    record for results.json, the upper bound's mechanism: ``points`` (n, 2), ``cells``
-    (m, 3), ``velocity`` (n, 2) at the triangles' vertices, for a settlement rate of 1), on
-    every rank (the programs are solved on rank 0). ``elastoplastic`` is the collapse by
-    load of the same scene, set beside them."""
+    run, the upper bound's mechanism: ``points`` (n, 2), ``cells`` (m, 3), ``velocity``
+    (n, 2) at the triangles' vertices, for a settlement rate of 1), on every rank (the
+    programs are solved on rank 0)."""
     import time
 
-    from mpi4py import MPI
+    import clarabel
 
     from .adapt import bounds
     from .program import ProgramError
 
     rigid = scene.plate is not None
-    record, fields, error = None, None, None
+    run, fields, error = None, None, None
     if comm.rank == 0:
         t0 = time.perf_counter()
         a = scene.foundation_radius
@@ -213,42 +231,22 @@ def scene_bounds(scene, comm, log, elastoplastic: dict | None = None) -> tuple[d
                        lambda t: ground_of(scene.soil, t, box), loading_of(scene, rigid, box),
                        scale, gap=scene.analysis.bounds_gap,
                        max_cells=scene.analysis.bounds_cells, log=log)
-            record = _record(scene, b, box, time.perf_counter() - t0, elastoplastic)
-            for note in record["notes"]:
+            run = BoundsRun(
+                lower=b.lower.factor, upper=b.upper.factor, gap=b.gap,
+                triangles=len(b.triangles.cells), rounds=b.rounds,
+                time_s=time.perf_counter() - t0, box=box.record(),
+                far_margin=b.lower.far_margin,
+                equilibrium_residual=b.lower.equilibrium_residual,
+                yield_violation=b.lower.yield_violation,
+                solver=f"Clarabel {clarabel.__version__}")
+            for note in scene.soil.law.limit_notes(scene.soil)[0]:
                 log.warning("bounds: %s", note)
             nv = len(b.triangles.points)
             fields = {"points": b.triangles.points, "cells": b.triangles.cells,
                       "velocity": b.upper.velocity[:nv]}
         except ProgramError as e:
             error = str(e)
-    record, fields, error = comm.bcast((record, fields, error), root=0)
+    run, fields, error = comm.bcast((run, fields, error), root=0)
     if error is not None:
         raise ProgramError(error)
-    return record, fields
-
-
-def _record(scene, b, box: Box, seconds: float, elastoplastic: dict | None) -> dict:
-    import clarabel
-
-    notes, associated = scene.soil.law.limit_notes(scene.soil)
-    out = {"lower": b.lower.factor, "upper": b.upper.factor, "gap": b.gap,
-           "requested_gap": scene.analysis.bounds_gap,
-           "reached": b.gap <= scene.analysis.bounds_gap,
-           "triangles": len(b.triangles.cells), "rounds": b.rounds, "time_s": seconds,
-           "box": {**box.record(), "far_margin": b.lower.far_margin},
-           "lower_check": {"equilibrium_residual": b.lower.equilibrium_residual,
-                           "yield_violation": b.lower.yield_violation},
-           "foundation": (f"tank, its floor {scene.analysis.bounds_floor}"
-                          if scene.wall is not None else
-                          "rigid" if scene.plate is not None else "flexible load"),
-           "contact": "smooth" if scene.interface.condition == "smooth" else "rough",
-           "solver": f"Clarabel {clarabel.__version__}", "notes": notes}
-    if elastoplastic is not None and elastoplastic.get("found"):
-        F = elastoplastic["load_factor"]
-        out["elastoplastic_factor"] = F
-        out["elastoplastic_between"] = bool(b.lower.factor <= F <= b.upper.factor)
-        out["elastoplastic_position"] = ("between" if out["elastoplastic_between"] else
-                                         "above" if F > b.upper.factor else "below")
-        out["elastoplastic_failure"] = elastoplastic.get("failure")
-        out["associated"] = associated
-    return out
+    return run, fields

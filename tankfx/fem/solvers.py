@@ -113,14 +113,10 @@ class SolveError(RuntimeError):
         super().__init__(message)
         self.history = history or []
         self.code = code
-        #: a load path's stages that converged before this one failed (their results)
-        self.converged_stages: list[dict] = []
-        #: the elastoplastic soil's last load carried and the one not (its load steps'
-        #: bracket, tankfx.iterations.newton), None where not known
-        self.carried: dict | None = None
-        #: the collapse search the scene asked for, run from the load carried (results.json's
-        #: ``collapse``), None where not asked
-        self.collapse: dict | None = None
+        #: what converged before the failure, as results.json's entries of the failed
+        #: analysis (set by the layer that knows it: the load carried, a collapse search, a
+        #: load path's converged stages): a failed solve keeps what converged
+        self.kept: dict = {}
         #: the unknowns of the system that failed (set by the analysis), or None
         self.dofs: int | None = None
 

@@ -3,7 +3,7 @@
 up here, without knowing which soil they have."""
 from __future__ import annotations
 
-from .newton import NewtonIteration
+from .load_steps import NewtonIteration
 from .secant import HyperbolicIteration
 
 #: SoilLaw.iteration -> the iteration (None, a law solved by one linear solve, has none)

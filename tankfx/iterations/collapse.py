@@ -5,7 +5,7 @@ and a failed state, from the scene's own converged analysis.
 **Load.** The variable loads times a factor F (:func:`tankfx.scene.sections.factored_load`:
 up to 1 as the stage applied them, beyond 1 their pressures times F; the self-weight held)
 are followed under control of the foundation's mean settlement (Batoz & Dhatt's
-displacement control, :meth:`tankfx.iterations.newton.NewtonIteration.controlled_step`):
+displacement control, :mod:`tankfx.iterations.continuation`):
 each step raises the mean settlement and finds the factor and the state together, so the
 steps pass the limit point, where load steps cannot go. When the curve has flattened (its
 slope below ``PLATEAU_SLOPE`` of its first), the factor F_c reached is tried under load
@@ -35,24 +35,48 @@ increments' displacement, the mechanism.
 """
 from __future__ import annotations
 
-import math
 import time
+from dataclasses import dataclass
 
-import numpy as np
 from dolfinx import fem
 
-from ..fem.evaluate import evaluate_at
 from ..fem.failure import Failure
-from ..scene.sections import factored_load, vertical_load
+from ..scene.sections import Load, factored_load
+from .continuation import SettlementControl
 from .stage import _AtDebug
 
 #: the bracket's width, relative: a collapse factor F_c is bracketed in [F_c, F_c (1 + BRACKET)]
 BRACKET = 0.005
 
 
+@dataclass(frozen=True)
+class CollapseOutcome:
+    """What a collapse search found, for results.json's ``collapse``
+    (:func:`tankfx.results.collapse.collapse_record`): its ``kind`` ("load" or "strength"),
+    the ``factor`` carried, the ``bracket`` [carried, failed] where ``found``, why the last
+    trial failed (``reason``) and which ``failure`` it was (Failure.NO_EQUILIBRIUM or
+    SETTLEMENT), the ``curve`` (factor and mean settlement at every converged point), the
+    mechanism (``increment``: the soil's last displacement increment), the ``load`` at the
+    factor carried, the settlement criterion (m), its cost."""
+
+    kind: str
+    factor: float
+    bracket: tuple[float, float] | None
+    found: bool
+    reason: str
+    failure: str | None
+    curve: list
+    increment: fem.Function | None
+    load: Load
+    failure_settlement: float
+    iterations: int
+    time_s: float
+    bracket_width: float = BRACKET
+
+
 class CollapseSearch:
     """The collapse search of a solved scene (its model, its chain of iterations, whose
-    outermost is the elastoplastic soil's Newton iteration, and its solver)."""
+    outermost is the elastoplastic soil's load-stepped Newton iteration, and its solver)."""
 
     #: the load-settlement curve is flat where its slope has fallen below this share of
     #: its first
@@ -82,7 +106,8 @@ class CollapseSearch:
 
     def __init__(self, model, chain, solver, log):
         self.model, self.solver, self.log = model, solver, log
-        self.newton = chain.iterations[0]
+        self.iteration = chain.iterations[0]
+        self.newton = self.iteration.newton
         self.inner = chain.inner(log)
         self.curve: list[dict] = []
         self.increment = None
@@ -102,11 +127,11 @@ class CollapseSearch:
         Newton last converged at: where its next load steps start)."""
         return ([h.snapshot() for h in self._histories()],
                 [u.x.array.copy() for u in self._unknowns()], self.model.scene.load,
-                self.newton.converged_load)
+                self.iteration.converged_load)
 
     def restore(self, snap) -> None:
         """Back to ``snap``: the scene's own results and figures are of that state."""
-        histories, unknowns, load, self.newton.converged_load = snap
+        histories, unknowns, load, self.iteration.converged_load = snap
         for h, s in zip(self._histories(), histories):
             h.restore(s)
         for u, values in zip(self._unknowns(), unknowns):
@@ -115,11 +140,11 @@ class CollapseSearch:
         self.newton.plastic.update()
 
     # ---- load ------------------------------------------------------------------------
-    def by_load(self, full) -> dict:
+    def by_load(self, full) -> CollapseOutcome:
         """The factor on ``full``'s variable loads at which the ground fails, from the
         state before they are applied (the ground at rest, a pit dug): the held loads (the
         self-weight) first, then the variable ones under settlement control."""
-        m, nw, log = self.model, self.newton, self.log
+        m, log = self.model, self.log
         t0 = time.perf_counter()
         held = full.held()
 
@@ -129,70 +154,44 @@ class CollapseSearch:
         a = m.scene.foundation_radius
         m.set_loads(held)
         m.begin_stage()
-        nw.begin_stage()
-        nw.run(self.inner, _AtDebug(log))          # (the self-weight alone, if any)
-        F, w = 0.0, m.mean_settlement()
-        self._point(F, w, 0)
+        self.iteration.begin_stage()
+        self.iteration.run(self.inner, _AtDebug(log))          # (the self-weight alone, if any)
+        control = SettlementControl(self.newton, self.inner, self.solver, load_at,
+                                    m.mean_settlement, log)
+        self._point(control.F, control.w, 0)
         log.info("collapse by load: the variable loads raised under control of the mean "
                  "settlement")
-        log.info("  step  factor        mean settlement (m)  Newton  plastic pts  time s")
-        dw = max(0.1 * abs(w), 2e-4 * a)
         w_failure = self.FAILURE_SETTLEMENT * a
         slope0, iterations, reason, bracket = None, 0, "", None
-        previous = [u.x.array.copy() for u in self._unknowns()]
-        if w >= w_failure:
-            reason = (f"the held loads alone settle the foundation {w:.4g} m, beyond the "
-                      f"settlement criterion of failure ({w_failure:.4g} m)")
-        for step in range(1, self.MAX_STEPS + 1 if w < w_failure else 1):
-            ts = time.perf_counter()
-            # (the last step lands on the settlement criterion)
-            target = min(w + dw, w_failure)
-            ok, its, residual, lam = nw.controlled_step(self.inner, self.solver, load_at, F,
-                                                        target, m.mean_settlement)
-            iterations += its
-            if not ok:
-                m.rollback()
-                m.set_loads(load_at(F))
-                dw *= 0.5
-                log.info("         no convergence (out-of-balance %.2e): the settlement step "
-                         "is halved", residual)
-                if dw < 1e-6 * a:
-                    reason = (f"the settlement-controlled steps did not converge beyond a mean "
-                              f"settlement of {w:.4g} m")
-                    break
-                continue
-            increment = self._increment(previous)
-            nw.plastic.commit()
-            m.commit()
-            slope = (lam - F) / (target - w)
-            slope0 = slope if slope0 is None else slope0
-            F, w = lam, target
-            self.increment = increment
-            previous = [u.x.array.copy() for u in self._unknowns()]
-            self._point(F, w, its)
-            log.info("  %4d  %12.6f  %12.5e  %6d  %11d  %7.2f", step, F, w, its,
-                     m.domain.mesh.comm.allreduce(nw._plastic_points()), time.perf_counter() - ts)
-            at_criterion = w >= w_failure * (1.0 - 1e-9)
-            if slope < self.PLATEAU_SLOPE * slope0 or at_criterion:
-                bracket, reason, more = self._try_above(load_at, F)
+        if control.w >= w_failure:
+            reason = (f"the held loads alone settle the foundation {control.w:.4g} m, beyond "
+                      f"the settlement criterion of failure ({w_failure:.4g} m)")
+        for row in control.advance(w_failure, max(0.1 * abs(control.w), 2e-4 * a), 1e-6 * a,
+                                   0.02 * a, self.MAX_STEPS):
+            slope0 = row["slope"] if slope0 is None else slope0
+            self._point(control.F, control.w, row["iterations"])
+            at_criterion = control.w >= w_failure * (1.0 - 1e-9)
+            if row["slope"] < self.PLATEAU_SLOPE * slope0 or at_criterion:
+                bracket, reason, more = self._try_above(control)
                 iterations += more
                 if bracket is not None:
                     break
                 if at_criterion:
-                    reason = (f"{F * (1.0 + BRACKET):.6g} was carried within a mean settlement "
-                              f"of {w_failure:.4g} m: the curve is not monotonic there")
+                    reason = (f"{control.F:.6g} was carried within a mean settlement of "
+                              f"{w_failure:.4g} m: the curve is not monotonic there")
                     break
                 # (carried: the curve goes on from there, its slope measured afresh)
-                F, w = self.curve[-1]["factor"], self.curve[-1]["mean_settlement"]
-                previous = [u.x.array.copy() for u in self._unknowns()]
                 slope0 = None
-            if its <= nw.FAST:
-                dw = min(1.5 * dw, 0.02 * a)
         else:
-            reason = reason or f"no collapse within {self.MAX_STEPS} settlement-controlled steps"
+            if control.stuck.startswith("not reached"):
+                reason = f"no collapse within {self.MAX_STEPS} settlement-controlled steps"
+            else:
+                reason = reason or control.stuck
+        self.increment = control.increment
         found = bracket is not None
-        return self._record("load", F, bracket, found, reason, iterations, t0,
-                            load=load_at(F), failure=self.failure if found else None)
+        return self._outcome("load", control.F, bracket, found, reason,
+                             iterations + control.iterations, t0, load=load_at(control.F),
+                             failure=self.failure if found else None)
 
     def _small(self, ok: bool, why: str) -> tuple[bool, str]:
         """A converged trial counts only within the settlement criterion (a mean settlement
@@ -215,31 +214,30 @@ class CollapseSearch:
         return f"Newton found no equilibrium: {why}" if self.failure == Failure.NO_EQUILIBRIUM \
             else why
 
-    def _try_above(self, load_at, F: float):
-        """Load control from the converged state at F to F (1 + BRACKET): (the bracket and
-        why the failed state failed, or None where it converged, and the iterations)."""
-        m, nw = self.model, self.newton
+    def _try_above(self, control: SettlementControl):
+        """Load control from the continuation's converged state at F to F (1 + BRACKET):
+        (the bracket and why the failed state failed, or None where it converged, and the
+        iterations)."""
+        m, F = self.model, control.F
         F_try = F * (1.0 + BRACKET)
-        previous = [u.x.array.copy() for u in self._unknowns()]
-        m.set_loads(load_at(F_try))
-        ok, its, residual, why = nw._newton(self.inner, self.TRIAL_ITERATIONS, self.STALL)
+        m.set_loads(control.load_at(F_try))
+        ok, its, residual, why = self.newton.solve(self.inner, self.TRIAL_ITERATIONS,
+                                                   self.STALL)
         ok, why = self._small(ok, why)
         if not ok:
             m.rollback()
-            m.set_loads(load_at(F))
+            m.set_loads(control.load_at(F))
             self.log.info("  the load factor %.6g is not carried (%s): collapse between %.6g "
                           "and %.6g", F_try, why, F, F_try)
             return (F, F_try), (f"at {F_try:.6g}, from the state converged at {F:.6g}, "
                                 f"{self._failed(why)}"), its
-        self.increment = self._increment(previous)
-        nw.plastic.commit()
-        m.commit()
-        self._point(F_try, m.mean_settlement(), its)
+        control.accept(F_try)
+        self._point(F_try, control.w, its)
         self.log.info("  the load factor %.6g is carried too: the search goes on", F_try)
         return None, "", its
 
     # ---- strength ----------------------------------------------------------------------
-    def by_strength(self) -> dict:
+    def by_strength(self) -> CollapseOutcome:
         """The factor on c and tan phi at which the ground fails under the scene's load,
         from the converged state at the full strength."""
         m, nw, log = self.model, self.newton, self.log
@@ -257,7 +255,7 @@ class CollapseSearch:
                  "scene's load")
         log.info("  trial  factor     converged  Newton  mean settlement (m)  time s")
         iterations, reason, failure = 0, "", None
-        previous = [u.x.array.copy() for u in self._unknowns()]
+        previous = nw.values()
         try:
             failed_from = None          # (the converged factor the failed trial started from)
             for trial in range(1, self.MAX_TRIALS + 1):
@@ -275,7 +273,7 @@ class CollapseSearch:
                 # false failure there only brings the next trial nearer, and the bracket's
                 # own failed trial is always one within 4 brackets of its converged state)
                 near = F / F_ok - 1.0 <= 4.0 * BRACKET
-                ok, its, residual, why = nw._newton(
+                ok, its, residual, why = nw.solve(
                     self.inner, self.STRENGTH_ITERATIONS,
                     self.STRENGTH_STALL if near else self.FAR_STALL)
                 iterations += its
@@ -284,9 +282,8 @@ class CollapseSearch:
                          f"{m.mean_settlement():.5e}" if ok else "-", time.perf_counter() - ts)
                 if ok:
                     self.increment = self._increment(previous)
-                    nw.plastic.commit()
-                    m.commit()
-                    previous = [u.x.array.copy() for u in self._unknowns()]
+                    nw.commit()
+                    previous = nw.values()
                     F_ok = F
                     self._point(F, m.mean_settlement(), its)
                     if F_fail is not None and F >= F_fail:
@@ -306,28 +303,11 @@ class CollapseSearch:
         finally:
             nw.plastic.use(full)
         found = F_fail is not None and F_fail / F_ok - 1.0 <= BRACKET
-        return self._record("strength", F_ok, (F_ok, F_fail) if found else None, found,
-                            reason, iterations, t0, load=m.scene.load,
-                            failure=failure if found else None)
+        return self._outcome("strength", F_ok, (F_ok, F_fail) if found else None, found,
+                             reason, iterations, t0, load=m.scene.load,
+                             failure=failure if found else None)
 
     # ---- what both record ------------------------------------------------------------------
-    #: the knee of the curve: where its slope has fallen below this share of its first
-    KNEE_SLOPE = 0.05
-
-    def _knee(self) -> list[float] | None:
-        """The two factors of the curve between which its slope (factor per mean
-        settlement) first falls below KNEE_SLOPE of its first: where the ground's mechanism
-        has formed (a flexible tank's edge punching in), what its slowly rising tail
-        (contained plastic flow) carries beyond; None where it does not fall so far."""
-        F = np.array([p["factor"] for p in self.curve])
-        w = np.array([p["mean_settlement"] for p in self.curve])
-        if len(F) < 3:
-            return None
-        slope = np.diff(F) / np.maximum(np.diff(w), 1e-300)
-        low = np.flatnonzero(slope < self.KNEE_SLOPE * slope[0])
-        return [float(F[low[0]]), float(F[low[0] + 1])] if len(low) else None
-
-
     def _point(self, factor: float, w: float, iterations: int) -> None:
         self.curve.append({"factor": factor, "mean_settlement": w, "iterations": iterations})
 
@@ -338,49 +318,11 @@ class CollapseSearch:
         du.x.array[:] = u.x.array - previous[0]
         return du
 
-    def _record(self, kind, F, bracket, found, reason, iterations, t0, load,
-                failure) -> dict:
-        m = self.model
-        sc = m.scene
-        a = sc.foundation_radius
-        knee = self._knee()
-        out = {"kind": kind, "found": found,
-               f"{kind}_factor": F, "bracket": list(bracket) if bracket else None,
-               "knee_factor": knee[0] if knee else None, "knee_bracket": knee,
-               "reason": reason, "bracket_width": BRACKET,
-               # (which failure bracketed it: no equilibrium, or the settlement criterion)
-               "failure": failure,
-               "failure_settlement": self.FAILURE_SETTLEMENT * a,
-               "curve": {k: [p[k] for p in self.curve] for k in ("factor", "mean_settlement")},
-               "steps": len(self.curve) - 1, "iterations": iterations,
-               "time_s": time.perf_counter() - t0}
-        q = vertical_load(load, sc.plate, sc.wall, sc.ringwall) / (math.pi * a ** 2)
-        out["bearing_pressure"] = q
-        s_u = sc.soil.law.undrained_strength(sc.soil, sc.embedment)
-        if s_u is not None and kind == "load":
-            out["N_c"] = q / s_u
-            out["undrained_strength"] = s_u
-        if self.increment is not None:
-            out["mechanism"] = mechanism(self.increment, a, sc.embedment)
-        return out
-
-
-#: the mechanism is "base" where the last increment's settlement at the axis is at least
-#: this share of its largest under the foundation, else "edge"
-BASE_SHARE = 0.5
-
-
-def mechanism(increment: fem.Function, a: float, depth: float) -> dict:
-    """The collapse mechanism's kind from the last increment of the soil's displacement
-    under the foundation (r from 0 to a at its underside): "base" where the settlement
-    increment at the axis is at least BASE_SHARE of its largest there (the whole foundation
-    punches in), else "edge" (the ground gives way under its edge, its centre held back:
-    the plastic zone that fails does not reach the axis). Collective."""
-    r = np.linspace(0.0, a, 41)
-    dw = -evaluate_at(increment, np.column_stack([r, np.full_like(r, -depth)]))[:, 1]
-    largest = float(np.max(dw))
-    share = float(dw[0] / largest) if largest > 0.0 else 0.0
-    return {"kind": "base" if share >= BASE_SHARE else "edge", "axis_share": share,
-            "largest_at_r": float(r[int(np.argmax(dw))]),
-            "rule": f"base where the last increment's settlement at the axis is at least "
-                    f"{BASE_SHARE:g} of its largest under the foundation, else edge"}
+    def _outcome(self, kind, F, bracket, found, reason, iterations, t0, load,
+                 failure) -> CollapseOutcome:
+        return CollapseOutcome(
+            kind=kind, factor=F, bracket=tuple(bracket) if bracket else None, found=found,
+            reason=reason, failure=failure, curve=list(self.curve), increment=self.increment,
+            load=load,
+            failure_settlement=self.FAILURE_SETTLEMENT * self.model.scene.foundation_radius,
+            iterations=iterations, time_s=time.perf_counter() - t0)

@@ -21,6 +21,8 @@ from dataclasses import dataclass
 
 from .active_set import ActiveSet
 from .by_law import soil_iteration
+from .continuation import run_to_settlement
+from .excavation import excavate
 from .status import CONVERGED, IterationStatus
 from .time_stepping import TimeStepping
 
@@ -119,16 +121,16 @@ class StageIterations:
 
     def excavate(self, log) -> IterationStatus:
         """An embedded foundation's pit dug before the first stage, by the soil's iteration
-        (the elastoplastic soil's: its ``excavate``), with the rest of the chain inside."""
+        (the elastoplastic soil's load steps: :mod:`tankfx.iterations.excavation`), with the rest of the chain inside."""
         self.begin_stage()
-        return self.iterations[0].excavate(self._call(1, log), log)
+        return excavate(self.iterations[0], self._call(1, log), log)
 
     def run_to_settlement(self, solver, log, settlement: float, steps: int):
-        """The stage's load under settlement control (the elastoplastic soil's
-        ``run_to_settlement``), with the rest of the chain inside (an interface's active
+        """The stage's load under settlement control
+        (:func:`tankfx.iterations.continuation.run_to_settlement`), with the rest of the chain inside (an interface's active
         set converged in every iteration)."""
-        return self.iterations[0].run_to_settlement(self._call(1, log), solver, log,
-                                                    settlement, steps)
+        return run_to_settlement(self.iterations[0], self._call(1, log), solver, log,
+                                 settlement, steps)
 
     def inner(self, log):
         """The chain inside the outermost iteration, as one call (a collapse search drives

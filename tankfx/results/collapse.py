@@ -1,8 +1,107 @@
-"""The collapse's words and summary rows (results.json's ``collapse``:
-:mod:`tankfx.iterations.collapse`; its chart is :func:`tankfx.results.charts.plot_collapse`)."""
+"""results.json's ``collapse`` and ``bounds``, from what the collapse search
+(:mod:`tankfx.iterations.collapse`) and the limit analysis (:mod:`tankfx.bounds`) found, and
+their words and summary rows (the chart is :func:`tankfx.results.charts.plot_collapse`)."""
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
+from ..fem.evaluate import evaluate_at
 from ..fem.failure import Failure
+from ..scene.sections import vertical_load
+
+#: the knee of a collapse's curve: where its slope has fallen below this share of its first
+KNEE_SLOPE = 0.05
+#: the mechanism is "base" where the last increment's settlement at the axis is at least
+#: this share of its largest under the foundation, else "edge"
+BASE_SHARE = 0.5
+
+
+def collapse_record(outcome, scene) -> dict:
+    """results.json's ``collapse`` of a collapse search's outcome
+    (:class:`tankfx.iterations.collapse.CollapseOutcome`): the factor and its bracket, the
+    knee of the curve, why the last trial failed, the curve, the bearing pressure at the
+    factor (and N_c = q / s_u where the law has an undrained strength), the mechanism.
+    Collective (the mechanism is evaluated on every rank)."""
+    o, a = outcome, scene.foundation_radius
+    knee = curve_knee(o.curve)
+    out = {"kind": o.kind, "found": o.found,
+           f"{o.kind}_factor": o.factor, "bracket": list(o.bracket) if o.bracket else None,
+           "knee_factor": knee[0] if knee else None, "knee_bracket": knee,
+           "reason": o.reason, "bracket_width": o.bracket_width,
+           # (which failure bracketed it: no equilibrium, or the settlement criterion)
+           "failure": o.failure,
+           "failure_settlement": o.failure_settlement,
+           "curve": {k: [p[k] for p in o.curve] for k in ("factor", "mean_settlement")},
+           "steps": len(o.curve) - 1, "iterations": o.iterations, "time_s": o.time_s}
+    q = vertical_load(o.load, scene.plate, scene.wall, scene.ringwall) / (math.pi * a ** 2)
+    out["bearing_pressure"] = q
+    s_u = scene.soil.law.undrained_strength(scene.soil, scene.embedment)
+    if s_u is not None and o.kind == "load":
+        out["N_c"] = q / s_u
+        out["undrained_strength"] = s_u
+    if o.increment is not None:
+        out["mechanism"] = mechanism(o.increment, a, scene.embedment)
+    return out
+
+
+def curve_knee(curve: list[dict]) -> list[float] | None:
+    """The two factors of a collapse's curve between which its slope (factor per mean
+    settlement) first falls below KNEE_SLOPE of its first: where the ground's mechanism
+    has formed (a flexible tank's edge punching in), what its slowly rising tail
+    (contained plastic flow) carries beyond; None where it does not fall so far."""
+    F = np.array([p["factor"] for p in curve])
+    w = np.array([p["mean_settlement"] for p in curve])
+    if len(F) < 3:
+        return None
+    slope = np.diff(F) / np.maximum(np.diff(w), 1e-300)
+    low = np.flatnonzero(slope < KNEE_SLOPE * slope[0])
+    return [float(F[low[0]]), float(F[low[0] + 1])] if len(low) else None
+
+
+def mechanism(increment, a: float, depth: float) -> dict:
+    """The collapse mechanism's kind from the last increment of the soil's displacement
+    under the foundation (r from 0 to a at its underside): "base" where the settlement
+    increment at the axis is at least BASE_SHARE of its largest there (the whole foundation
+    punches in), else "edge" (the ground gives way under its edge, its centre held back:
+    the plastic zone that fails does not reach the axis). Collective."""
+    r = np.linspace(0.0, a, 41)
+    dw = -evaluate_at(increment, np.column_stack([r, np.full_like(r, -depth)]))[:, 1]
+    largest = float(np.max(dw))
+    share = float(dw[0] / largest) if largest > 0.0 else 0.0
+    return {"kind": "base" if share >= BASE_SHARE else "edge", "axis_share": share,
+            "largest_at_r": float(r[int(np.argmax(dw))]),
+            "rule": f"base where the last increment's settlement at the axis is at least "
+                    f"{BASE_SHARE:g} of its largest under the foundation, else edge"}
+
+
+def bounds_record(scene, run, elastoplastic: dict | None) -> dict:
+    """results.json's ``bounds`` of a limit analysis' run
+    (:class:`tankfx.bounds.scene_bounds.BoundsRun`), with the elastoplastic collapse by
+    load of the same scene (its record) set beside them."""
+    notes, associated = scene.soil.law.limit_notes(scene.soil)
+    out = {"lower": run.lower, "upper": run.upper, "gap": run.gap,
+           "requested_gap": scene.analysis.bounds_gap,
+           "reached": run.gap <= scene.analysis.bounds_gap,
+           "triangles": run.triangles, "rounds": run.rounds, "time_s": run.time_s,
+           "box": {**run.box, "far_margin": run.far_margin},
+           "lower_check": {"equilibrium_residual": run.equilibrium_residual,
+                           "yield_violation": run.yield_violation},
+           "foundation": (f"tank, its floor {scene.analysis.bounds_floor}"
+                          if scene.wall is not None else
+                          "rigid" if scene.plate is not None else "flexible load"),
+           "contact": "smooth" if scene.interface.condition == "smooth" else "rough",
+           "solver": run.solver, "notes": notes}
+    if elastoplastic is not None and elastoplastic.get("found"):
+        F = elastoplastic["load_factor"]
+        out["elastoplastic_factor"] = F
+        out["elastoplastic_between"] = bool(run.lower <= F <= run.upper)
+        out["elastoplastic_position"] = ("between" if out["elastoplastic_between"] else
+                                         "above" if F > run.upper else "below")
+        out["elastoplastic_failure"] = elastoplastic.get("failure")
+        out["associated"] = associated
+    return out
 
 
 def collapse_factor(record: dict) -> float:

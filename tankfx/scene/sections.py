@@ -849,6 +849,16 @@ class MeshOptions:
 
 
 @dataclass(frozen=True)
+class CollapseKind:
+    """What ``analysis.collapse`` asks, composed: the ``search`` ("load": the variable loads
+    raised until the ground fails; "strength": c and tan phi divided) and whether the limit
+    analysis' ``bounds`` are set beside a search by load."""
+
+    search: str
+    bounds: bool = False
+
+
+@dataclass(frozen=True)
 class Analysis:
     """What is asked of the scene beyond its response to the load: the ground's collapse."""
 
@@ -882,6 +892,14 @@ class Analysis:
                 "width of the band inside the shell over which the floor spreads the shell's load (its weight, the roof's) "
                 "onto the ground; rigid plasticity carries no line load, the floor's bending "
                 "spreads it (docs/theory/limit-analysis.md, \"The tank\")")
+
+    @property
+    def collapse_kind(self) -> CollapseKind | None:
+        """``collapse`` composed (the one place it is read), None where none is asked."""
+        if self.collapse is None:
+            return None
+        return CollapseKind(search="strength" if self.collapse == "strength" else "load",
+                            bounds=self.collapse == "bounds")
 
 
 @dataclass(frozen=True)
