@@ -17,7 +17,6 @@ from dolfinx import fem
 from dolfinx import mesh as dmesh
 
 from ..fem.blocks import cell_field, empty_form
-from ..fem.solvers import mass_solve
 from ..laws import elasticity as soil_forms
 from ..mesh import CELL_TAGS, Domain
 from ..scene.sections import Consolidation, DomainSize, Ringwall, Soil
@@ -25,8 +24,9 @@ from .excavation import PitRelease
 from .history import History
 from .materials import soil_materials
 from .memory import UnloadingMemory
-from .plastic import PlasticState, tensor
+from .plastic import PlasticState
 from .pore_pressure import PorePressure
+from .soil_stress import SoilStress
 
 #: Cell tags of the strata of layered ground (stratum i: STRATUM_TAG + i), clear of the
 #: domain's own cell tags
@@ -159,12 +159,14 @@ class SoilBlock:
             self.pressures.append((fem.Function(Q, name=name), (a_up, a_pu, a_pp),
                                    fem.Constant(msh, 0.0) * q * self.dx_strata([i])))
         self.unknowns += [pr for pr, _, _ in self.pressures]
+        #: its stresses, of either form (tankfx.model.soil_stress)
+        self.stresses = SoilStress(self)
         #: each cell's most loaded state and unloading line along a load path (a nonlinear
         #: soil with an unloading modulus), else None
         self.memory = None
         if s.unloading_modulus_ratio is not None:
             self.memory = UnloadingMemory(self.E, setting.degree, s.unloading_modulus_ratio,
-                                          self._cell_pressure() if self.mixed else None)
+                                          self.stresses.cell_pressure() if self.mixed else None)
             for name, field in self.memory.carried().items():
                 self.history.register(name, field)
         if domain.has_void:
@@ -296,82 +298,27 @@ class SoilBlock:
                             for pr, _, _ in self.pressures)
         return out
 
+    # ------------------------------------------------------------------ stresses
     def stress(self, u=None):
         """The soil stress (3 x 3, tension positive) of a displacement (default: the
-        solution, with the stress its unloading cells keep), with the solution's pressure
-        in the mixed form."""
-        if self.plastic is not None and u is None:
-            # (each cell's mean of its points' stress: the results' view of it)
-            return tensor(self.plastic.cell_stress())
-        out = self.stress_of(soil_forms.strain(self.u if u is None else u, self.r),
-                             [pr for pr, _, _ in self.pressures])
-        if u is None and self.memory is not None:
-            out += self.initial_stress()
-        return out
-
-    def _cell_pressure(self):
-        """The mixed form's pressure of each cell's own stratum (UFL; the displacement
-        form's cells: 0)."""
-        pressures = [pr for pr, _, _ in self.pressures]
-        if self.n_strata == 1:
-            return pressures[0]
-        return soil_forms.by_stratum(self._in_mixed, pressures)
-
-    @cached_property
-    def _in_mixed(self) -> list[fem.Function]:
-        """Per mixed stratum, its cells' indicator (DG0)."""
-        return [cell_field(self.domain.mesh, (self.stratum == i).astype(float), f"in_{i}")
-                for i in self.mixed_strata]
-
-    @cached_property
-    def _nu_displacement_form(self) -> fem.Function:
-        """Poisson's ratio of the displacement form's cells, 0 in the mixed form's (where
-        lambda may be infinite), for an expression valid in every cell (layered ground;
-        only a mixed cell's nu ever changes, a failed Duncan-Chang cell's)."""
-        in_mixed = np.isin(self.stratum, self.mixed_strata)
-        nu = self.nu.x.array[self.nu.function_space.dofmap.list[:, 0]]
-        return cell_field(self.domain.mesh, np.where(in_mixed, 0.0, nu),
-                           "nu_displacement_form")
-
-    def initial_stress(self):
-        """The stress the unloading cells keep (tankfx.model.memory.UnloadingMemory): with
-        their most loaded state's strain eps_p and modulus E_p (nu_p), sigma_p - D(E_ur)
-        eps_p, which the displacement form writes D(E_p - E_ur) eps_p (nu fixed). The mixed
-        form's pressure stays the whole pressure, p = p_p - lambda_ur tr(eps - eps_p) on
-        the line (continuous over the cells, whichever branch each is on; its constraint's
-        right-hand side in :meth:`load_rows`), so that its fixed part is only the shear's,
-        2 (mu_p - mu_ur) eps_p."""
-        m, r = self.memory, self.r
-        eps_p = soil_forms.strain(m.peak_u, r)
-        if not self.mixed:
-            return m.unloading * soil_forms.stress(eps_p, m.peak_modulus - self.E, self.nu)
-        mixed = 2.0 * (soil_forms.lame(m.peak_modulus, m.peak_nu)[1] -
-                       soil_forms.lame(self.E, self.nu)[1]) * eps_p
-        if self.n_strata == 1:
-            return m.unloading * mixed
-        # the displacement form's strata by their own law
-        return m.unloading * soil_forms.by_stratum(self._in_mixed, mixed, soil_forms.stress(
-            eps_p, m.peak_modulus - self.E, self._nu_displacement_form))
+        solution, with the stress its unloading cells keep; :meth:`SoilStress.stress`)."""
+        return self.stresses.stress(u)
 
     def stress_of(self, eps, pressures):
-        """The stress of a strain tensor ``eps`` with the mixed strata's ``pressures`` (one
-        per mixed stratum, in order): of this soil's materials (also for the overturning's
-        first harmonic, whose strain and pressures are amplitudes)."""
-        if not self.mixed:
-            return soil_forms.stress(eps, self.E, self.nu)
-        if self.consolidating:      # total stress: the skeleton's less the pore pressure
-            p = pressures[0]
-            if self.n_materials > len(self.ground):     # (none in a ringwall, its fill)
-                p = p * self.in_ground
-            return soil_forms.stress(eps, self.E, self.nu) - p * ufl.Identity(3)
-        if self.n_strata == 1:
-            return soil_forms.mixed_stress(eps, pressures[0], self.E, self.nu)
-        # per cell the form of its stratum, by indicators (an expression valid in every
-        # cell, for projections and cell fields)
-        return soil_forms.by_stratum(
-            self._in_mixed, [soil_forms.mixed_stress(eps, pr, self.E, self.nu) for pr in pressures],
-            soil_forms.stress(eps, self.E, self._nu_displacement_form))
+        """The stress of a strain tensor ``eps`` with the mixed strata's ``pressures``, of
+        this soil's materials (:meth:`SoilStress.stress_of`)."""
+        return self.stresses.stress_of(eps, pressures)
 
+    def initial_stress(self):
+        """The stress the unloading cells keep (:meth:`SoilStress.initial_stress`)."""
+        return self.stresses.initial_stress()
+
+    def vertical_stress(self, stress=None, name: str = "sigma_zz") -> fem.Function:
+        """sigma_zz (compression positive) of the solution's stress (or of ``stress``),
+        projected for point values (:meth:`SoilStress.vertical_stress`)."""
+        return self.stresses.vertical_stress(stress, name)
+
+    # ------------------------------------------------------------------ block rows
     def matrix_rows(self, a_uu):
         """The soil's rows of a block matrix, from its displacement block: [[a_uu]] or,
         mixed, [[a_uu, a_up_1, ...], [a_pu_1, a_pp_1, None, ...], ...]: a pressure per
@@ -430,24 +377,3 @@ class SoilBlock:
         for pr, (a_up, _, _), _ in self.pressures:
             res += ufl.action(a_up, pr)
         return res
-
-    def vertical_stress(self, stress=None, name: str = "sigma_zz") -> fem.Function:
-        """sigma_zz (compression positive) of the solution's stress (or of ``stress``),
-        L2-projected (r-weighted) onto the continuous displacement space: point values of
-        the raw stress on the axis, a boundary of the meridian plane, are noisy for nearly
-        incompressible soil; the projection is not."""
-        msh = self.domain.mesh
-        Q = fem.functionspace(msh, ("Lagrange", self.setting.degree))
-        s, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
-        sigma = -(self.stress() if stress is None else stress)[1, 1]
-        out = fem.Function(Q, name=name)
-        bcs = []
-        if self.domain.has_void:
-            void = fem.locate_dofs_topological(Q, 2, self.domain.cells("void"))
-            soil = fem.locate_dofs_topological(Q, 2, self.domain.cells("soil"))
-            bcs = [fem.dirichletbc(0.0, np.setdiff1d(void, soil), Q)]
-        a = s * q * self.r * self.dx
-        if self.domain.has_void:
-            a += fem.Constant(msh, 0.0) * s * q * self.dx_void
-        mass_solve(a, sigma * q * self.r * self.dx, bcs, out, name="stress projection")
-        return out

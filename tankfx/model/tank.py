@@ -36,6 +36,7 @@ from ..scene.sections import vertical_load, vertical_load_scale
 from .interface import InterfaceBlock
 from .soil import SoilBlock, SoilSetting
 from .structure import ShellResultants
+from .tank_loads import TankLoads
 
 #: the structure submesh's cell tag of each of the parent's facet tags it is made of
 _SUB_TAG = {"contact": st.PLATE, "wall": st.WALL, "wall_embedded": st.WALL_EMBEDDED}
@@ -113,7 +114,10 @@ class TankModel:
         self.t_b = st.tangent(sub)
         self.dx_b = ufl.Measure("dx", domain=sub, subdomain_data=self.cell_tags)
         self.a = self._bilinear_forms()
-        self.L = self._loads()
+        #: the load forms, their values Constants (tankfx.model.tank_loads)
+        self.loads = TankLoads(self)
+        self.set_loads(scene.load)
+        self.L = self.loads.rows
         self.bcs = soil.bcs + self._symmetry()
 
     # ------------------------------------------------------------------ set-up
@@ -174,65 +178,6 @@ class TankModel:
         return (self._block_rows(fixed, i_sb, i_bs, a_bb + i_bb),
                 self._block_rows(varying, None, None, empty_form(self.W)))
 
-    def _loads(self):
-        s, r_b = self.scene, self.r_b
-        v_f, gamma, _ = ufl.TestFunctions(self.W)
-        # loads act on the mid-surface (for pressures normal to the wall or plate it is the
-        # same as on the face; it matters for the wall's self-weight)
-        v_b = st.mid_surface_displacement(v_f, gamma, self.t_b, self.offset)
-        x = ufl.SpatialCoordinate(self.mesh)
-        soil_load = ufl.inner(fem.Constant(self.domain.mesh, (0.0, 0.0)), self.soil.test) * \
-            self.soil.dx
-        ring, self.ringwall_weight = s.ringwall, None
-        if ring is not None and ring.unit_weight and any(ld.self_weight
-                                                           for ld in (s.load, *s.stages)):
-            # its weight in excess of the soil's, on its own cells (the material after the
-            # ground's strata)
-            self.ringwall_weight = fem.Constant(self.domain.mesh, 0.0)
-            soil_load += -self.ringwall_weight * self.soil.test[1] * 2.0 * math.pi * \
-                self.soil.r * self.soil.dx_strata([len(s.soil.strata)])
-        w = 2.0 * math.pi * r_b
-        dx_p = self.dx_b(st.PLATE)
-        dx_w = self.dx_b((st.WALL, st.WALL_EMBEDDED))
-        # load values are Constants: a load path changes them without recompiling
-        c = self.load_constants = {k: fem.Constant(self.mesh, 0.0) for k in (
-            "pressure", "liquid_unit_weight", "liquid_height", "plate_weight", "wall_weight",
-            "roof_line_load", "gas_pressure")}
-        self.set_loads(s.load)
-        # self-weight: a unit weight times the cell's thickness (a ring, courses)
-        th = self.thickness
-        load = -(c["pressure"] + c["plate_weight"] * th) * v_b[1] * w * dx_p
-        if s.wall is not None:
-            inside = ufl.conditional(ufl.lt(r_b, s.wall.radius), 1.0, 0.0)
-            gl, hl = c["liquid_unit_weight"], c["liquid_height"]
-            load += -gl * hl * inside * v_b[1] * w * dx_p
-            height = x[1] + s.embedment          # above the wall base
-            load += gl * ufl.max_value(hl - height, 0.0) * v_b[0] * w * dx_w  # outward
-            load += -c["wall_weight"] * th * v_b[1] * w * dx_w
-            # a gas pressure: on the floor inside the wall and on the whole wall, outward
-            load += -c["gas_pressure"] * inside * v_b[1] * w * dx_p
-            load += c["gas_pressure"] * v_b[0] * w * dx_w
-        if s.wall is not None and any(ld.roof_weight or ld.gas_pressure
-                                      for ld in (s.load, *s.stages)):
-            # the roof on the wall's top edge (a vertex of the structure mesh: its ds): its
-            # weight down, the gas's push on it (p pi a_t^2) up
-            top = dmesh.locate_entities_boundary(
-                self.mesh, 0, lambda x: np.isclose(x[1], s.wall.height - s.embedment)
-                & np.isclose(x[0], s.wall.radius))
-            tags = dmesh.meshtags(self.mesh, 0, top, np.full(len(top), 1, dtype=np.int32))
-            ds_top = ufl.Measure("ds", domain=self.mesh, subdomain_data=tags)(1)
-            load += -(c["roof_line_load"] - 0.5 * s.wall.radius * c["gas_pressure"]) * \
-                v_b[1] * w * ds_top
-        if s.interface.has_states:
-            # the cohesion carried by slipping elements, c_s (dj . t), dj = v_soil - v_face
-            ifc = self.interface
-            load -= interface.interface_load(v_f, self.t_b, ifc.c_s, r_b, ifc.dx)
-            for _, n, t, pieces in ifc.measures():
-                for measure, R in pieces:
-                    soil_load += interface.interface_load(R(self.soil.test), t, R(ifc.c_s),
-                                                          self.soil.r, measure)
-        return self.soil.load_rows(soil_load) + [load]
-
     def _symmetry(self):
         """u_r = 0 and beta = 0 at the plate centre."""
         sub = self.mesh
@@ -246,20 +191,8 @@ class TankModel:
 
     def set_loads(self, load) -> None:
         """Apply the loads of a ``Load`` (the forms stay; their Constants change)."""
-        s = self.scene = replace(self.scene, load=load)
-        c = self.load_constants
-        c["pressure"].value = load.pressure
-        c["liquid_unit_weight"].value = load.liquid_unit_weight if s.wall is not None else 0.0
-        c["liquid_height"].value = load.liquid_height
-        # unit weights (N/m^3), times each cell's thickness in the load form
-        c["plate_weight"].value = s.plate.unit_weight if load.self_weight else 0.0
-        c["wall_weight"].value = s.wall.unit_weight \
-            if (load.self_weight and s.wall is not None) else 0.0
-        c["roof_line_load"].value = load.roof_weight / (2 * math.pi * s.wall.radius) \
-            if s.wall is not None else 0.0
-        c["gas_pressure"].value = load.gas_pressure if s.wall is not None else 0.0
-        if self.ringwall_weight is not None:
-            self.ringwall_weight.value = s.ringwall.unit_weight if load.self_weight else 0.0
+        self.scene = replace(self.scene, load=load)
+        self.loads.apply(self.scene)
 
     # ------------------------------------------------------------------ quantities
     @property
@@ -409,7 +342,6 @@ class TankModel:
         F = self._fields()
         #: the fields of the last solution read (the structure's results read them again)
         self.last_fields = F
-        s = self.scene
         pts = self.stations(self.plate_cells, along=0)
         cells = self.plate_cells
         u = evaluate_at(F["u"], pts, cells)
