@@ -33,7 +33,7 @@ from .model.overturning import RockingModel
 from .model.protocol import Model
 from .results.contract import results_of, settlement_kept, stage_summary
 from .results.run import excavation_record, run_record
-from .results.overturning import superpose
+from .results.overturning import add_overturning
 from .results.validity import validity
 from .scene.plausible import geometry_warnings
 from .scene.scene import Scene
@@ -372,17 +372,7 @@ def _overturning(model, rocking, load, results: dict, log, sigma_zz):
     if rocking is None:
         rocking = RockingModel(model)
     amplitudes = rocking.solve(load.overturning_moment, load.base_shear, log=log.info)
-    out, warnings = superpose(results, amplitudes, model.scene, sigma_zz,
-                              model.domain.cells("soil"))
-    out["relative_residual"] = rocking.relative_residual
-    results["overturning"] = out
-    summary = results["settlement_summary"]
-    summary["planar_tilt"] = out["tilt"]
-    summary["note"] = ("planar tilt from the overturning load (first harmonic); the "
-                       "axisymmetric settlements are those without it")
-    for w in warnings:
+    for w in add_overturning(results, amplitudes, model.scene, sigma_zz,
+                             model.domain.cells("soil"), rocking.relative_residual, t):
         log.warning("warning: %s", w)
-    results["warnings"] = results["warnings"] + warnings
-    results["timings_s"]["overturning"] = elapsed = time.perf_counter() - t
-    results["timings_s"]["total"] += elapsed
     return rocking

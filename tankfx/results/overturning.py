@@ -5,6 +5,7 @@ uplift check, in the results.json keys of ``overturning``.
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 
@@ -142,3 +143,22 @@ def superpose(results: dict, amplitudes: dict, scene, sigma_zz=None,
                             "axial_stress_toe": float((N0[foot] + N1[foot]) / t[foot]),
                             "axial_stress_heel": float((N0[foot] - N1[foot]) / t[foot])}
     return out, warnings
+
+
+def add_overturning(results: dict, amplitudes: dict, scene, sigma_zz, soil_cells,
+                    relative_residual: float, started: float) -> list[str]:
+    """Add the overturning's first harmonic to a stage's results: its section
+    (:func:`superpose`, with the harmonic solve's relative residual), the planar tilt in
+    the settlement summary, its warnings and its time (since ``started``, a
+    ``time.perf_counter()``). Returns the warnings."""
+    out, warnings = superpose(results, amplitudes, scene, sigma_zz, soil_cells)
+    out["relative_residual"] = relative_residual
+    results["overturning"] = out
+    summary = results["settlement_summary"]
+    summary["planar_tilt"] = out["tilt"]
+    summary["note"] = ("planar tilt from the overturning load (first harmonic); the "
+                       "axisymmetric settlements are those without it")
+    results["warnings"] = results["warnings"] + warnings
+    results["timings_s"]["overturning"] = seconds = time.perf_counter() - started
+    results["timings_s"]["total"] += seconds
+    return warnings
