@@ -337,6 +337,12 @@ def _warnings(scene: Scene, model: Model) -> list[str]:
     grading = mesh_grading_warning(scene)
     if grading:
         warnings.append(grading)
+    if scene.consolidation is not None and scene.soil.law.at_points:
+        warnings.append(
+            "the elastoplastic skeleton's consolidation is new: below yield it gives the "
+            "linear skeleton's numbers (to 1e-12), but where the skeleton yields it is not "
+            "yet verified against a closed form or a published solution; read its numbers "
+            "as provisional (docs/limitations.md)")
     unloading = scene.unloading_stages() if scene.soil.law.unloads_on_curve else []
     if unloading and scene.soil.unloading_modulus_ratio is None:
         warnings.append(

@@ -37,8 +37,6 @@ def plastic_scene(soil=None, **sections) -> dict:
     ({"nu": 0.495}, {}, "soil.nu = 0.495: at most 0.49"),
     ({"unit_weight": 18e3, "K0": 3.0}, {},
      "soil: the ground at rest lies outside the yield surface"),
-    ({}, {"consolidation": {"permeability": 1e-9, "times": [86400.0]}},
-     "[consolidation] with soil.model = 'mohr_coulomb'"),
     ({"unit_weight": 18e3, "water_table": 0.2},
      {"plate": {"radius": 1.0, "Kp": 10.0, "E": 30e9, "nu": 0.2, "embedment": 0.5}},
      "soil.water_table = 0.2 is above the pit's bottom (plate.embedment = 0.5)"),

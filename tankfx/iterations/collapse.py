@@ -43,7 +43,7 @@ from dolfinx import fem
 from ..fem.failure import Failure
 from ..scene.sections import Load, factored_load
 from .continuation import SettlementControl
-from .stage import _AtDebug
+from .status import AtDebug
 
 #: the bracket's width, relative: a collapse factor F_c is bracketed in [F_c, F_c (1 + BRACKET)]
 BRACKET = 0.005
@@ -155,7 +155,7 @@ class CollapseSearch:
         m.set_loads(held)
         m.begin_stage()
         self.iteration.begin_stage()
-        self.iteration.run(self.inner, _AtDebug(log))          # (the self-weight alone, if any)
+        self.iteration.run(self.inner, AtDebug(log))          # (the self-weight alone, if any)
         control = SettlementControl(self.newton, self.inner, self.solver, load_at,
                                     m.mean_settlement, log)
         self._point(control.F, control.w, 0)

@@ -66,6 +66,13 @@ class Newton:
         """The unknowns' values now (a state to measure an increment from)."""
         return [u.x.array.copy() for u in self._unknowns()]
 
+    def restore_values(self, values: list[np.ndarray]) -> None:
+        """The unknowns back to ``values`` (of :meth:`values`), the points' stress and
+        tangent with them."""
+        for u, x in zip(self._unknowns(), values):
+            u.x.array[:] = x
+        self.plastic.update()
+
     def commit(self) -> None:
         """The converged state becomes the committed one: the points' and the model's."""
         self.plastic.commit()

@@ -23,16 +23,9 @@ from .active_set import ActiveSet
 from .by_law import soil_iteration
 from .continuation import run_to_settlement
 from .excavation import excavate
-from .status import CONVERGED, IterationStatus
+from .plastic_consolidation import PlasticConsolidation
+from .status import CONVERGED, AtDebug, IterationStatus
 from .time_stepping import TimeStepping
-
-
-class _AtDebug:
-    """A logger's info at debug level, its warnings as they are (the iterations inside a
-    time step: a table a step would drown the log)."""
-
-    def __init__(self, log):
-        self.info, self.debug, self.warning = log.debug, log.debug, log.warning
 
 
 class LinearSolve:
@@ -80,7 +73,10 @@ def stage_plan(scene) -> list[type]:
     """The classes of the iterations that solve a stage of ``scene``, outermost first (no
     mesh needed: ``tankfx check`` describes them)."""
     plan = []
-    if (soil := soil_iteration(scene.soil.law)) is not None:
+    if scene.consolidation is not None and scene.soil.law.at_points:
+        # (the elastoplastic skeleton's consolidation: Newton in every time step)
+        plan.append(PlasticConsolidation)
+    elif (soil := soil_iteration(scene.soil.law)) is not None:
         plan.append(soil)
     elif scene.consolidation is not None:
         plan.append(TimeStepping)
@@ -142,5 +138,5 @@ class StageIterations:
         if k == len(self.iterations):
             return None
         it = self.iterations[k]
-        inner = self._call(k + 1, _AtDebug(log) if it.quiet_inner else log)
+        inner = self._call(k + 1, AtDebug(log) if it.quiet_inner else log)
         return lambda: it.run(inner, log)

@@ -15,7 +15,7 @@ CONVERGED = "converged"
 #: ... and of one pass of an iteration nested in another, whose states still change
 UNSETTLED = "unsettled"
 
-__all__ = ["CONVERGED", "UNSETTLED", "Failure", "IterationStatus", "SoilFailure"]
+__all__ = ["CONVERGED", "UNSETTLED", "AtDebug", "Failure", "IterationStatus", "SoilFailure"]
 
 
 class SoilFailure(SolveError):
@@ -68,3 +68,11 @@ class IterationStatus:
         return cls(record["converged"], record["iterations"], record["history"],
                    record["criterion"], CONVERGED if record["converged"] else UNSETTLED,
                    record, unsettled, data)
+
+
+class AtDebug:
+    """A logger's info at debug level, its warnings as they are (the iterations inside a
+    time step: a table a step would drown the log)."""
+
+    def __init__(self, log):
+        self.info, self.debug, self.warning = log.debug, log.debug, log.warning

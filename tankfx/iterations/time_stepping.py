@@ -144,6 +144,10 @@ class TimeStepping:
     def begin_stage(self) -> None:
         self.last = None
 
+    #: whether the last step was divided in parts (by a driver whose step did not converge
+    #: whole): the next then restarts by backward Euler
+    divided = False
+
     def __init__(self, model, solver):
         self.model = model
         self.last: IterationStatus | None = None
@@ -222,25 +226,35 @@ class TimeStepping:
         # none: a tank emptied)
         model.path_load_scale = model.load_scale      # (the largest so far: see load_scale)
 
+    def _drained(self, load) -> dict:
+        """The drained limit under ``load`` (the path's last), from rest; the fields back at
+        rest afterwards. A linear skeleton's does not depend on the path: one step of
+        DRAINED_STEP consolidation times."""
+        soil = self.soil
+        self._set_loads(load)
+        soil.step_weights.set(1.0, 0.0, False)
+        self._solve(DRAINED_STEP * self.slowest_time_scale)
+        # (t = infinity: null in results.json, which takes no infinities)
+        drained = self._state(0.0) | {"t": None, "t_days": None, "surface": self._surface()}
+        for f in (soil.u, soil.u_n, soil.u_nn):
+            f.x.array[:] = 0.0
+        return drained
+
     def run(self, inner, log) -> IterationStatus:
-        self._inner = inner
+        self._inner, self._log = inner, log
         soil, c, model = self.soil, self.c, self.model
         scene = model.scene
         path = load_path(scene)
         # the drained limit first, under the path's last load, from rest (it does not
         # depend on the path: a linear skeleton)
-        self._set_loads(path[-1][1])
-        soil.step_weights.set(1.0, 0.0, False)
-        self._solve(DRAINED_STEP * self.slowest_time_scale)
-        # (t = infinity: null in results.json, which takes no infinities)
-        drained = self._state(0.0) | {"t": None, "t_days": None, "surface": self._surface()}
+        drained = self._drained(path[-1][1])
         log.info("consolidation: drained limit w0 = %.4g m (c_v = %.3g m^2/s, a^2 / c_v = "
                  "%.3g days)", drained["w0"], self.c_v, self.time_scale / DAY)
-        for f in (soil.u, soil.u_n, soil.u_nn):
-            f.x.array[:] = 0.0
         steps = path_steps(path, c.times, c.steps_per_decade)
         reported = {float(t) for t in c.times}
         history, at_times, isochrones, t_prev, dt_prev = [], [], [], 0.0, 0.0
+        #: the states of the steps that converged (what a failed step keeps)
+        self.history = history
         for k, (t, kind, load) in enumerate(steps):
             self._advance()
             if kind == "jump":
@@ -252,8 +266,11 @@ class TimeStepping:
             else:
                 self._set_loads(load_at(path, t))
                 dt = t - t_prev
-                self._solve(soil.step_weights.set(dt, 0.0 if kind == "restart" else dt_prev,
-                                                  True), t)
+                # (a step after one divided in parts restarts: its predecessor's dt is not
+                # the step before's)
+                restart = kind == "restart" or self.divided
+                self.divided, self.span = False, (t_prev, t, path)
+                self._solve(soil.step_weights.set(dt, 0.0 if restart else dt_prev, True), t)
             state = self._state(float(t))
             state["applied_load"] = model.applied_load
             history.append(state)

@@ -39,6 +39,8 @@ class MohrCoulombSoil(SoilLaw):
     word = "mohr_coulomb"
     title = "an elastoplastic Mohr-Coulomb soil"
     iteration = "newton"
+    #: with a [consolidation], an effective-stress skeleton: c', phi' and the drained E, nu
+    consolidates = True
     iteration_keys = ("max_iterations",)
     #: Newton iterations of a load step before it is halved
     max_iterations = 25

@@ -132,6 +132,10 @@ class SoilBlock:
         self.plastic = self.pit = None
         if s.law.at_points:
             self.plastic = PlasticState(self, s.law, s, setting.degree, setting.ringwall)
+            if self.consolidating:
+                # (an effective-stress skeleton: Biot's pore pressure beside it, the
+                # skeleton's block its tangent)
+                self._pore_pressure(msh)
             self.a = self.plastic.stiffness(self.trial, self.test, self.r, self.dx)
             for name, field in self.plastic.carried().items():
                 self.history.register(name, field)

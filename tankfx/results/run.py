@@ -21,8 +21,10 @@ def run_record(results: dict, scene, solver, dofs: dict, timings: dict, ranks: i
     results["versions"] = versions()
     if stage is not None:
         results["stage"] = stage
-    soil = statuses.get("soil")
-    results["soil"] = soil.record if soil is not None else {"model": "linear", "iterations": 0}
+    # (the soil's iteration, or a consolidation's that solves the skeleton by Newton)
+    soil = statuses.get("soil") or statuses.get("consolidation")
+    results["soil"] = dict(soil.record) if soil is not None and soil.record else {
+        "model": "linear", "iterations": 0}
     results["soil"]["model"] = scene.soil.model
     results["linear_solves"] = solver.solves
     results["warnings"] = list(warnings)

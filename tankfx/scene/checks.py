@@ -136,9 +136,10 @@ def check_consolidation(rd: Reader, c: dict, data: dict, soil: dict, layers: lis
               "\"top\": the ground surface drains; \"top_and_bottom\": the domain's base too")
     model = soil.get("model", Soil.model)
     if model in SOIL_LAWS and not SOIL_LAWS[model].consolidates:
-        rd.bad(f"[consolidation] with soil.model = {model!r}: consolidation is solved for a "
-               f"linear elastic skeleton (its E, nu the drained constants); use model = "
-               f"{words(SOIL_LAWS.values(), lambda o: o.consolidates)} or remove "
+        rd.bad(f"[consolidation] with soil.model = {model!r}: {SOIL_LAWS[model].title} has "
+               f"no effective-stress meaning (its constants are fitted to the soil's whole "
+               f"response), and a consolidation needs the skeleton's drained one; use model "
+               f"= {words(SOIL_LAWS.values(), lambda o: o.consolidates)} or remove "
                f"[consolidation]")
     for name, table in (("soil", soil), *((f"soil.layers[{k}]", x)
                                           for k, x in enumerate(layers, start=1))):

@@ -1,0 +1,177 @@
+"""Biot's consolidation of an elastoplastic skeleton: the time stepping of
+:class:`tankfx.iterations.time_stepping.TimeStepping` (the undrained start, every load
+applied at once, then the steps through the reported times), each step solved by Newton
+(:class:`tankfx.iterations.newton.Newton`) on the coupled blocks: the skeleton's effective
+stress at the quadrature points by its law (c' and phi' for Mohr-Coulomb), the excess pore
+pressure beside the displacement (a Taylor-Hood pair). The pore pressure's equation is linear;
+the skeleton's tangent changes as it yields. The drained limit is the path's last load
+carried drained, in load steps from rest (an elastoplastic skeleton's depends on the path:
+this is the proportional one)."""
+from __future__ import annotations
+
+
+from dataclasses import replace
+
+from ..scene.sections import load_between
+from .load_steps import NewtonIteration
+from .newton import Newton
+from .status import AtDebug, SoilFailure
+from .time_stepping import DAY, DRAINED_STEP, TimeStepping, load_at
+
+
+class PlasticConsolidation(TimeStepping):
+    """Consolidation of a model whose soil block holds a plastic state and a pore
+    pressure."""
+
+    #: a time step Newton does not converge in is divided in at most this many parts
+    MAX_PARTS = 64
+
+    @staticmethod
+    def describe(scene) -> str:
+        return TimeStepping.describe(scene).replace(
+            " (a solve each)", ", each by Newton's method on the elastoplastic skeleton and "
+                               "the pore pressure (load steps for a load applied at once, a "
+                               "time step divided where it does not converge)")
+
+    def __init__(self, model, solver):
+        super().__init__(model, solver)
+        self.newton = Newton(model)
+        #: the load steps of a step Newton does not converge in at once
+        self.steps = NewtonIteration(model)
+        self.steps.newton = self.newton
+        #: Newton iterations of every step
+        self.iterations = 0
+
+    def run(self, inner, log):
+        """The time stepping (:meth:`TimeStepping.run`); its status's record says how the
+        skeleton was solved (results.json's ``soil``): Newton iterations, the points that
+        yield at the end, the largest plastic shear strain."""
+        status = super().run(inner, log)
+        nw = self.newton
+        self.last = replace(status, record={
+            "converged": True, "iterations": self.iterations,
+            "criterion": f"every time step by Newton to an out-of-balance force <= "
+                         f"{nw.TOLERANCE:g} of the load vector",
+            "plastic_points": nw.plastic_points(),
+            "max_plastic_shear_strain": nw.largest_plastic_shear_strain()})
+        return self.last
+
+    def _histories(self):
+        m = self.model
+        return [m.soil.history] + ([m.interface.history] if m.interface is not None else [])
+
+    def _set_loads(self, load) -> None:
+        self._before = self.model.scene.load
+        super()._set_loads(load)
+
+    def _solve(self, dt_eff: float, t: float | None = None) -> None:
+        """One step by Newton from the committed state. Where it does not converge, a load
+        applied at once (undrained) is applied in load steps, and a time step is divided in
+        parts; where neither converges, SoilFailure says when and where the skeleton
+        yields, keeping the steps that converged."""
+        self.soil.conductance.value = dt_eff / self.c.water_unit_weight
+        start, before = self.newton.values(), self.iterations
+        if not self._converge():
+            # (what follows starts from the committed state, not from the failed iterate)
+            self.newton.restore_values(start)
+            if dt_eff > 0.0 and t is not None:
+                self._divide(t, start)
+            else:
+                self._load_steps(t)
+        if t is not None:
+            # (progress: a step of an elastoplastic skeleton may take many iterations)
+            self._log.info("  t = %.6g days: %d Newton iterations, %d points yield",
+                           t / DAY, self.iterations - before, self.newton.plastic_points())
+
+    def _converge(self) -> bool:
+        """Newton from the committed state, committed where it converges (rolled back where
+        not)."""
+        # (its whole budget: a time step's residual can hover near round-off for a while
+        # where a point of the surface sits at the cone's apex, then converge)
+        ok, its, _, self._why = self.newton.solve(self._inner)
+        self.iterations += its
+        if ok:
+            self.newton.commit()
+        else:
+            self.model.rollback()
+        return ok
+
+    def _divide(self, t: float, start: list) -> None:
+        """A time step Newton does not converge in, in 2, 4, ... MAX_PARTS equal parts (by
+        backward Euler, the load followed along the path), each from the step's start."""
+        t0, t1, path = self.span
+        soil = self.soil
+        committed = [h.snapshot() for h in self._histories()]
+        earlier = soil.u_n.x.array.copy(), soil.u_nn.x.array.copy()
+        parts = 2
+        while parts <= self.MAX_PARTS:
+            for h, s in zip(self._histories(), committed):
+                h.restore(s)
+            soil.u_n.x.array[:], soil.u_nn.x.array[:] = earlier
+            self.newton.restore_values(start)
+            for j in range(1, parts + 1):
+                if j > 1:
+                    self._advance()
+                self._set_loads(load_at(path, t0 + (t1 - t0) * j / parts))
+                dt = soil.step_weights.set((t1 - t0) / parts, 0.0, False)
+                soil.conductance.value = dt / self.c.water_unit_weight
+                if not self._converge():
+                    break
+            else:
+                self.divided = True
+                self._log.debug("consolidation: the step to t = %.6g days in %d parts",
+                                t / DAY, parts)
+                return
+            parts *= 2
+        raise SoilFailure(
+            f"consolidation, at t = {t / DAY:.6g} days (load {self.model.applied_load:.6g} "
+            f"N): the elastoplastic soil found no equilibrium in the time step from "
+            f"{t0 / DAY:.6g} days, even in {self.MAX_PARTS} parts ({self._why}); "
+            f"{self.newton.yielding_zone()}", list(getattr(self, "history", [])))
+
+    def _load_steps(self, t: float | None) -> None:
+        """A load applied at once (undrained, its flow term and the earlier states held),
+        or the drained limit's, in load steps halved where Newton does not converge."""
+        m = self.model
+        before, target = self._before, m.scene.load
+        when = "the drained limit" if t is None else f"t = {t / DAY:.6g} days"
+
+        def fail(done, share, why):
+            m.set_loads(load_between(before, target, base=target, f=done))
+            return SoilFailure(
+                f"consolidation, at {when}: the elastoplastic soil cannot carry the load "
+                f"applied at once ({done:.4g} of it carried undrained, {share:.4g} not: "
+                f"{why}); {self.newton.yielding_zone()}", list(getattr(self, "history", [])))
+
+        status = self.steps.steps(
+            self._inner, AtDebug(self._log),
+            lambda share: m.set_loads(load_between(before, target, base=target, f=share)),
+            False, fail, "the load in {steps} load steps")
+        self.iterations += status.iterations
+
+    def _drained(self, load) -> dict:
+        """The drained limit: ``load`` carried by the skeleton alone (the pore water free to
+        drain: one step of DRAINED_STEP consolidation times), in load steps from rest; the
+        state back at rest afterwards."""
+        soil = self.soil
+        rest = [h.snapshot() for h in self._histories()]
+        soil.step_weights.set(1.0, 0.0, False)
+        soil.conductance.value = (DRAINED_STEP * self.slowest_time_scale /
+                                  self.c.water_unit_weight)
+        self._set_loads(load)
+        self.steps.run(self._inner, AtDebug(self._log))
+        self.steps.converged_load = None
+        drained = self._state(0.0) | {"t": None, "t_days": None, "surface": self._surface()}
+        for h, s in zip(self._histories(), rest):
+            h.restore(s)
+        # (nothing on the ground at rest: the path's first change starts from it)
+        self.model.set_loads(load.held())
+        unknowns = self.model.unknowns
+        for f in [*(unknowns if isinstance(unknowns, list) else [unknowns]), soil.u_n,
+                  soil.u_nn]:
+            f.x.array[:] = 0.0
+        self.newton.plastic.update()
+        return drained
+
+
+__all__ = ["PlasticConsolidation"]
