@@ -114,30 +114,19 @@ class CollapseSearch:
         self.failure: str | None = None
 
     # ---- the state a search starts from, given back afterwards ----------------------------
-    def _histories(self):
-        m = self.model
-        return [m.soil.history] + ([m.interface.history] if m.interface is not None else [])
-
-    def _unknowns(self):
-        m = self.model
-        return m.unknowns if isinstance(m.unknowns, list) else [m.unknowns]
-
     def snapshot(self):
         """A converged state to come back to (histories, unknowns, loads, and the load
         Newton last converged at: where its next load steps start)."""
-        return ([h.snapshot() for h in self._histories()],
-                [u.x.array.copy() for u in self._unknowns()], self.model.scene.load,
-                self.iteration.converged_load)
+        return ([h.snapshot() for h in self.newton.histories()], self.newton.values(),
+                self.model.scene.load, self.iteration.converged_load)
 
     def restore(self, snap) -> None:
         """Back to ``snap``: the scene's own results and figures are of that state."""
         histories, unknowns, load, self.iteration.converged_load = snap
-        for h, s in zip(self._histories(), histories):
+        for h, s in zip(self.newton.histories(), histories):
             h.restore(s)
-        for u, values in zip(self._unknowns(), unknowns):
-            u.x.array[:] = values
         self.model.set_loads(load)
-        self.newton.plastic.update()
+        self.newton.restore_values(unknowns)
 
     # ---- load ------------------------------------------------------------------------
     def by_load(self, full) -> CollapseOutcome:

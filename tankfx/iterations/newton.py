@@ -62,6 +62,12 @@ class Newton:
         m = self.model
         return m.unknowns if isinstance(m.unknowns, list) else [m.unknowns]
 
+    def histories(self) -> list:
+        """The histories a converged state commits: the soil block's and, where the model
+        has one, the interface's."""
+        m = self.model
+        return [m.soil.history] + ([m.interface.history] if m.interface is not None else [])
+
     def values(self) -> list[np.ndarray]:
         """The unknowns' values now (a state to measure an increment from)."""
         return [u.x.array.copy() for u in self._unknowns()]

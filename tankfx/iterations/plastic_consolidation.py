@@ -56,10 +56,6 @@ class PlasticConsolidation(TimeStepping):
             "max_plastic_shear_strain": nw.largest_plastic_shear_strain()})
         return self.last
 
-    def _histories(self):
-        m = self.model
-        return [m.soil.history] + ([m.interface.history] if m.interface is not None else [])
-
     def _set_loads(self, load) -> None:
         self._before = self.model.scene.load
         super()._set_loads(load)
@@ -101,11 +97,11 @@ class PlasticConsolidation(TimeStepping):
         backward Euler, the load followed along the path), each from the step's start."""
         t0, t1, path = self.span
         soil = self.soil
-        committed = [h.snapshot() for h in self._histories()]
+        committed = [h.snapshot() for h in self.newton.histories()]
         earlier = soil.u_n.x.array.copy(), soil.u_nn.x.array.copy()
         parts = 2
         while parts <= self.MAX_PARTS:
-            for h, s in zip(self._histories(), committed):
+            for h, s in zip(self.newton.histories(), committed):
                 h.restore(s)
             soil.u_n.x.array[:], soil.u_nn.x.array[:] = earlier
             self.newton.restore_values(start)
@@ -154,7 +150,7 @@ class PlasticConsolidation(TimeStepping):
         drain: one step of DRAINED_STEP consolidation times), in load steps from rest; the
         state back at rest afterwards."""
         soil = self.soil
-        rest = [h.snapshot() for h in self._histories()]
+        rest = [h.snapshot() for h in self.newton.histories()]
         soil.step_weights.set(1.0, 0.0, False)
         soil.conductance.value = (DRAINED_STEP * self.slowest_time_scale /
                                   self.c.water_unit_weight)
@@ -162,7 +158,7 @@ class PlasticConsolidation(TimeStepping):
         self.steps.run(self._inner, AtDebug(self._log))
         self.steps.converged_load = None
         drained = self._state(0.0) | {"t": None, "t_days": None, "surface": self._surface()}
-        for h, s in zip(self._histories(), rest):
+        for h, s in zip(self.newton.histories(), rest):
             h.restore(s)
         # (nothing on the ground at rest: the path's first change starts from it)
         self.model.set_loads(load.held())
