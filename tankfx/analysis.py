@@ -183,6 +183,9 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
              ", ".join(f"{k} {v}" for k, v in dofs.items()), scene.mesh.degree)
     excavation = _excavate(model, iterations, solver)
     study = CollapseStudy.of(scene, model, iterations, solver, comm, log)
+    if study is not None and scene.consolidation is not None:
+        # (in time: the factor of safety at every milestone of the path)
+        iterations.at_milestones(study.at_milestone)
     solutions = []
     rocking = None          # the first harmonic, built by the first stage that overturns
     for k, load in enumerate(stages):
@@ -224,7 +227,8 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
                                   harmonic=rocking if load.overturning else None,
                                   statuses=statuses))
     if study is not None:
-        found = study.run(stages[0])
+        found = study.findings() if scene.consolidation is not None else \
+            study.run(stages[0])
         last = solutions[-1]
         last.results["collapse"] = found.collapse
         if found.bounds is not None:

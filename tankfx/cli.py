@@ -297,6 +297,10 @@ def describe(scene) -> list[str]:
         out.append(f"  then: the limit analysis' lower and upper bound on the variable loads' "
                    f"factor (conic programs, Clarabel, on rank 0), refined to a gap of "
                    f"{100 * a.bounds_gap:g} % or {a.bounds_cells} triangles")
+    elif kind is not None and kind.search == "strength" and c is not None:
+        when = "each stage's end" if scene.stages else "t = 0 and each reported time"
+        out.append(f"  and at {when}: the factor of safety (c' and tan phi' divided by a "
+                   f"factor under the load then, the pore water held, bisected to 0.5 %)")
     elif kind is not None and kind.search == "strength":
         out.append("  then: the collapse by strength (c and tan phi divided by a factor under "
                    "the load, bisected to 0.5 %)")

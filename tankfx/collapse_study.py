@@ -67,6 +67,20 @@ class CollapseStudy:
                       f"does not carry the load with its full strength (collapse = "
                       f"\"load\" brackets the share of it that it carries)",)
 
+    def at_milestone(self) -> dict:
+        """The search by strength on the state now: a consolidation's milestone (each
+        stage's end; without stages t = 0 and every reported time), the pore water held by
+        the time stepping (the factor a sudden failure would find). Its record joins the
+        milestone's state (``{"collapse": record}``); the last one's is the study's
+        :meth:`findings`."""
+        self._last = self._collapse(self.model.scene.load)
+        self.log.info("collapse: %s", collapse_words(self._last[0]))
+        return {"collapse": self._last[0]}
+
+    def findings(self) -> CollapseFindings:
+        """The last milestone's search (:meth:`at_milestone`)."""
+        return CollapseFindings(*self._last)
+
     def run(self, load) -> CollapseFindings:
         """The study after the scene's own analysis of ``load``: the search, and the bounds
         beside a search by load."""

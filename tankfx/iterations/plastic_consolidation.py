@@ -42,6 +42,16 @@ class PlasticConsolidation(TimeStepping):
         #: Newton iterations of every step
         self.iterations = 0
 
+    @property
+    def converged_load(self):
+        """The load its load steps last converged at (a collapse search's snapshot keeps
+        it: :class:`tankfx.iterations.load_steps.NewtonIteration`)."""
+        return self.steps.converged_load
+
+    @converged_load.setter
+    def converged_load(self, load) -> None:
+        self.steps.converged_load = load
+
     def run(self, inner, log):
         """The time stepping (:meth:`TimeStepping.run`); its status's record says how the
         skeleton was solved (results.json's ``soil``): Newton iterations, the points that
@@ -71,7 +81,7 @@ class PlasticConsolidation(TimeStepping):
             # (what follows starts from the committed state, not from the failed iterate)
             self.newton.restore_values(start)
             if dt_eff > 0.0 and t is not None:
-                self._divide(t, start)
+                self._divide(t)
             else:
                 self._load_steps(t)
         if t is not None:
@@ -92,38 +102,42 @@ class PlasticConsolidation(TimeStepping):
             self.model.rollback()
         return ok
 
-    def _divide(self, t: float, start: list) -> None:
-        """A time step Newton does not converge in, in 2, 4, ... MAX_PARTS equal parts (by
-        backward Euler, the load followed along the path), each from the step's start."""
+    def _divide(self, t: float) -> None:
+        """A time step Newton does not converge in, in parts by backward Euler (the load
+        followed along the path): the first half the step; a part that converges is kept,
+        and the next grows by Newton.GROWTH where it took at most Newton.FAST iterations; a
+        part that does not is halved, down to 1 / MAX_PARTS of the step."""
         t0, t1, path = self.span
-        soil = self.soil
-        committed = [h.snapshot() for h in self.newton.histories()]
-        earlier = soil.u_n.x.array.copy(), soil.u_nn.x.array.copy()
-        parts = 2
-        while parts <= self.MAX_PARTS:
-            for h, s in zip(self.newton.histories(), committed):
-                h.restore(s)
-            soil.u_n.x.array[:], soil.u_nn.x.array[:] = earlier
-            self.newton.restore_values(start)
-            for j in range(1, parts + 1):
-                if j > 1:
+        soil, nw = self.soil, self.newton
+        smallest = (t1 - t0) / self.MAX_PARTS
+        tau, dt, parts = t0, 0.5 * (t1 - t0), 0
+        while tau < t1 - 1e-9 * (t1 - t0):
+            dt = min(dt, t1 - tau)
+            if dt < t1 - tau < 1.5 * dt:
+                # (no sliver of a part at the end: two even ones)
+                dt = 0.5 * (t1 - tau)
+            here, before = nw.values(), self.iterations
+            self._set_loads(load_at(path, tau + dt))
+            soil.conductance.value = soil.step_weights.set(dt, 0.0, False) / \
+                self.c.water_unit_weight
+            if self._converge():
+                tau, parts = tau + dt, parts + 1
+                if tau < t1 - 1e-9 * (t1 - t0):
                     self._advance()
-                self._set_loads(load_at(path, t0 + (t1 - t0) * j / parts))
-                dt = soil.step_weights.set((t1 - t0) / parts, 0.0, False)
-                soil.conductance.value = dt / self.c.water_unit_weight
-                if not self._converge():
-                    break
-            else:
-                self.divided = True
-                self._log.debug("consolidation: the step to t = %.6g days in %d parts",
-                                t / DAY, parts)
-                return
-            parts *= 2
-        raise SoilFailure(
-            f"consolidation, at t = {t / DAY:.6g} days (load {self.model.applied_load:.6g} "
-            f"N): the elastoplastic soil found no equilibrium in the time step from "
-            f"{t0 / DAY:.6g} days, even in {self.MAX_PARTS} parts ({self._why}); "
-            f"{self.newton.yielding_zone()}", list(getattr(self, "history", [])))
+                if self.iterations - before <= nw.FAST:
+                    dt *= nw.GROWTH
+                continue
+            nw.restore_values(here)
+            dt *= 0.5
+            if dt < smallest * (1.0 - 1e-9):
+                raise SoilFailure(
+                    f"consolidation, at t = {(tau + 2.0 * dt) / DAY:.6g} days (load "
+                    f"{self.model.applied_load:.6g} N): the elastoplastic soil found no "
+                    f"equilibrium in a part of the time step from {t0 / DAY:.6g} to "
+                    f"{t1 / DAY:.6g} days of 1/{self.MAX_PARTS} its length ({self._why}); "
+                    f"{nw.yielding_zone()}", list(getattr(self, "history", [])))
+        self.divided = True
+        self._log.debug("consolidation: the step to t = %.6g days in %d parts", t / DAY, parts)
 
     def _load_steps(self, t: float | None) -> None:
         """A load applied at once (undrained, its flow term and the earlier states held),

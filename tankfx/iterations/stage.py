@@ -128,6 +128,11 @@ class StageIterations:
         return run_to_settlement(self.iterations[0], self._call(1, log), solver, log,
                                  settlement, steps)
 
+    def at_milestones(self, call) -> None:
+        """``call()`` at every milestone of a consolidation's path (its outermost
+        iteration's :attr:`TimeStepping.milestone`)."""
+        self.iterations[0].milestone = call
+
     def inner(self, log):
         """The chain inside the outermost iteration, as one call (a collapse search drives
         the soil's iteration itself)."""

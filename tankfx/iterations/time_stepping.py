@@ -144,6 +144,11 @@ class TimeStepping:
     def begin_stage(self) -> None:
         self.last = None
 
+    #: called at every milestone of the path (each stage's time; without stages t = 0 and
+    #: every reported time) on its converged state, the pore water held: its dict joins
+    #: that milestone's state (a collapse study's factor of safety; None: nothing)
+    milestone = None
+
     #: whether the last step was divided in parts (by a driver whose step did not converge
     #: whole): the next then restarts by backward Euler
     divided = False
@@ -169,6 +174,9 @@ class TimeStepping:
         #: pressure is also reported, but at t = 0 it sits at the foundation's edge, where
         #: the undrained stress is singular (it grows as the mesh is refined there)
         D = scene.embedment
+        #: the piezometers' points (r, z), where the excess pore pressure is followed
+        self._piezometers = np.array([[r, -depth] for r, depth in self.c.piezometers],
+                                     dtype=float).reshape(-1, 2)
         self.axis_depth = D + min(0.5 * a, 0.5 * (scene.domain.depth - D))
         self._axis_point = np.array([[0.0, -self.axis_depth]])
         #: the depths (m below the ground) of the isochrones: the pore pressure down the
@@ -197,10 +205,28 @@ class TimeStepping:
 
         axis = float(evaluate_at(p, self._axis_point,
                                  cells=self.model.domain.cells("soil"))[0, 0])
-        return {"t": t, "t_days": t / DAY, **{k: found[k] for k in ("w0", "w_edge", "wd",
-                                                                     "w_mean", "M0")},
-                "max_pore_pressure": comm.allreduce(local, op=MPI.MAX),
-                "axis_pore_pressure": axis}
+        state = {"t": t, "t_days": t / DAY, **{k: found[k] for k in ("w0", "w_edge", "wd",
+                                                                      "w_mean", "M0")},
+                 "max_pore_pressure": comm.allreduce(local, op=MPI.MAX),
+                 "axis_pore_pressure": axis}
+        if len(self._piezometers):
+            state["piezometers"] = evaluate_at(
+                p, self._piezometers, cells=self.model.domain.cells("soil"))[:, 0].tolist()
+        return state
+
+    def _held(self, call):
+        """``call()`` on the state now with the pore water held (undrained: no flow, the
+        volume of the state now kept), the time stepping's previous states given back
+        afterwards."""
+        soil = self.soil
+        earlier = soil.u_n.x.array.copy(), soil.u_nn.x.array.copy()
+        soil.u_n.x.array[:] = soil.u.x.array
+        soil.step_weights.set(1.0, 0.0, False)
+        soil.conductance.value = 0.0
+        try:
+            return call()
+        finally:
+            soil.u_n.x.array[:], soil.u_nn.x.array[:] = earlier
 
     def _solve(self, dt_eff: float, t: float | None = None) -> None:
         """One step (``inner()``: a Mohr-Coulomb interface converged in it); a step that
@@ -252,6 +278,9 @@ class TimeStepping:
                  "%.3g days)", drained["w0"], self.c_v, self.time_scale / DAY)
         steps = path_steps(path, c.times, c.steps_per_decade)
         reported = {float(t) for t in c.times}
+        milestones = {float(t) for t in scene.stage_times} if scene.stages else \
+            reported | {0.0}
+        found: dict[float, dict] = {}
         history, at_times, isochrones, t_prev, dt_prev = [], [], [], 0.0, 0.0
         #: the states of the steps that converged (what a failed step keeps)
         self.history = history
@@ -273,11 +302,14 @@ class TimeStepping:
                 self._solve(soil.step_weights.set(dt, 0.0 if restart else dt_prev, True), t)
             state = self._state(float(t))
             state["applied_load"] = model.applied_load
+            state["liquid_height"] = model.scene.load.liquid_height
             history.append(state)
             last_at_t = k + 1 == len(steps) or steps[k + 1][0] != t
+            if last_at_t and t in milestones and self.milestone is not None:
+                found[float(t)] = self._held(self.milestone) or {}
             if last_at_t and (t in reported or t == 0.0):
                 # (the reported states also carry the surface's profile; the history not)
-                state = state | {"surface": self._surface()}
+                state = state | {"surface": self._surface()} | found.get(float(t), {})
                 at_times.append(state)
                 isochrones.append(self._isochrone())
                 log.info("consolidation: t = %.4g days, w0 = %.4g m, excess pore pressure "
@@ -288,8 +320,8 @@ class TimeStepping:
             drained=drained, at_times=at_times, history=history, isochrones=isochrones,
             steps=len(steps) - 1, c_v=self.c_v, time_scale=self.time_scale,
             axis_depth=self.axis_depth, isochrone_depths=self.isochrone_depths,
-            at_stages=[[h for h in history if h["t"] == t][-1] for t in scene.stage_times]
-            if scene.stages else None)
+            at_stages=[[h for h in history if h["t"] == t][-1] | found.get(float(t), {})
+                       for t in scene.stage_times] if scene.stages else None)
         self.last = IterationStatus(
             True, len(steps) - 1, history, f"{len(steps) - 1} time steps to the last reported "
             f"time", CONVERGED, {}, data=run)

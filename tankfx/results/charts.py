@@ -293,13 +293,20 @@ def plot_structure_profiles(results: dict, path, title: str = "") -> Path | None
 
 
 def curves_chart(x, panels: dict[str, dict[str, np.ndarray]], x_label: str,
-                 title: str = "", log_x: bool = False, legend_left: bool = False) -> Figure:
+                 title: str = "", log_x: bool = False, legend_left: bool = False,
+                 second: dict[str, tuple[str, np.ndarray]] | None = None) -> Figure:
     """Side-by-side line charts against one x: ``panels`` maps each panel's y label to its
     curves (label -> y values, NaN where a curve has none; a curve of one value is drawn
-    as a dashed level across the chart, e.g. a limit)."""
+    as a dashed level across the chart, e.g. a limit). ``second`` maps a panel's y label
+    to a curve on its second (right) axis: (that axis' label, y values), drawn grey."""
     x = np.asarray(x, dtype=float)
     fig, axes = figure(len(panels))
     for col, (ax, (y_label, curves)) in enumerate(zip(axes, panels.items())):
+        if second and y_label in second:
+            label, y = second[y_label]
+            right = ax.twinx()
+            right.plot(x, np.asarray(y, dtype=float), color="0.55", lw=1.5, ls="--")
+            right.set_ylabel(f"{label} (dashed)", color="0.4")
         lo, hi = np.inf, -np.inf
         for k, (name, y) in enumerate(curves.items()):
             y = np.asarray(y, dtype=float)
@@ -326,11 +333,12 @@ def curves_chart(x, panels: dict[str, dict[str, np.ndarray]], x_label: str,
 
 
 def plot_curves(x, panels: dict[str, dict[str, np.ndarray]], path, x_label: str,
-                title: str = "", log_x: bool = False, legend_left: bool = False) -> Path | None:
+                title: str = "", log_x: bool = False, legend_left: bool = False,
+                second: dict[str, tuple[str, np.ndarray]] | None = None) -> Path | None:
     """:func:`curves_chart` written to ``path`` (rank 0)."""
     if not _rank0():
         return None
-    return save(curves_chart(x, panels, x_label, title, log_x, legend_left), path)
+    return save(curves_chart(x, panels, x_label, title, log_x, legend_left, second), path)
 
 
 def axis_scale(values, unit: str) -> tuple[float, str]:

@@ -16,7 +16,8 @@ def consolidation_record(run: ConsolidationRun, c: Consolidation) -> dict:
     def degree(state):
         return (state["w0"] - w_u) / (w_d - w_u) if w_d != w_u else 1.0
 
-    for state in run.history + run.at_times:      # (the reported states are copies)
+    # (the reported states and the stages' are copies)
+    for state in run.history + run.at_times + (run.at_stages or []):
         state["degree"] = degree(state)
         state["Tv"] = state["t"] / run.time_scale
     drained["degree"], drained["Tv"] = 1.0, None
@@ -36,7 +37,18 @@ def consolidation_record(run: ConsolidationRun, c: Consolidation) -> dict:
                          "the first reported time (restarted at each breakpoint of a "
                          "load path); the drained limit as one step of "
                          f"{DRAINED_STEP:g} a^2 / c_v"}
+    if c.piezometers:
+        out["piezometers"] = {
+            "points": [list(x) for x in c.piezometers],
+            "t_days": [s["t_days"] for s in run.history],
+            "excess_pore_pressure": [s["piezometers"] for s in run.history]}
     if run.at_stages is not None:
         # each stage's state when its load is reached (after any jump there)
         out["at_stages"] = run.at_stages
+    factors = [s for s in run.at_stages or run.at_times if "collapse" in s]
+    if factors:
+        # (the path's critical milestone: where the factor of safety is least)
+        low = min(factors, key=lambda s: s["collapse"]["strength_factor"])
+        out["min_strength_factor"] = low["collapse"]["strength_factor"]
+        out["min_strength_factor_t_days"] = low["t_days"]
     return out

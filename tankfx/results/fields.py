@@ -117,7 +117,7 @@ PROFILE_UNITS = {"r": "m", "z": "m", "w": "m", "u_r": "m", "u_z": "m", "rotation
 #: The unit of each column of a consolidation's history (``consolidation.csv``).
 HISTORY_UNITS = {"t": "s", "t_days": "days", "w0": "m", "w_edge": "m", "wd": "m",
                  "w_mean": "m", "M0": "N m/m", "max_pore_pressure": "Pa",
-                 "axis_pore_pressure": "Pa", "applied_load": "N"}
+                 "axis_pore_pressure": "Pa", "applied_load": "N", "liquid_height": "m"}
 
 
 def write_profiles(results: dict, directory) -> list[Path]:
@@ -132,13 +132,14 @@ def write_profiles(results: dict, directory) -> list[Path]:
     written = []
     if "consolidation" in results:
         history = results["consolidation"]["history"]
-        keys = list(history[0])
+        keys = [k for k in history[0] if k != "piezometers"]
+        n = len(history[0].get("piezometers", []))
         path = directory / "consolidation.csv"
         with path.open("w", newline="") as f:
             out = csv.writer(f)
             out.writerow([f"{k} [{HISTORY_UNITS[k]}]" if HISTORY_UNITS.get(k) else k
-                          for k in keys])
-            out.writerows([s[k] for k in keys] for s in history)
+                          for k in keys] + [f"piezometer_{j} [Pa]" for j in range(1, n + 1)])
+            out.writerows([s[k] for k in keys] + s.get("piezometers", []) for s in history)
         written.append(path)
     overturning = results.get("overturning", {}).get("profiles", {})
     for name in PROFILE_FILES:

@@ -416,10 +416,30 @@ def plot_consolidation(results: dict, path: str | Path, title: str = "") -> Path
         panels["M0 [kN m/m]"] = {"centre moment": curve("M0", 1e-3), **({} if on_path else {
             "undrained": [1e-3 * c["undrained"]["M0"]],
             "drained": [1e-3 * c["drained"]["M0"]]})}
-    if on_path:                      # the load against time too
+    pressures = panels["excess pore pressure [kPa]"]
+    for j, (r, depth) in enumerate(c.get("piezometers", {}).get("points", [])):
+        pressures[f"piezometer {j + 1} (r = {r:g} m, {depth:g} m deep)"] = np.array(
+            [s["piezometers"][j] * 1e-3 for s in steps])
+    if on_path:
+        milestones = {s["t_days"]: s["collapse"]["strength_factor"]
+                      for s in c["at_stages"] if "collapse" in s}
+    else:
+        milestones = {s["t_days"]: s["collapse"]["strength_factor"]
+                      for s in c["at_times"][1:] if "collapse" in s}
+    if milestones:
+        # (the factor at each milestone, the pore water held: NaN between them)
+        panels["factor of safety on c', tan phi'"] = {
+            "at each stage's end" if on_path else "at each reported time": np.array(
+                [milestones.get(t, np.nan) for t in x]), "1": [1.0]}
+    second = None
+    if on_path and any(s.get("liquid_height") for s in steps):
+        # (the fill against time, beside the settlement it causes)
+        second = {"settlement [mm]": ("liquid height [m]", curve("liquid_height", 1.0))}
+    elif on_path:                      # the load against time too
         panels["applied vertical load [MN]"] = {"load": curve("applied_load", 1e-6)}
-    return plot_curves(x, panels, path, "time [days]", title=title, log_x=True,
-                       legend_left=True)
+    # (a load path reads in days from its start; a load applied at once in decades)
+    return plot_curves(x, panels, path, "time [days]", title=title, log_x=not on_path,
+                       legend_left=True, second=second)
 
 
 def plot_isochrones(results: dict, path: str | Path, title: str = "") -> Path | None:

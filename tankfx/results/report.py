@@ -166,7 +166,22 @@ def _consolidation_rows(r: dict) -> list[tuple[str, str, str]]:
                  for s in c["at_times"][1:]]
         rows.append(("  drained limit w0 (t -> infinity)", f"{1e3 * c['drained']['w0']:.2f} mm",
                      f"the results above: t = {c['at_times'][-1]['t_days']:.4g} days"))
+        rows += [(f"  stage {s['stage']} at t = {s['t_days']:.4g} days",
+                  f"{1e3 * s['w0']:.2f} mm", _stage_note(s)) for s in r.get("stages", [])]
     return rows
+
+
+def _stage_note(s: dict) -> str:
+    """A consolidation stage's load, piezometers and factor of safety, in words."""
+    words = [f"load {s['applied_load'] / 1e6:.4g} MN"]
+    if s.get("piezometers"):
+        words.append("piezometers " + ", ".join(f"{u / 1e3:.3g}" for u in s["piezometers"])
+                     + " kPa")
+    col = s.get("collapse")
+    if col is not None:
+        words.append(f"factor of safety {col['strength_factor']:.3g}" if col["found"] else
+                     f"factor of safety above {col['strength_factor']:.3g} (not bracketed)")
+    return ", ".join(words)
 
 
 def _overturning_rows(r: dict) -> list[tuple[str, str, str]]:

@@ -47,6 +47,11 @@ def run_record(results: dict, scene, solver, dofs: dict, timings: dict, ranks: i
     if (consolidation := statuses.get("consolidation")) is not None:
         results["consolidation"] = consolidation_record(consolidation.data,
                                                         scene.consolidation)
+        if "at_stages" in results["consolidation"]:
+            # (a load path in time: each stage's state when its load is reached, numbered,
+            # with its piezometers and, asked for, its factor of safety)
+            results["stages"] = [{"stage": k, **s} for k, s in enumerate(
+                results["consolidation"]["at_stages"], start=1)]
 
 
 def excavation_record(status) -> dict:

@@ -132,6 +132,14 @@ def check_consolidation(rd: Reader, c: dict, data: dict, soil: dict, layers: lis
             rd.bad(f"consolidation.times = {times!r}: must be positive and increasing (s "
                    f"after the load is applied; t = 0, the undrained response, is always "
                    f"reported)")
+    piezometers = c.get("piezometers", [])
+    if not isinstance(piezometers, (list, tuple)) or any(
+            not isinstance(x, (list, tuple)) or len(x) != 2 or any(
+                isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)
+                for v in x) for x in piezometers):
+        rd.bad(f"consolidation.piezometers = {piezometers!r}: a list of points [r, depth] "
+               f"(m: r from the axis, depth below the ground surface), e.g. [[0, 5], "
+               f"[12.5, 3]]")
     rd.choice(c, "consolidation", "drainage", "top", DRAINAGE,
               "\"top\": the ground surface drains; \"top_and_bottom\": the domain's base too")
     model = soil.get("model", Soil.model)

@@ -333,8 +333,30 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
                        f"table; remove it or add [consolidation]")
     if rd.problems:
         raise SceneError(rd.problems)
-    return replace(_build(data, secs, layers, choices, deg),
-                   accept=tuple(data.get("accept", ())), accepted=tuple(rd.accepted_outside))
+    scene = _build(data, secs, layers, choices, deg)
+    if scene.consolidation is not None and (bad := _piezometers_outside(scene)):
+        raise SceneError(bad)
+    return replace(scene, accept=tuple(data.get("accept", ())),
+                   accepted=tuple(rd.accepted_outside))
+
+
+def _piezometers_outside(scene: Scene) -> list[str]:
+    """The piezometers that are not in the ground: above its surface, beyond the domain, or
+    in an embedded foundation's pit."""
+    R, H = scene.domain.radius, scene.domain.depth
+    a, D = scene.foundation_radius, scene.embedment
+    out = []
+    for k, (r, depth) in enumerate(scene.consolidation.piezometers, start=1):
+        where = ("beyond the domain's radius" if r > R else "behind the axis" if r < 0.0
+                 else "above the ground surface" if depth < 0.0
+                 else "below the domain's base" if depth > H
+                 else "in the foundation's pit" if r < a and depth < D else None)
+        if where is not None:
+            out.append(f"consolidation.piezometers[{k}] = [{r:g}, {depth:g}]: {where} (r "
+                       f"from 0 to {R:g} m, depth from 0 to {H:g} m below the ground surface"
+                       + (f", and below {D:g} m within r < {a:g} m" if D > 0.0 else "")
+                       + "); move it into the ground")
+    return out
 
 
 def _parse_path(data: dict[str, Any]) -> Scene:
@@ -343,10 +365,13 @@ def _parse_path(data: dict[str, Any]) -> Scene:
     rest = {k: v for k, v in data.items() if k != "stages"}
     collapse = (data.get("analysis") or {}).get("collapse") \
         if isinstance(data.get("analysis"), dict) else None
-    if collapse is not None:
+    in_time = "consolidation" in data and collapse == "strength"
+    if collapse is not None and not in_time:
         raise SceneError([f"analysis.collapse = {collapse!r} with [[stages]]: the collapse "
                           f"is sought for one load, the [load]; remove the [[stages]] (or "
-                          f"analyse the path without a collapse)"])
+                          f"analyse the path without a collapse; a consolidation's path "
+                          f"takes collapse = \"strength\": the factor of safety at the end "
+                          f"of every stage)"])
     raw, times = stage_times_of(data["stages"], "consolidation" in data)
     scene = _parse(rest)
     stages = _parse_stages(rest, raw, scene)
@@ -387,7 +412,9 @@ def _build(data: dict[str, Any], secs: dict, layers: list, choices: dict[str, st
                  solver=solver_of(secs["solver"] or {}),
                  ringwall=None if ring is None else Ringwall(**ring),
                  consolidation=None if cons is None else Consolidation(
-                     **{**cons, "times": tuple(float(t) for t in cons["times"])}),
+                     **{**cons, "times": tuple(float(t) for t in cons["times"]),
+                        "piezometers": tuple((float(r), float(d)) for r, d in
+                                             cons.get("piezometers", ()))}),
                  title=data.get("title", Scene.title),
                  analysis=given(Analysis, secs["analysis"] or {}))
 

@@ -780,6 +780,13 @@ class Consolidation:
                                            "results are reported (positive, increasing); t = 0 "
                                            "(undrained) and the drained limit are always reported;"
                                            " the results' top level is the last time's")
+    piezometers: tuple[tuple[float, float], ...] = key(
+        (), unit="m", kind=list, custom=True,
+        meaning="points [r, depth] in the ground (r from the axis, depth below the ground "
+                "surface) where the excess pore pressure is followed in time, e.g. [[0, 5], "
+                "[12.5, 3]]: each reported state and each stage's record gives `piezometers`, "
+                "the excess pore pressure (Pa) at each, and `consolidation.piezometers` their "
+                "history")
     water_unit_weight: float = key(WATER_UNIT_WEIGHT, unit="N/m^3", limit=POSITIVE,
                                    meaning="gamma_w, the pore water's unit weight in Darcy's flow "
                                            "(k / gamma_w) grad p: with `permeability` k it sets "

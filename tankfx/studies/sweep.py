@@ -203,6 +203,9 @@ OVERTURNING_COLUMNS = ("overturning.tilt", "overturning.rocking_stiffness",
 CONSOLIDATION_COLUMNS = ("consolidation.degree", "consolidation.undrained.w0",
                          "consolidation.drained.w0", "consolidation.undrained.M0",
                          "consolidation.drained.M0", "consolidation.c_v")
+#: ... and, for a consolidation with a factor of safety at its milestones, these
+SAFETY_IN_TIME_COLUMNS = ("consolidation.min_strength_factor",
+                          "consolidation.min_strength_factor_t_days")
 
 
 #: ... and, with a collapse search, these
@@ -217,6 +220,8 @@ def _flatten(results: dict, extra=()) -> dict:
     out = {}
     for col in COLUMNS + (OVERTURNING_COLUMNS if "overturning" in results else ()) + \
             (CONSOLIDATION_COLUMNS if "consolidation" in results else ()) + \
+            (SAFETY_IN_TIME_COLUMNS if "min_strength_factor" in results.get(
+                "consolidation", {}) else ()) + \
             (COLLAPSE_COLUMNS if "collapse" in results else ()) + \
             (BOUNDS_COLUMNS if "bounds" in results else ()) + \
             tuple(c for c in extra if c not in COLUMNS):
