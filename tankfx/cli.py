@@ -187,7 +187,7 @@ def cmd_run(args) -> int:
         log.info("results: %s; log: %s", target, out / "tankfx.log")
         log.info("report: %s, %s", write_report_html(r, figures, out / REPORT_HTML),
                  write_report(r, figures, out / REPORT))
-    valid = r["validity"]["valid"] and all(st["valid"] for st in r.get("stages", []))
+    valid = r["validity"]["valid"] and all(st.get("valid", True) for st in r.get("stages", []))
     if not valid:
         return _fail("the analysis ran, but its results lie outside the model's range: "
                      + "; ".join(r["validity"]["notes"] or ["an earlier load stage's (see "

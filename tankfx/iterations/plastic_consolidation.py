@@ -60,6 +60,7 @@ class PlasticConsolidation(TimeStepping):
         nw = self.newton
         self.last = replace(status, record={
             "converged": True, "iterations": self.iterations,
+            "time_steps": status.iterations,
             "criterion": f"every time step by Newton to an out-of-balance force <= "
                          f"{nw.TOLERANCE:g} of the load vector",
             "plastic_points": nw.plastic_points(),

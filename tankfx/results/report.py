@@ -166,8 +166,6 @@ def _consolidation_rows(r: dict) -> list[tuple[str, str, str]]:
                  for s in c["at_times"][1:]]
         rows.append(("  drained limit w0 (t -> infinity)", f"{1e3 * c['drained']['w0']:.2f} mm",
                      f"the results above: t = {c['at_times'][-1]['t_days']:.4g} days"))
-        rows += [(f"  stage {s['stage']} at t = {s['t_days']:.4g} days",
-                  f"{1e3 * s['w0']:.2f} mm", _stage_note(s)) for s in r.get("stages", [])]
     return rows
 
 
@@ -247,7 +245,8 @@ def _iteration_rows(r: dict) -> list[tuple[str, str, str]]:
         # (an elastoplastic soil: where it yields, and how far)
         rows.append(("soil yielding", f"{soil['plastic_points']} quadrature points",
                      f"largest plastic shear strain {soil['max_plastic_shear_strain']:.2e}"))
-        note = f"{soil['steps']} load steps"
+        note = f"{soil['time_steps']} time steps" if "time_steps" in soil else \
+            f"{soil['steps']} load steps"
     rows.append(("iterations: soil, interface (solves)", f"{soil.get('iterations', 0)}, "
                  f"{ifc.get('iterations', 0)} ({r['linear_solves']})", note))
     eq = r["equilibrium"]
@@ -267,6 +266,9 @@ def _stage_rows(r: dict) -> list[tuple[str, str, str]]:
         if st.get("unloading_cells"):
             note = ", ".join(x for x in (note, f"{st['unloading_cells']} soil cells unloading")
                              if x)
+        if "t_days" in st:
+            # (a consolidation's stage: its state when its load is reached)
+            note = f"at t = {st['t_days']:.4g} days: {_stage_note(st)}"
         rows.append((f"stage {st['stage']}: w0", f"{1e3 * st['w0']:.2f} mm", note))
         if "settlement_kept" in st:
             # (back to an earlier load: what the ground did not give back)
