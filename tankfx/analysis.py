@@ -344,9 +344,11 @@ def _warnings(scene: Scene, model: Model) -> list[str]:
     if scene.consolidation is not None and scene.soil.law.at_points:
         warnings.append(
             "the elastoplastic skeleton's consolidation is new: below yield it gives the "
-            "linear skeleton's numbers (to 1e-12), but where the skeleton yields it is not "
-            "yet verified against a closed form or a published solution; read its numbers "
-            "as provisional (docs/limitations.md)")
+            "linear skeleton's numbers (to 1e-12) and Terzaghi's; where the skeleton yields "
+            "its factor of safety and the order of its collapse loads by the rate of "
+            "loading are checked, but its settlements and pore pressures in time are not "
+            "yet verified against a published solution; read them as provisional "
+            "(docs/limitations.md)")
     unloading = scene.unloading_stages() if scene.soil.law.unloads_on_curve else []
     if unloading and scene.soil.unloading_modulus_ratio is None:
         warnings.append(

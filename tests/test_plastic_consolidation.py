@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
-from tankfx import Scene, SceneError, analyse
+from tankfx import Scene, SceneError, SoilFailure, analyse
 from tankfx.laws.biot import consolidation_coefficient
 from tankfx.results.report import summary_table
 from tankfx.verification import reference as ref
@@ -147,3 +147,76 @@ def test_refused_in_time(change, says):
     with pytest.raises(SceneError) as e:
         Scene.from_dict(data)
     assert says in str(e.value)
+
+
+#: the 5 m plate under 60 kPa at once on a clay of c' = 20 kPa, phi' = 25 deg, its weight
+#: and K0 = 0.6 below a water table at the surface: hundreds of points yield as it drains
+YIELDING = SCENE | {"soil": {"model": "mohr_coulomb", "E": 5e6, "nu": 0.3, "cohesion": 20e3,
+                             "friction_angle": 25.0, "unit_weight": 18e3, "water_table": 0.0,
+                             "K0": 0.6},
+                    "load": {"pressure": 60e3},
+                    "consolidation": {"permeability": 1e-8, "times": [DAY],
+                                      "steps_per_decade": 4}}
+
+
+@pytest.mark.mpi
+@pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="needs mpiexec -n 2 (make test-mpi)")
+def test_serial_and_two_ranks_consolidate_a_yielding_skeleton_alike():
+    """Where the skeleton yields (Newton on the points of both ranks' cells, the plastic
+    points counted over the ranks): the same history on one rank and on two, to 1e-6."""
+    scene = Scene.from_dict(YIELDING).with_coarse_mesh()
+    parallel = analyse(scene, MPI.COMM_WORLD).results
+    serial = analyse(scene, MPI.COMM_SELF).results
+    assert parallel["soil"]["plastic_points"] == serial["soil"]["plastic_points"]
+    assert parallel["soil"]["max_plastic_shear_strain"] == pytest.approx(
+        serial["soil"]["max_plastic_shear_strain"], rel=1e-6)
+    assert serial["soil"]["max_plastic_shear_strain"] > 1e-3
+    p, s = parallel["consolidation"], serial["consolidation"]
+    assert len(p["history"]) == len(s["history"])
+    for a, b in zip([p["drained"], *p["history"]], [s["drained"], *s["history"]]):
+        for key in ("w0", "wd", "max_pore_pressure", "axis_pore_pressure"):
+            assert a[key] == pytest.approx(b[key], rel=1e-6), key
+
+
+def _ramp(T_days: float | None, collapse: str | None = None) -> Scene:
+    """The rigid rough 1 m footing on weightless c' = 10 kPa, phi' = 20 deg (no dilation),
+    E' = 10 MPa, a^2 / c_v = 1 day: its pressure raised linearly to 300 kPa over T days (or,
+    None, the drained soil without a consolidation, under 100 kPa)."""
+    data = {"soil": {"model": "mohr_coulomb", "E": 10e6, "nu": 0.3, "cohesion": 10e3,
+                     "friction_angle": 20.0},
+            "plate": {"radius": 1.0, "Kp": 1000.0, "E": 30e9, "nu": 0.2},
+            "interface": {"condition": "bonded"},
+            "load": {"pressure": 300e3 if T_days else 100e3},
+            "mesh": {"edge_size": 0.03, "near_size": 0.5, "growth": 0.3},
+            "domain": {"radius": 5.0, "depth": 5.0}}
+    if collapse:
+        data["analysis"] = {"collapse": collapse}
+    if T_days:
+        data["consolidation"] = {"permeability": 8.43e-9, "times": [T_days * DAY]}
+        data["stages"] = [{"time": T_days * DAY}]
+    return Scene.from_dict(data)
+
+
+def test_the_rate_of_loading_orders_the_collapse_loads():
+    """Small, Booker & Davis (1976): the faster a footing on a frictional clay is loaded,
+    the less it carries. Its pressure raised to 300 kPa over 0.001, 1 and 1000 consolidation
+    times a^2 / c_v: each run fails where its mean settlement passes 0.1 D (beyond the
+    undrained strength the ground settles as fast as its water drains, it does not lose
+    equilibrium), the pressure carried rising with the ramp's time (measured 66.9, 81.7,
+    207 kPa, the last step 238 kPa); the slowest brackets the drained soil's collapse load
+    (236 kPa by the settlement-controlled search; the limit analysis' bounds 232-238 kPa),
+    the fastest carries less than a third of it."""
+    drained = analyse(_ramp(None, "load")).results["collapse"]["load_factor"] * 100e3
+    carried = []
+    for T in (0.001, 1.0, 1000.0):
+        with pytest.raises(SoilFailure) as e:
+            analyse(_ramp(T))
+        assert "fails at this rate of loading" in str(e.value)
+        kept = e.value.kept["largest_load_carried"]
+        assert kept["criterion"] == "settlement"
+        carried.append((kept["mean_bearing_pressure_carried"],
+                        kept["mean_bearing_pressure_failed"]))
+    (fast, _), (middle, _), (slow, slow_failed) = carried
+    assert fast < middle < slow
+    assert slow <= drained <= slow_failed
+    assert fast < drained / 3.0

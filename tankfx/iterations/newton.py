@@ -94,13 +94,15 @@ class Newton:
         return float(-evaluate_at(self.model.soil.u, self._centre)[0, 1])
 
     def solve(self, inner, max_iterations: int | None = None,
-              stall: int | None = None) -> Solve:
+              stall: int | None = None, tolerance: float | None = None) -> Solve:
         """Newton from the committed state under the loads set. ``max_iterations`` (default
         the soil's); ``stall``: stop where the out-of-balance force has not halved over
-        that many iterations (no equilibrium near: a trial beyond the limit load)."""
+        that many iterations (no equilibrium near: a trial beyond the limit load);
+        ``tolerance``: the converged out-of-balance force (default TOLERANCE)."""
         m = self.model
         unknowns = self._unknowns()
         max_iterations = max_iterations or self.max_iterations
+        tolerance = tolerance or self.TOLERANCE
         previous = m.out_of_balance()
         residuals = [previous]
         for it in range(1, max_iterations + 1):
@@ -114,7 +116,7 @@ class Newton:
             for _ in range(self.LINE_SEARCH + 1):
                 self.plastic.update()
                 residual = m.out_of_balance()
-                if residual < (1.0 - 1e-4 * alpha) * previous or residual <= self.TOLERANCE:
+                if residual < (1.0 - 1e-4 * alpha) * previous or residual <= tolerance:
                     break
                 alpha *= 0.5
                 for u, a, b in zip(unknowns, before, after):
@@ -123,7 +125,7 @@ class Newton:
                 return Solve(False, it, residual, "the out-of-balance force is not finite")
             previous = residual
             residuals.append(residual)
-            if residual <= self.TOLERANCE or self._at_round_off(residuals):
+            if residual <= tolerance or self._at_round_off(residuals):
                 return Solve(True, it, residual, "")
             if stall and it >= stall and residual > 0.5 * residuals[-1 - stall]:
                 return Solve(False, it, residual, (

@@ -10,9 +10,11 @@ this is the proportional one)."""
 from __future__ import annotations
 
 
+import math
 from dataclasses import replace
 
-from ..scene.sections import load_between
+from ..scene.sections import load_between, vertical_load
+from .collapse import CollapseSearch
 from .load_steps import NewtonIteration
 from .newton import Newton
 from .status import AtDebug, SoilFailure
@@ -25,6 +27,14 @@ class PlasticConsolidation(TimeStepping):
 
     #: a time step Newton does not converge in is divided in at most this many parts
     MAX_PARTS = 64
+    #: a time step's converged out-of-balance force, relative to the load vector. Measured
+    #: on the 25 m tank's holds (benchmarks/plastic_consolidation.py, coarse mesh): with
+    #: Newton.TOLERANCE (1e-8) the force hovered between 1e-7 and 1.2e-6 from the first
+    #: iteration on, alternating as a few points flipped between their returns, the line
+    #: search finding no descent; 25 to 160 iterations a step. A millionth of the load
+    #: is far inside what the settlements can show (docs/development/
+    #: 2026-11-28-plastic-consolidation.md)
+    TOLERANCE = 1e-6
 
     @staticmethod
     def describe(scene) -> str:
@@ -62,7 +72,7 @@ class PlasticConsolidation(TimeStepping):
             "converged": True, "iterations": self.iterations,
             "time_steps": status.iterations,
             "criterion": f"every time step by Newton to an out-of-balance force <= "
-                         f"{nw.TOLERANCE:g} of the load vector",
+                         f"{self.TOLERANCE:g} of the load vector",
             "plastic_points": nw.plastic_points(),
             "max_plastic_shear_strain": nw.largest_plastic_shear_strain()})
         return self.last
@@ -85,6 +95,8 @@ class PlasticConsolidation(TimeStepping):
                 self._divide(t)
             else:
                 self._load_steps(t)
+        if t is not None and dt_eff > 0.0:
+            self._check_settlement(t)
         if t is not None:
             # (progress: a step of an elastoplastic skeleton may take many iterations)
             self._log.info("  t = %.6g days: %d Newton iterations, %d points yield",
@@ -93,9 +105,11 @@ class PlasticConsolidation(TimeStepping):
     def _converge(self) -> bool:
         """Newton from the committed state, committed where it converges (rolled back where
         not)."""
-        # (its whole budget: a time step's residual can hover near round-off for a while
-        # where a point of the surface sits at the cone's apex, then converge)
-        ok, its, _, self._why = self.newton.solve(self._inner)
+        # (its whole budget, no stall test: measured, the footing's first time step after
+        # its undrained start converged in 14 iterations, but given up after 8 that did not
+        # halve the force its parts failed down to 1/64 of it: a shorter step drains a
+        # thinner layer under the footing's edge, no easier to converge)
+        ok, its, _, self._why = self.newton.solve(self._inner, tolerance=self.TOLERANCE)
         self.iterations += its
         if ok:
             self.newton.commit()
@@ -131,14 +145,62 @@ class PlasticConsolidation(TimeStepping):
             nw.restore_values(here)
             dt *= 0.5
             if dt < smallest * (1.0 - 1e-9):
-                raise SoilFailure(
+                raise self._lost(
                     f"consolidation, at t = {(tau + 2.0 * dt) / DAY:.6g} days (load "
                     f"{self.model.applied_load:.6g} N): the elastoplastic soil found no "
                     f"equilibrium in a part of the time step from {t0 / DAY:.6g} to "
                     f"{t1 / DAY:.6g} days of 1/{self.MAX_PARTS} its length ({self._why}); "
-                    f"{nw.yielding_zone()}", list(getattr(self, "history", [])))
+                    f"{nw.yielding_zone()}", load_at(path, tau), self.model.scene.load, tau)
         self.divided = True
         self._log.debug("consolidation: the step to t = %.6g days in %d parts", t / DAY, parts)
+
+    def _check_settlement(self, t: float) -> None:
+        """A step whose mean settlement of the foundation passes the collapse's settlement
+        criterion (CollapseSearch.FAILURE_SETTLEMENT radii: 0.1 D) fails: loaded faster
+        than its pore water drains, a ground beyond its undrained strength does not lose
+        equilibrium in a time step, it settles at the rate the water lets it (metres, far
+        beyond small strains). The load carried is the path's where the settlement reached
+        the criterion (linear between the step's ends)."""
+        m = self.model
+        a = m.scene.foundation_radius
+        limit = CollapseSearch.FAILURE_SETTLEMENT * a
+        w = m.mean_settlement()
+        if w <= limit:
+            return
+        before = self.history[-1] if getattr(self, "history", None) else None
+        P, area = m.applied_load, math.pi * a ** 2
+        if before is not None and w > before["w_mean"]:
+            f = min(max((limit - before["w_mean"]) / (w - before["w_mean"]), 0.0), 1.0)
+            P_at = before["applied_load"] + f * (P - before["applied_load"])
+            t_at = before["t"] + f * (t - before["t"])
+        else:
+            P_at, t_at = P, t
+        error = SoilFailure(
+            f"consolidation, at t = {t / DAY:.6g} days: the foundation's mean settlement "
+            f"{w:.4g} m passed the failure criterion of 0.1 D ({limit:.4g} m) at t = "
+            f"{t_at / DAY:.6g} days, under a mean bearing pressure of {P_at / area / 1e3:.4g} "
+            f"kPa: the ground fails at this rate of loading (it settles as fast as its pore "
+            f"water drains); {self.newton.yielding_zone()}", list(self.history))
+        error.kept["largest_load_carried"] = {
+            "t_days": t_at / DAY, "criterion": "settlement",
+            "mean_bearing_pressure_carried": P_at / area,
+            "mean_bearing_pressure_failed": P / area}
+        raise error
+
+    def _lost(self, message: str, carried, failed, t: float) -> SoilFailure:
+        """The soil cannot carry the path's load at t: the error, the history of the steps
+        that converged, and ``kept["largest_load_carried"]``: the time (days) and the mean
+        bearing pressures (Pa) of the last load carried and of the one that failed."""
+        sc = self.model.scene
+        area = math.pi * sc.foundation_radius ** 2
+        error = SoilFailure(message, list(getattr(self, "history", [])))
+        error.kept["largest_load_carried"] = {
+            "t_days": t / DAY,
+            "mean_bearing_pressure_carried":
+                vertical_load(carried, sc.plate, sc.wall, sc.ringwall) / area,
+            "mean_bearing_pressure_failed":
+                vertical_load(failed, sc.plate, sc.wall, sc.ringwall) / area}
+        return error
 
     def _load_steps(self, t: float | None) -> None:
         """A load applied at once (undrained, its flow term and the earlier states held),
@@ -149,10 +211,11 @@ class PlasticConsolidation(TimeStepping):
 
         def fail(done, share, why):
             m.set_loads(load_between(before, target, base=target, f=done))
-            return SoilFailure(
+            return self._lost(
                 f"consolidation, at {when}: the elastoplastic soil cannot carry the load "
                 f"applied at once ({done:.4g} of it carried undrained, {share:.4g} not: "
-                f"{why}); {self.newton.yielding_zone()}", list(getattr(self, "history", [])))
+                f"{why}); {self.newton.yielding_zone()}", m.scene.load,
+                load_between(before, target, base=target, f=share), t or 0.0)
 
         status = self.steps.steps(
             self._inner, AtDebug(self._log),
@@ -170,9 +233,18 @@ class PlasticConsolidation(TimeStepping):
         soil.conductance.value = (DRAINED_STEP * self.slowest_time_scale /
                                   self.c.water_unit_weight)
         self._set_loads(load)
-        self.steps.run(self._inner, AtDebug(self._log))
+        try:
+            self.steps.run(self._inner, AtDebug(self._log))
+            drained = self._state(0.0) | {"t": None, "t_days": None,
+                                          "surface": self._surface()}
+        except SoilFailure as e:
+            # (the path's last load is beyond what the drained skeleton carries: the path
+            # is still followed in time, to where it fails, which is what is asked)
+            drained = {"t": None, "t_days": None, "w0": None, "carried": False,
+                       "reason": str(e)}
+            self._log.warning("warning: the drained skeleton does not carry the path's last "
+                              "load (%s); the path is followed in time", e)
         self.steps.converged_load = None
-        drained = self._state(0.0) | {"t": None, "t_days": None, "surface": self._surface()}
         for h, s in zip(self.newton.histories(), rest):
             h.restore(s)
         # (nothing on the ground at rest: the path's first change starts from it)

@@ -274,8 +274,9 @@ class TimeStepping:
         # the drained limit first, under the path's last load, from rest (it does not
         # depend on the path: a linear skeleton)
         drained = self._drained(path[-1][1])
-        log.info("consolidation: drained limit w0 = %.4g m (c_v = %.3g m^2/s, a^2 / c_v = "
-                 "%.3g days)", drained["w0"], self.c_v, self.time_scale / DAY)
+        log.info("consolidation: drained limit w0 = %s (c_v = %.3g m^2/s, a^2 / c_v = "
+                 "%.3g days)", "not carried" if drained["w0"] is None else
+                 f"{drained['w0']:.4g} m", self.c_v, self.time_scale / DAY)
         steps = path_steps(path, c.times, c.steps_per_decade)
         reported = {float(t) for t in c.times}
         milestones = {float(t) for t in scene.stage_times} if scene.stages else \

@@ -14,6 +14,8 @@ def consolidation_record(run: ConsolidationRun, c: Consolidation) -> dict:
     w_u, w_d = start["w0"], drained["w0"]
 
     def degree(state):
+        if w_d is None:
+            return None         # (the drained skeleton does not carry the last load)
         return (state["w0"] - w_u) / (w_d - w_u) if w_d != w_u else 1.0
 
     # (the reported states and the stages' are copies)

@@ -404,8 +404,8 @@ def plot_consolidation(results: dict, path: str | Path, title: str = "") -> Path
     # (the undrained start and the drained limit as dashed levels: those of the load, not
     # of a load path's, which starts from none and may end with none)
     on_path = "at_stages" in c
-    levels = {} if on_path else {"w0 undrained": [1e3 * c["undrained"]["w0"]],
-                              "w0 drained": [1e3 * c["drained"]["w0"]]}
+    levels = {} if on_path or c["drained"]["w0"] is None else {
+        "w0 undrained": [1e3 * c["undrained"]["w0"]], "w0 drained": [1e3 * c["drained"]["w0"]]}
     panels = {"settlement [mm]": {"w0 (centre)": curve("w0", 1e3),
                                   "w_edge": curve("w_edge", 1e3), **levels},
               "excess pore pressure [kPa]": {
@@ -413,7 +413,7 @@ def plot_consolidation(results: dict, path: str | Path, title: str = "") -> Path
                                                                        1e-3),
                   "largest": curve("max_pore_pressure", 1e-3)}}
     if steps[-1].get("M0") is not None:
-        panels["M0 [kN m/m]"] = {"centre moment": curve("M0", 1e-3), **({} if on_path else {
+        panels["M0 [kN m/m]"] = {"centre moment": curve("M0", 1e-3), **({} if not levels else {
             "undrained": [1e-3 * c["undrained"]["M0"]],
             "drained": [1e-3 * c["drained"]["M0"]]})}
     pressures = panels["excess pore pressure [kPa]"]

@@ -160,11 +160,14 @@ def _consolidation_rows(r: dict) -> list[tuple[str, str, str]]:
                   f"days")]
         path = "at_stages" in c        # a load path: each time's load too
         rows += [(f"  w0 at t = {s['t_days']:.4g} days", f"{1e3 * s['w0']:.2f} mm",
-                  f"U = {s['degree']:.3f}, excess pore pressure on the axis "
+                  ("" if s["degree"] is None else f"U = {s['degree']:.3f}, ") +
+                  f"excess pore pressure on the axis "
                   f"{s['axis_pore_pressure'] / 1e3:.3g} kPa"
                   + (f", load {s['applied_load'] / 1e6:.4g} MN" if path else ""))
                  for s in c["at_times"][1:]]
-        rows.append(("  drained limit w0 (t -> infinity)", f"{1e3 * c['drained']['w0']:.2f} mm",
+        drained = c["drained"]["w0"]
+        rows.append(("  drained limit w0 (t -> infinity)",
+                     "not carried" if drained is None else f"{1e3 * drained:.2f} mm",
                      f"the results above: t = {c['at_times'][-1]['t_days']:.4g} days"))
     return rows
 
