@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import logging
+import sys
 import time
 from pathlib import Path
 
@@ -33,6 +35,10 @@ def main() -> None:
                     help="without the factors of safety (the path alone)")
     ap.add_argument("--out", default=str(ROOT / "results" / "benchmarks"))
     args = ap.parse_args()
+    # (progress: a line per time step and per trial of a factor of safety)
+    log = logging.getLogger("tankfx")
+    log.setLevel(logging.INFO)
+    log.addHandler(logging.StreamHandler(sys.stdout))
     scene = load_scene(SCENE)
     if args.coarse:
         scene = scene.with_coarse_mesh()

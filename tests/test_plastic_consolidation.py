@@ -104,15 +104,24 @@ def _footing_in_time(**analysis) -> dict:
             "stages": [{"time": 0.0}, {"time": 10 * DAY}]}
 
 
-def test_the_factor_of_safety_in_time_of_a_clay_without_friction():
+def test_the_factor_of_safety_in_time_of_a_clay_without_friction(tmp_path):
     """phi' = 0: the strength does not depend on the effective stress, so the factor of
     safety on c' is the same loaded undrained (at once, t = 0) and drained (ten times
     the consolidation time later): F q / c' = N_c = 6.05 (Eason & Shield, rough), within
     2 % on this coarse mesh (measured 6.15: 1.6 % high, the settlement criterion's
     bracket). Each stage's record has its factor (``stages[k].collapse``) and its
     piezometers; the top-level collapse is the last stage's; the excess pore pressure
-    under the centre is about half the load at once and gone ten days later."""
-    r = analyse(Scene.from_dict(_footing_in_time(collapse="strength"))).results
+    under the centre is about half the load at once and gone ten days later. The figures:
+    the history with the factor of safety, the excess pore pressure over the section at
+    each reported time."""
+    from tankfx.results.figures import write_figures
+
+    solution = analyse(Scene.from_dict(_footing_in_time(collapse="strength")))
+    r = solution.results
+    written = {p.name for p in write_figures(solution, tmp_path)}
+    if MPI.COMM_WORLD.rank == 0:
+        assert {"consolidation.png", "pore_pressure_0.png", "pore_pressure_1.png",
+                "mechanism.png"} <= written
     first, last = r["stages"]
     F0, F1 = first["collapse"]["strength_factor"], last["collapse"]["strength_factor"]
     assert first["collapse"]["found"] and last["collapse"]["found"]

@@ -11,6 +11,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from mpi4py import MPI
 
+from ..fem.blocks import cell_field
 from ..fem.evaluate import evaluate_at, nodal_values_on_facets
 from ..fem.solvers import SolveError
 from ..laws.biot import stratum_coefficients
@@ -116,6 +117,9 @@ class ConsolidationRun:
     axis_depth: float
     isochrone_depths: np.ndarray
     at_stages: list[dict] | None = None
+    #: at each reported time (t = 0 first): (t, the soil's displacement, the excess pore
+    #: pressure, the yielding cells' DG0 flag or None), copies for the figures
+    fields: list = None
 
 
 class TimeStepping:
@@ -214,6 +218,18 @@ class TimeStepping:
                 p, self._piezometers, cells=self.model.domain.cells("soil"))[:, 0].tolist()
         return state
 
+    def _snapshot(self, t: float) -> tuple:
+        """(t, copies of the soil's displacement and excess pore pressure, the yielding
+        cells' flag where the soil is elastoplastic, else None) for the figures."""
+        soil = self.soil
+        u, p = soil.u.copy(), soil.pore_pressure.copy()
+        plastic = getattr(soil, "plastic", None)
+        flag = None
+        if plastic is not None:
+            flag = cell_field(self.model.domain.mesh,
+                              plastic.cell_average(plastic.plastic, 1)[:, 0], "plastic")
+        return t, u, p, flag
+
     def _held(self, call):
         """``call()`` on the state now with the pore water held (undrained: no flow, the
         volume of the state now kept), the time stepping's previous states given back
@@ -283,6 +299,7 @@ class TimeStepping:
             reported | {0.0}
         found: dict[float, dict] = {}
         history, at_times, isochrones, t_prev, dt_prev = [], [], [], 0.0, 0.0
+        snapshots: list = []
         #: the states of the steps that converged (what a failed step keeps)
         self.history = history
         for k, (t, kind, load) in enumerate(steps):
@@ -313,6 +330,7 @@ class TimeStepping:
                 state = state | {"surface": self._surface()} | found.get(float(t), {})
                 at_times.append(state)
                 isochrones.append(self._isochrone())
+                snapshots.append(self._snapshot(float(t)))
                 log.info("consolidation: t = %.4g days, w0 = %.4g m, excess pore pressure "
                          "on the axis %.4g Pa (step %d of %d)", t / DAY, state["w0"],
                          state["axis_pore_pressure"], k + 1, len(steps))
@@ -321,6 +339,7 @@ class TimeStepping:
             drained=drained, at_times=at_times, history=history, isochrones=isochrones,
             steps=len(steps) - 1, c_v=self.c_v, time_scale=self.time_scale,
             axis_depth=self.axis_depth, isochrone_depths=self.isochrone_depths,
+            fields=snapshots,
             at_stages=[[h for h in history if h["t"] == t][-1] | found.get(float(t), {})
                        for t in scene.stage_times] if scene.stages else None)
         self.last = IterationStatus(

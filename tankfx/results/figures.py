@@ -649,6 +649,17 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
         figures += [(plot_consolidation, (r, directory / "consolidation.png"),
                      {"title": title}),
                     (plot_isochrones, (r, directory / "isochrones.png"), {"title": title})]
+        # the excess pore pressure over the section at each reported time (t = 0 first),
+        # the yielding cells dotted where the skeleton is elastoplastic
+        run = (solution.statuses or {}).get("consolidation")
+        for k, (t, u_t, p_t, flag) in enumerate(getattr(run, "data", None) and
+                                                run.data.fields or []):
+            figures.append((plot_section, (u_t, p_t, directory / f"pore_pressure_{k}.png"),
+                            section | {"label": "excess pore pressure [kPa]",
+                                       "scalar_scale": 1e-3, "structure": None,
+                                       "title": f"{title}: t = {t / 86400.0:.4g} days",
+                                       **({"marked": (flag, "yielding cells")}
+                                          if flag is not None else {})}))
     if "overturning" in r:
         figures += [(plot_overturning, (r, directory / "overturning.png",
                                         directory / "overturning_wall.png"),
