@@ -570,6 +570,25 @@ def section_field(solution, quantity: str):
     return soil_cell_fields(solution.model, solution.statuses)[quantity]
 
 
+def _consolidation_figures(solution, directory: Path, section: dict, title: str) -> list:
+    """A consolidation's figures (as write_figures lists them): its history, its isochrones,
+    and the excess pore pressure over the section at each reported time (t = 0 first), the
+    yielding cells dotted where the skeleton is elastoplastic."""
+    r = solution.results
+    figures = [(plot_consolidation, (r, directory / "consolidation.png"), {"title": title}),
+               (plot_isochrones, (r, directory / "isochrones.png"), {"title": title})]
+    run = (solution.statuses or {}).get("consolidation")
+    for k, (t, u_t, p_t, flag) in enumerate(getattr(run, "data", None) and
+                                            run.data.fields or []):
+        figures.append((plot_section, (u_t, p_t, directory / f"pore_pressure_{k}.png"),
+                        section | {"label": "excess pore pressure [kPa]",
+                                   "scalar_scale": 1e-3, "structure": None,
+                                   "title": f"{title}: t = {t / 86400.0:.4g} days",
+                                   **({"marked": (flag, "yielding cells")}
+                                      if flag is not None else {})}))
+    return figures
+
+
 def write_figures(solution, directory: str | Path, section_quantity: str = "sigma_zz"
                   ) -> list[Path]:
     """A solved scene's figures in ``directory``: the deformed section coloured by
@@ -646,20 +665,7 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
                      {"title": title}),
                     (plot_contact, (r, directory / "contact.png"), {"title": title})]
     if "consolidation" in r:
-        figures += [(plot_consolidation, (r, directory / "consolidation.png"),
-                     {"title": title}),
-                    (plot_isochrones, (r, directory / "isochrones.png"), {"title": title})]
-        # the excess pore pressure over the section at each reported time (t = 0 first),
-        # the yielding cells dotted where the skeleton is elastoplastic
-        run = (solution.statuses or {}).get("consolidation")
-        for k, (t, u_t, p_t, flag) in enumerate(getattr(run, "data", None) and
-                                                run.data.fields or []):
-            figures.append((plot_section, (u_t, p_t, directory / f"pore_pressure_{k}.png"),
-                            section | {"label": "excess pore pressure [kPa]",
-                                       "scalar_scale": 1e-3, "structure": None,
-                                       "title": f"{title}: t = {t / 86400.0:.4g} days",
-                                       **({"marked": (flag, "yielding cells")}
-                                          if flag is not None else {})}))
+        figures += _consolidation_figures(solution, directory, section, title)
     if "overturning" in r:
         figures += [(plot_overturning, (r, directory / "overturning.png",
                                         directory / "overturning_wall.png"),
