@@ -10,7 +10,6 @@ import pytest
 from tankfx.laws.cam_clay_points import (CamClayPoints, critical_state_angle,
                                          critical_state_ratio, elastic_pressure, invariants,
                                          normally_consolidated_ratio)
-from tankfx.laws.plasticity import IDENTITY
 
 M, LAMBDA, KAPPA, NU, P_MIN = 1.2, 0.1, 0.02, 0.25, 1e3
 P0 = 100e3

@@ -94,11 +94,14 @@ class Newton:
         return float(-evaluate_at(self.model.soil.u, self._centre)[0, 1])
 
     def solve(self, inner, max_iterations: int | None = None,
-              stall: int | None = None, tolerance: float | None = None) -> Solve:
+              stall: int | None = None, tolerance: float | None = None,
+              round_off: float | None = None) -> Solve:
         """Newton from the committed state under the loads set. ``max_iterations`` (default
         the soil's); ``stall``: stop where the out-of-balance force has not halved over
         that many iterations (no equilibrium near: a trial beyond the limit load);
-        ``tolerance``: the converged out-of-balance force (default TOLERANCE)."""
+        ``tolerance``: the converged out-of-balance force (default TOLERANCE);
+        ``round_off``: below it a force that has stopped falling is converged (default
+        ROUND_OFF)."""
         m = self.model
         unknowns = self._unknowns()
         max_iterations = max_iterations or self.max_iterations
@@ -112,20 +115,23 @@ class Newton:
             except SolveError as e:
                 return Solve(False, it, previous, f"the linear solve failed: {e}")
             after = [u.x.array.copy() for u in unknowns]
-            alpha = 1.0
+            alpha, tried = 1.0, []
             for _ in range(self.LINE_SEARCH + 1):
                 self.plastic.update()
                 residual = m.out_of_balance()
                 if residual < (1.0 - 1e-4 * alpha) * previous or residual <= tolerance:
                     break
+                tried.append((residual, alpha))
                 alpha *= 0.5
                 for u, a, b in zip(unknowns, before, after):
                     u.x.array[:] = a + alpha * (b - a)
+            else:
+                residual = self._least(tried, before, after)
             if not math.isfinite(residual):
                 return Solve(False, it, residual, "the out-of-balance force is not finite")
             previous = residual
             residuals.append(residual)
-            if residual <= tolerance or self._at_round_off(residuals):
+            if residual <= tolerance or self._at_round_off(residuals, round_off):
                 return Solve(True, it, residual, "")
             if stall and it >= stall and residual > 0.5 * residuals[-1 - stall]:
                 return Solve(False, it, residual, (
@@ -133,6 +139,16 @@ class Newton:
                     f"{stall} iterations"))
         return Solve(False, max_iterations, residual, (
             f"out-of-balance force {residual:.2e} after {max_iterations} iterations"))
+
+    def _least(self, tried, before, after) -> float:
+        """No step length of the line search lowered the out-of-balance force: the one of
+        the least, its points updated with it (the unknowns and the points' stress of one
+        state: the next tangent is that state's)."""
+        residual, alpha = min(tried)
+        for u, a, b in zip(self._unknowns(), before, after):
+            u.x.array[:] = a + alpha * (b - a)
+        self.plastic.update()
+        return self.model.out_of_balance()
 
     def controlled_step(self, inner, solver, load_at, factor: float, target: float,
                         measure) -> tuple[bool, int, float, float]:
@@ -180,9 +196,10 @@ class Newton:
                 return False, it, residual, lam
         return False, self.max_iterations, residual, lam
 
-    def _at_round_off(self, residuals: list[float]) -> bool:
-        """Below ROUND_OFF and not halved over the last three iterations."""
-        return (len(residuals) > 3 and residuals[-1] <= self.ROUND_OFF
+    def _at_round_off(self, residuals: list[float], round_off: float | None = None) -> bool:
+        """Below ``round_off`` (default ROUND_OFF) and not halved over the last three
+        iterations."""
+        return (len(residuals) > 3 and residuals[-1] <= (round_off or self.ROUND_OFF)
                 and residuals[-1] > 0.5 * residuals[-4])
 
     def plastic_points(self) -> int:

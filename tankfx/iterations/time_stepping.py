@@ -69,15 +69,19 @@ def path_steps(path, times, per_decade: int) -> list[tuple[float, str, object]]:
     between breakpoints (and after the last, to the last reported time, which the scene
     keeps at or after the last stage's) the steps grow geometrically from it,
     ``per_decade`` a decade, the first FIRST_STEP times the shortest of the stretch, the
-    stretch before and the time to the next reported time, through every reported time."""
+    stretch before and the time to the next reported time, through every reported time;
+    RAMP_STEP times it where the load does not jump at the stretch's start (a change of
+    the load's rate: the pore pressure has no boundary layer in time to resolve there)."""
     t_end = max(max(times), path[-1][0])
     breaks = sorted({t for t, _ in path} | {t_end})
+    jumps = {0.0} | {t for (t0, _), (t, _) in zip(path, path[1:]) if t == t0}
     out = [(0.0, "jump", ld) for t, ld in path if t == 0.0]
     for i, (b, e) in enumerate(zip(breaks, breaks[1:])):
         scales = [e - b] + [t - b for t in times if t > b] + \
             ([b - breaks[i - 1]] if i > 0 else [])
         targets = [t - b for t in times if b < t <= e] + [e - b]
-        steps = time_steps(targets, FIRST_STEP * min(scales), per_decade)
+        first = FIRST_STEP if b in jumps else RAMP_STEP
+        steps = time_steps(targets, first * min(scales), per_decade)
         out += [(b + dt, "restart" if k == 0 else "step", None)
                 for k, dt in enumerate(steps)]
         # the stages reached at once at this stretch's end, in the path's order
@@ -90,8 +94,12 @@ def path_steps(path, times, per_decade: int) -> list[tuple[float, str, object]]:
 DRAINED_STEP = 1e10
 
 
-#: the first time step, as a fraction of the first reported time
+#: the first time step after a load applied at once, as a fraction of the shortest of its
+#: stretch, the stretch before and the time to the next reported time
 FIRST_STEP = 1e-2
+#: the first time step where the load's rate changes but the load does not jump (a filling
+#: begins or ends), as the same fraction
+RAMP_STEP = 0.2
 
 
 DAY = 86400.0
