@@ -337,7 +337,8 @@ def _set_up(scene: Scene, first: Load, comm: MPI.Comm, timings: dict, nested: bo
 def _warnings(scene: Scene, model: Model) -> list[str]:
     """What the set-up found: the model's (the interface's penalty), the mesh's grading
     against a soil stiffening fast with depth, and a nonlinear elastic soil unloaded."""
-    warnings = list(model.warnings) + geometry_warnings(scene)
+    warnings = list(model.warnings) + geometry_warnings(scene) + \
+        scene.soil.law.ground_warnings(scene.soil, scene.domain.depth)
     grading = mesh_grading_warning(scene)
     if grading:
         warnings.append(grading)

@@ -36,7 +36,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from .plasticity import IDENTITY
+from .plasticity import APEX_STIFFNESS, IDENTITY
 from .point_law import PointUpdate
 
 #: the deviatoric projector of Mandel vectors
@@ -45,6 +45,9 @@ DEVIATORIC = np.eye(4) - np.outer(IDENTITY, IDENTITY) / 3.0
 RETURN_ITERATIONS, RETURN_TOLERANCE = 60, 1e-12
 #: the largest exponent taken in the exponential laws (a step of more is no soil's)
 MAX_EXPONENT = 30.0
+#: a return that has not converged with p_c below this share of the least mean stress
+#: is at the origin
+ORIGIN = 1e-2
 
 
 def critical_state_ratio(friction_angle_deg):
@@ -138,6 +141,7 @@ def cam_clay_update(d_eps, sigma_n, p_cn, M, lambda_star, kappa_star, nu, p_min)
     # elastic: K_t m m^T + 2 G I_d
     C = K_tr[:, None, None] * np.outer(IDENTITY, IDENTITY) + \
         2.0 * G[:, None, None] * DEVIATORIC
+    C_elastic = C.copy()
     sigma = -p_tr[:, None] * IDENTITY + s_tr
     p_c = np.array(p_cn, dtype=float, copy=True)
     d_eps_p = np.zeros((N, 4))
@@ -146,6 +150,16 @@ def cam_clay_update(d_eps, sigma_n, p_cn, M, lambda_star, kappa_star, nu, p_min)
         r = _return(e_c[out], q_tr[out], p_n[out], p_cn[out], G[out], n[out], M[out],
                     lambda_star[out], kappa_star[out], p_min)
         sigma[out], C[out], p_c[out], d_eps_p[out], converged[out] = r
+        # a point driven to the ellipse's tip at the origin (a dilating surface point of a
+        # clay with next to no preconsolidation: p_c falls towards 0 and the return with
+        # it, without end): its state is the origin, no stress, the tangent a millionth of
+        # the elastic one (as Mohr-Coulomb's apex)
+        origin = ~converged & out & (p_c < ORIGIN * p_min)
+        if origin.any():
+            sigma[origin] = 0.0
+            C[origin] = APEX_STIFFNESS * C_elastic[origin]
+            d_eps_p[origin] = d_eps[origin]
+            converged[origin] = True
     return sigma, C, out, d_eps_p, p_c, converged
 
 
@@ -163,9 +177,12 @@ def _return(e_c, q_tr, p_n, p_cn, G, n, M, lam, kap, p_min):
         beta = 1.0 / (1.0 + a * g)
         q = q_tr * beta
         R1 = x - g * (2.0 * p - pc)
-        R2 = (q * q / M2 + p * (p - pc)) / scale
+        f = q * q / M2 + p * (p - pc)
+        R2 = f / scale
+        # (f relative to the state's own size: p_c may grow tenfold in a step, and f's
+        # round-off with it)
         done = (np.abs(R1) <= RETURN_TOLERANCE * (1.0 + np.abs(x))) & \
-            (np.abs(R2) <= RETURN_TOLERANCE)
+            (np.abs(f) <= RETURN_TOLERANCE * np.maximum(pc, p) ** 2)
         if done.all():
             break
         dp_dx, dpc_dx, dq_dg = -K, pc / hard, -q * a * beta

@@ -306,7 +306,7 @@ class FrictionalPoints:
     def initial_state(self) -> dict[str, np.ndarray]:
         return {}
 
-    def elastic_matrix(self) -> np.ndarray:
+    def elastic_matrix(self, stress=None) -> np.ndarray:
         return self._D
 
     def reduced(self, factor: float):

@@ -72,8 +72,10 @@ class PointLaw(Protocol):
     def initial_state(self) -> dict[str, np.ndarray]:
         """Its own state at rest, each (N, width)."""
 
-    def elastic_matrix(self) -> np.ndarray:
-        """The elastic tangent (N, 4, 4) at the committed state (unloading, the predictor)."""
+    def elastic_matrix(self, stress: np.ndarray | None = None) -> np.ndarray:
+        """The elastic tangent (N, 4, 4) at the committed ``stress`` (its change from the
+        ground at rest; None: at rest): unloading, the predictor. A law whose elasticity
+        does not follow the stress ignores it."""
 
     def update(self, d_eps: np.ndarray, stress: np.ndarray, state: dict) -> PointUpdate:
         """The trial state after the strain increment ``d_eps`` (N, 4) from the committed

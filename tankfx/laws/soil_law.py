@@ -100,6 +100,9 @@ class SoilLaw:
     at_points: ClassVar[bool] = False
     has_bounds: ClassVar[bool] = False
     why_no_bounds: ClassVar[str] = "the limit analysis takes Mohr-Coulomb's strength"
+    #: the domain's default size in foundation radii where the law needs its own (None:
+    #: the scene's, a half-space of 10000 a)
+    domain_factor: ClassVar[float | None] = None
 
     @classmethod
     def stratum_text(cls, st: Mapping[str, Any]) -> str:
@@ -137,6 +140,20 @@ class SoilLaw:
         """A stratum's E and the law's constants of it, defaults resolved (``Layer``
         fields), from its checked table and the ground's values."""
         return {"E": table["E"]}
+
+    @classmethod
+    def written(cls, table: dict) -> dict:
+        """A resolved stratum's table (``[soil]`` or a layer's, plain) as a scene file would
+        give it: without what the law derives itself (its E from the stress), so that the
+        scene re-read derives it again; by default as it is."""
+        return table
+
+    @classmethod
+    def finish(cls, soil):
+        """The resolved [soil] (:class:`tankfx.scene.sections.Soil`, its layers read) with
+        what the law derives from the whole ground (a modulus that follows the stress at
+        rest); by default as it is."""
+        return soil
 
     # -- the numerics ---------------------------------------------------------------------
 
@@ -210,6 +227,12 @@ class SoilLaw:
         """The law's constants of the whole ground in words, after the surface stratum's
         (``soil``: the scene's :class:`tankfx.scene.sections.Soil`)."""
         return ""
+
+    @classmethod
+    def ground_warnings(cls, soil, bottom: float) -> list[str]:
+        """What the law changed of the ground at rest down to ``bottom`` (m), for the
+        analysis's warnings; none by default."""
+        return []
 
     @classmethod
     def ground_lines(cls, soil) -> list[str]:

@@ -3,6 +3,7 @@ law (:class:`tankfx.laws.soil_law.SoilLaw`). A new law is a class in its own mod
 line here."""
 from __future__ import annotations
 
+from .cam_clay import CamClaySoil
 from .drucker_prager import DruckerPragerSoil
 from .duncan_chang import DuncanChang
 from .kondner import Kondner
@@ -14,4 +15,5 @@ __all__ = ["SOIL_LAWS", "SoilLaw"]
 #: soil.model -> its law, in the order the scene reference lists them
 SOIL_LAWS: dict[str, type[SoilLaw]] = {law.word: law
                                        for law in (LinearElastic, Kondner, DuncanChang,
-                                                   MohrCoulombSoil, DruckerPragerSoil)}
+                                                   MohrCoulombSoil, DruckerPragerSoil,
+                                                   CamClaySoil)}

@@ -180,9 +180,9 @@ class PlasticState:
         """The next solve with the elastic stiffness from the committed state (offset
         sigma_n - D eps_n): exact where the step unloads, which the committed state's
         plastic tangent is not."""
-        D = self.points.elastic_matrix()
-        self._put(self.tangent, D.reshape(-1, 16), self._dofs16)
         sigma_n = self._get(self.stress_n, self._dofs4, 4)
+        D = self.points.elastic_matrix(sigma_n)
+        self._put(self.tangent, D.reshape(-1, 16), self._dofs16)
         eps_n = self._get(self.strain, self._dofs4, 4)
         self._put(self.offset, sigma_n - (D @ eps_n[..., None])[..., 0], self._dofs4)
 

@@ -4,7 +4,7 @@ consolidation U = (w0 - w0_undrained) / (w0_drained - w0_undrained) and time fac
 Tv = t c_v / a^2, the isochrones, and how it was integrated."""
 from __future__ import annotations
 
-from ..iterations.time_stepping import DRAINED_STEP, FIRST_STEP, ConsolidationRun
+from ..iterations.time_stepping import DRAINED_STEP, FIRST_STEP, RAMP_STEP, ConsolidationRun
 from ..scene.sections import Consolidation
 
 
@@ -37,7 +37,8 @@ def consolidation_record(run: ConsolidationRun, c: Consolidation) -> dict:
                          "backward Euler once and variable-step BDF2, "
                          f"{c.steps_per_decade} steps a decade from {FIRST_STEP:g} x "
                          "the first reported time (restarted at each breakpoint of a "
-                         "load path); the drained limit as one step of "
+                         f"load path, from {RAMP_STEP:g} x its stretch where the load "
+                         "does not jump); the drained limit as one step of "
                          f"{DRAINED_STEP:g} a^2 / c_v"}
     if c.piezometers:
         out["piezometers"] = {

@@ -46,12 +46,12 @@ def soil_of(soil: dict, layers: list) -> Soil:
     law = SOIL_LAWS[soil.get("model", Soil.model)]
     ground = law.resolve_ground(soil)
     # (the keys of its iteration, where it has them)
-    return given(Soil, soil, **law.resolve_stratum(soil, ground), **ground,
+    return law.finish(given(Soil, soil, **law.resolve_stratum(soil, ground), **ground,
                  tolerance=(soil.get("tolerance", DEFAULT_TOLERANCE)
                             if "tolerance" in law.iteration_keys else None),
                  max_iterations=(soil.get("max_iterations", law.max_iterations)
                                  if "max_iterations" in law.iteration_keys else None),
-                 layers=tuple(read_layer(x, law, ground) for x in layers))
+                 layers=tuple(read_layer(x, law, ground) for x in layers)))
 
 
 def plate_of(plate: dict | None, soil: Soil) -> Plate | None:
@@ -86,9 +86,10 @@ def load_of(load: dict, radius: float) -> Load:
     return given(Load, load, load_radius=radius)
 
 
-def domain_of(domain: dict, a: float) -> DomainSize:
-    """The domain, DEFAULT_DOMAIN_FACTOR foundation radii wide and deep by default."""
-    size = DEFAULT_DOMAIN_FACTOR * a
+def domain_of(domain: dict, a: float, factor: float | None = None) -> DomainSize:
+    """The domain, ``factor`` (by default DEFAULT_DOMAIN_FACTOR: the soil's law may say
+    less) foundation radii wide and deep by default."""
+    size = (factor or DEFAULT_DOMAIN_FACTOR) * a
     return given(DomainSize, domain, radius=domain.get("radius", size),
                  depth=domain.get("depth", size))
 

@@ -225,8 +225,11 @@ class Scene:
                 out[name] = plain(part)
         if not out["analysis"]:
             del out["analysis"]
+        # (re-readable: without what the soil's law derives itself; resolved: with it)
+        written = (lambda t: t) if resolved else self.soil.law.written
+        out["soil"] = written(out["soil"])
         if self.soil.layers:
-            out["soil"]["layers"] = [plain(layer) for layer in self.soil.layers]
+            out["soil"]["layers"] = [written(plain(layer)) for layer in self.soil.layers]
         else:
             out["soil"].pop("layers", None)
         if self.plate is not None and not self.plate.annular_width:
@@ -405,7 +408,8 @@ def _build(data: dict[str, Any], secs: dict, layers: list, choices: dict[str, st
                               f"hold the foundation down; use condition = \"bonded\" for an "
                               f"anchored foundation, or add downward load"])
     ring, cons = secs["ringwall"], secs["consolidation"]
-    return Scene(soil=soil, load=load, domain=domain_of(secs["domain"] or {}, a),
+    return Scene(soil=soil, load=load,
+                 domain=domain_of(secs["domain"] or {}, a, soil.law.domain_factor),
                  mesh=mesh_of(secs["mesh"] or {}, degree, a,
                               plate.embedment if plate is not None else 0.0, plate is None),
                  plate=plate, wall=wall, interface=interface,

@@ -181,9 +181,15 @@ def with_law_keys(layer: bool):
                 spec = dict(spec)
                 kind = spec.pop("type")
                 default = spec.pop("default", None)
+                if "meaning" in spec:
+                    spec["meaning"] = spec["meaning"].replace(
+                        "{its}", "the layer's" if layer else "the soil's")
+                if isinstance(spec.get("limit"), tuple):
+                    # (a law below the scene gives its limit as Limit's arguments)
+                    spec["limit"] = Limit(*spec["limit"])
                 cls.__annotations__[name] = f"{kind.__name__} | None"
-                setattr(cls, name, key(None, **spec,
-                                       default_doc=f"{default!r}".replace("'", '"')))
+                doc = spec.pop("default_doc", f"{default!r}".replace("'", '"'))
+                setattr(cls, name, key(None, **spec, default_doc=doc))
         return cls
     return add
 
@@ -804,17 +810,19 @@ class Consolidation:
                                 meaning="the time steps per decade of time: variable-step BDF2, "
                                         "growing geometrically from a hundredth of the first "
                                         "reported time (restarted at each breakpoint of a load "
-                                        "path); 10 keep Terzaghi's settlement within 0.6 % of its "
+                                        "path: from a hundredth of its stretch after a load "
+                                        "applied at once, from a fifth where only the load's "
+                                        "rate changes); 10 keep Terzaghi's settlement within 0.6 % of its "
                                         "final value, 20 within 0.2 %")
 
 
 @dataclass(frozen=True)
 class DomainSize:
-    radius: float = key(unit="m", limit=POSITIVE, default_doc="10000 a",
+    radius: float = key(unit="m", limit=POSITIVE, default_doc="10000 a (cam_clay: 40 a)",
                         meaning="the soil's radius, from the axis to its far side (held as `side` "
                                 "says); the default 10000 a leaves a truncation error of the "
                                 "centre settlement below 0.01 % (homogeneous soil)")
-    depth: float = key(unit="m", limit=POSITIVE, default_doc="10000 a",
+    depth: float = key(unit="m", limit=POSITIVE, default_doc="10000 a (cam_clay: 40 a)",
                        meaning="the depth of the rigid base below the ground surface (held as "
                                "`base` says), anywhere below the foundation and the layers' tops "
                                "(e.g. rock under a thin layer); the default 10000 a is a "
