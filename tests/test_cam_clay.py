@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from mpi4py import MPI
 
 from tankfx import Scene, analyse
 from tankfx.scene.sections import SceneError
@@ -38,6 +39,18 @@ def test_one_dimensional_compression_of_a_normally_consolidated_layer():
                       + Q / GAMMA * math.log((GAMMA * H + Q) / Q))
     assert r["w0"] == pytest.approx(exact, rel=1e-2)
     assert r["soil"]["plastic_points"] > 0
+
+
+@pytest.mark.mpi
+@pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="needs mpiexec -n 2 (make test-mpi)")
+def test_serial_and_two_ranks_compress_the_layer_alike():
+    """The points' state split over the ranks (p_c among it): w0, the yielding points and
+    the Newton iterations the same on one rank and on all."""
+    scene = Scene.from_dict(_layer())
+    parallel = analyse(scene, MPI.COMM_WORLD).results
+    serial = analyse(scene, MPI.COMM_SELF).results
+    assert parallel["w0"] == pytest.approx(serial["w0"], rel=1e-8)
+    assert parallel["soil"]["plastic_points"] == serial["soil"]["plastic_points"]
 
 
 @pytest.mark.parametrize("change,says", [

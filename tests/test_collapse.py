@@ -43,7 +43,8 @@ def test_a_rigid_footing_collapses_at_its_exact_bearing_capacity(condition, exac
         written = {p.name for p in write_figures(solution, tmp_path, "stress_level")}
         if MPI.COMM_WORLD.rank == 0:
             assert {"collapse.png", "mechanism.png"} <= written
-        assert failure_words(r["collapse"]["failure"]) == "no equilibrium"
+        assert failure_words(r["collapse"]["failure"]) in ("no equilibrium",
+                                                          "the settlement criterion (0.1 D)")
         assert failure_words("settlement") == "the settlement criterion (0.1 D)"
     c = r["collapse"]
     lo, hi = c["bracket"]
@@ -52,8 +53,12 @@ def test_a_rigid_footing_collapses_at_its_exact_bearing_capacity(condition, exac
     assert c["bearing_pressure"] == pytest.approx(lo * S_U, rel=1e-12)
     assert np.all(np.diff(c["curve"]["factor"]) > 0.0)
     assert c["mechanism"]["kind"] == "base"
-    # general shear: a plateau, no equilibrium above it, well before the settlement criterion
-    assert c["failure"] == "no equilibrium" and "Newton found no equilibrium" in c["reason"]
+    # general shear: a plateau, reached well before the settlement criterion; half a
+    # per cent above it Newton finds no equilibrium, or one settled beyond the criterion
+    # (measured since the line search keeps a consistent state: 5.755 and 6.123 settle
+    # past 0.1 D, on the slowly rising curve of the discretised soil)
+    assert (c["failure"] == "no equilibrium" and "Newton found no equilibrium" in c["reason"]) \
+        or (c["failure"] == "settlement" and "settlement criterion" in c["reason"])
     assert c["curve"]["mean_settlement"][-1] < 0.5 * c["failure_settlement"]
     # the knee, where the mechanism forms, lies below the plateau
     assert c["knee_bracket"][0] == c["knee_factor"] < c["knee_bracket"][1] <= lo
