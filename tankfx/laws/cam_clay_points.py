@@ -169,13 +169,22 @@ def _return(e_c, q_tr, p_n, p_cn, G, n, M, lam, kap, p_min):
     M2 = M * M
     a = 6.0 * G / M2
     scale = p_cn * p_cn
-    x, g = np.zeros_like(e_c), np.zeros_like(e_c)
-    done = np.zeros(len(e_c), dtype=bool)
-    for _ in range(RETURN_ITERATIONS):
+
+    def local(x, g):
+        """The state at (x, dgamma) and the local system's Jacobian d(R1, R2)/d(x, g)."""
         p, K = elastic_pressure(p_n, e_c - x, kap, p_min)
         pc = p_cn * np.exp(np.clip(x / hard, -MAX_EXPONENT, MAX_EXPONENT))
         beta = 1.0 / (1.0 + a * g)
         q = q_tr * beta
+        dp_dx, dpc_dx, dq_dg = -K, pc / hard, -q * a * beta
+        J = (1.0 - g * (2.0 * dp_dx - dpc_dx), -(2.0 * p - pc),
+             ((2.0 * p - pc) * dp_dx - p * dpc_dx) / scale, 2.0 * q * dq_dg / M2 / scale)
+        return p, K, pc, beta, q, J
+
+    x, g = np.zeros_like(e_c), np.zeros_like(e_c)
+    done = np.zeros(len(e_c), dtype=bool)
+    for _ in range(RETURN_ITERATIONS):
+        p, K, pc, beta, q, (J11, J12, J21, J22) = local(x, g)
         R1 = x - g * (2.0 * p - pc)
         f = q * q / M2 + p * (p - pc)
         R2 = f / scale
@@ -185,11 +194,6 @@ def _return(e_c, q_tr, p_n, p_cn, G, n, M, lam, kap, p_min):
             (np.abs(f) <= RETURN_TOLERANCE * np.maximum(pc, p) ** 2)
         if done.all():
             break
-        dp_dx, dpc_dx, dq_dg = -K, pc / hard, -q * a * beta
-        J11 = 1.0 - g * (2.0 * dp_dx - dpc_dx)
-        J12 = -(2.0 * p - pc)
-        J21 = ((2.0 * p - pc) * dp_dx - p * dpc_dx) / scale
-        J22 = 2.0 * q * dq_dg / M2 / scale
         det = J11 * J22 - J12 * J21
         dx = -(J22 * R1 - J12 * R2) / det
         dg = -(-J21 * R1 + J11 * R2) / det
@@ -201,18 +205,10 @@ def _return(e_c, q_tr, p_n, p_cn, G, n, M, lam, kap, p_min):
                      np.minimum(t, 2.0 * hard / np.maximum(np.abs(dx), 1e-300)), t)
         t = np.where(done, 0.0, t)
         x, g = x + t * dx, np.maximum(g + t * dg, 0.0)
-    p, K = elastic_pressure(p_n, e_c - x, kap, p_min)
-    pc = p_cn * np.exp(np.clip(x / hard, -MAX_EXPONENT, MAX_EXPONENT))
-    beta = 1.0 / (1.0 + a * g)
-    q = q_tr * beta
+    p, K, pc, beta, q, (J11, J12, J21, J22) = local(x, g)
     sigma = -p[:, None] * IDENTITY + math.sqrt(2.0 / 3.0) * q[:, None] * n
     # the consistent tangent: the local system's derivatives with respect to the inputs
     # e_c (d e_c = -m . d eps) and q_tr (d q_tr = sqrt 6 G n . d eps)
-    dp_dx, dpc_dx, dq_dg = -K, pc / hard, -q * a * beta
-    J11 = 1.0 - g * (2.0 * dp_dx - dpc_dx)
-    J12 = -(2.0 * p - pc)
-    J21 = ((2.0 * p - pc) * dp_dx - p * dpc_dx) / scale
-    J22 = 2.0 * q * dq_dg / M2 / scale
     det = J11 * J22 - J12 * J21
     R1_e, R2_e = -2.0 * g * K, (2.0 * p - pc) * K / scale
     R2_q = 2.0 * q / M2 * beta / scale
