@@ -38,7 +38,7 @@ import numpy as np
 from .cam_clay_points import (CamClayPoints, critical_state_angle, critical_state_ratio,
                               invariants, normally_consolidated_ratio)
 from .geostatic import geostatic_stress, lighter_than_water
-from .soil_law import WATER_UNIT_WEIGHT, SoilLaw
+from .soil_law import WATER_UNIT_WEIGHT, ElastoplasticSoil
 
 #: the least mean effective stress of the bulk modulus, Pa (the module's docstring)
 P_MIN = 1e3
@@ -51,15 +51,11 @@ REPRESENTATIVE_DEPTH = 5.0
 _LAW = "for model = \"cam_clay\""
 
 
-class CamClaySoil(SoilLaw):
+class CamClaySoil(ElastoplasticSoil):
     """Modified Cam Clay in effective stress, with a geostatic start."""
 
     word = "cam_clay"
     title = "a Modified Cam Clay soil (critical state, effective stress)"
-    iteration = "newton"
-    consolidates = True
-    iteration_keys = ("max_iterations",)
-    max_iterations = 25
     layer_keys = ("lambda_star", "kappa_star", "M", "critical_state_friction_angle", "OCR",
                   "POP", "K0_nc", "unit_weight")
     keys = (*layer_keys, "water_table", "water_unit_weight")
@@ -97,12 +93,7 @@ class CamClaySoil(SoilLaw):
                     "consolidated ground on it); the ground at rest is unloaded from it "
                     "elastically by the OCR or POP"),
     }
-    reports = ("plastic", "stress_level")
     stress_level_label = "q / (M p')"
-    at_points = True
-    fails = True
-    displacement_form_only = True
-    keeps_permanent_strain = True
     fixed_constants = False
     #: the default domain, 40 foundation radii wide and deep: its modulus grows with p', so
     #: the far ground adds nothing (a 25 m flexible load's w0: -0.37 % at 10 a, -0.05 % at
@@ -312,13 +303,6 @@ class CamClaySoil(SoilLaw):
     @classmethod
     def undrained_strength(cls, soil, depth: float) -> float | None:
         return None
-
-    @classmethod
-    def cell_reports(cls, soil, eps_min, eps_max, deviator, depth, converged=None,
-                     unloading=None):
-        if converged is None:
-            return {"plastic": np.zeros_like(depth), "stress_level": np.zeros_like(depth)}
-        return {"plastic": converged["plastic"], "stress_level": converged["stress_level"]}
 
 
 def _passive(sv, p_c, M):

@@ -23,7 +23,7 @@ from .geostatic import geostatic_stress, lighter_than_water
 from .mohr_coulomb import circle_strength
 from .plasticity import ELASTIC, elastic_matrix, mobilised_strength, stress_update
 from .point_law import PointUpdate
-from .soil_law import WATER_UNIT_WEIGHT, SoilLaw
+from .soil_law import WATER_UNIT_WEIGHT, ElastoplasticSoil
 
 #: the largest friction angle taken, degrees: beyond it no real soil, and the Mohr-Coulomb
 #: cone's apex is so sharp that its returns lose their accuracy
@@ -33,33 +33,18 @@ MAX_FRICTION_ANGLE = 60.0
 MAX_NU = 0.49
 
 
-class MohrCoulombSoil(SoilLaw):
+class MohrCoulombSoil(ElastoplasticSoil):
     """Perfect plasticity of Mohr-Coulomb and Tresca with a geostatic start."""
 
     word = "mohr_coulomb"
     title = "an elastoplastic Mohr-Coulomb soil"
-    iteration = "newton"
-    #: with a [consolidation], an effective-stress skeleton: c', phi' and the drained E, nu
-    consolidates = True
-    iteration_keys = ("max_iterations",)
-    #: Newton iterations of a load step before it is halved
-    max_iterations = 25
     layer_keys = ("cohesion", "friction_angle", "dilation_angle", "tensile_strength",
                   "cohesion_gradient", "unit_weight", "K0")
     keys = (*layer_keys, "water_table", "water_unit_weight")
-    reports = ("plastic", "stress_level")
     #: its stress level is the mobilised shear strength
     stress_level_label = "tau / tau_f"
-    #: its state (stress, plastic strain) lives at the forms' quadrature points
-    at_points = True
-    #: its ground fails: a collapse load and a strength factor are its to compute
-    fails = True
     #: the limit analysis' cones are its own
     has_bounds = True
-    #: the displacement form only: a stratum's nu at most MAX_NU
-    displacement_form_only = True
-    #: its plastic strain stays when the load comes off
-    keeps_permanent_strain = True
 
     @classmethod
     def stratum_text(cls, st):
@@ -134,16 +119,6 @@ class MohrCoulombSoil(SoilLaw):
                 "cohesion_gradient": table.get("cohesion_gradient", 0.0),
                 "unit_weight": table.get("unit_weight", 0.0),
                 "K0": table.get("K0", 1.0 - math.sin(math.radians(phi)))}
-
-    @classmethod
-    def cell_reports(cls, soil, eps_min, eps_max, deviator, depth, converged=None,
-                     unloading=None):
-        """``plastic``: the share of a cell's points that yield (1: all); ``stress_level``:
-        tau / tau_f of its mean stress, 1 at the strength. From the Newton iteration's
-        status (zeros before it has run)."""
-        if converged is None:
-            return {"plastic": np.zeros_like(depth), "stress_level": np.zeros_like(depth)}
-        return {"plastic": converged["plastic"], "stress_level": converged["stress_level"]}
 
     @classmethod
     def scene_problems(cls, scene) -> list[str]:

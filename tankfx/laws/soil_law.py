@@ -13,6 +13,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any, ClassVar
 
+import numpy as np
+
 #: gamma_w, N/m^3: the pore water's unit weight
 WATER_UNIT_WEIGHT = 9810.0
 #: the atmospheric pressure, Pa: Duncan & Chang's reference p_a by default
@@ -247,6 +249,37 @@ class LinearElastic(SoilLaw):
     word = "linear"
     title = "a linear soil"
     consolidates = True
+
+
+class ElastoplasticSoil(SoilLaw):
+    """What every elastoplastic law shares (its state at the points, Newton's iteration in
+    load steps, its permanent strain, a ground that fails), and its cell reports."""
+
+    iteration = "newton"
+    #: with a [consolidation], an effective-stress skeleton
+    consolidates = True
+    iteration_keys = ("max_iterations",)
+    #: Newton iterations of a load step before it is halved
+    max_iterations = 25
+    reports = ("plastic", "stress_level")
+    #: its state (stress, plastic strain, its own) lives at the forms' quadrature points
+    at_points = True
+    #: its ground fails: a collapse load and a strength factor are its to compute
+    fails = True
+    #: the displacement form only (its checks bound nu)
+    displacement_form_only = True
+    #: its plastic strain stays when the load comes off
+    keeps_permanent_strain = True
+
+    @classmethod
+    def cell_reports(cls, soil, eps_min, eps_max, deviator, depth, converged=None,
+                     unloading=None):
+        """``plastic``: the share of a cell's points that yield (1: all); ``stress_level``:
+        the law's mobilised strength of its mean stress, 1 at the strength. From the Newton
+        iteration's status (zeros before it has run)."""
+        if converged is None:
+            return {"plastic": np.zeros_like(depth), "stress_level": np.zeros_like(depth)}
+        return {"plastic": converged["plastic"], "stress_level": converged["stress_level"]}
 
 
 def words(laws, test) -> str:
