@@ -44,13 +44,16 @@ def test_one_dimensional_compression_of_a_normally_consolidated_layer():
 @pytest.mark.mpi
 @pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="needs mpiexec -n 2 (make test-mpi)")
 def test_serial_and_two_ranks_compress_the_layer_alike():
-    """The points' state split over the ranks (p_c among it): w0, the yielding points and
-    the Newton iterations the same on one rank and on all."""
+    """The points' state split over the ranks (p_c among it): w0 the same on one rank and
+    on all (1e-8), the yielding points to a thousandth."""
     scene = Scene.from_dict(_layer())
     parallel = analyse(scene, MPI.COMM_WORLD).results
     serial = analyse(scene, MPI.COMM_SELF).results
     assert parallel["w0"] == pytest.approx(serial["w0"], rel=1e-8)
-    assert parallel["soil"]["plastic_points"] == serial["soil"]["plastic_points"]
+    # (a point on the ellipse to round-off may yield on one and not on the other: measured
+    # 13,008 against 13,007 on a fresh clone)
+    assert abs(parallel["soil"]["plastic_points"] - serial["soil"]["plastic_points"]) <= \
+        1e-3 * serial["soil"]["plastic_points"]
 
 
 @pytest.mark.parametrize("change,says", [
