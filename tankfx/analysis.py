@@ -185,7 +185,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     study = CollapseStudy.of(scene, model, iterations, solver, comm, log)
     if study is not None and scene.consolidation is not None:
         # (in time: the factor of safety at every milestone of the path)
-        iterations.at_milestones(study.at_milestone)
+        iterations.at_milestones(study.at_milestone, study)
     solutions = []
     rocking = None          # the first harmonic, built by the first stage that overturns
     for k, load in enumerate(stages):
@@ -229,6 +229,7 @@ def analyse_path(scene: Scene, loads: list, comm: MPI.Comm = MPI.COMM_WORLD,
     if study is not None:
         found = study.findings() if scene.consolidation is not None else \
             study.run(stages[0])
+    if study is not None and found is not None:
         last = solutions[-1]
         last.results["collapse"] = found.collapse
         if found.bounds is not None:

@@ -41,6 +41,7 @@ class CollapseStudy:
         self.solver, self.comm, self.log = solver, comm, log
         # (the state a collapse by load starts from: the ground before the load)
         self.before = self._search().snapshot()
+        self._last = None
 
     @classmethod
     def of(cls, scene, model, iterations, solver, comm, log) -> "CollapseStudy | None":
@@ -67,19 +68,36 @@ class CollapseStudy:
                       f"does not carry the load with its full strength (collapse = "
                       f"\"load\" brackets the share of it that it carries)",)
 
-    def at_milestone(self) -> dict:
+    def at_milestone(self, bracket: float | None = None) -> dict:
         """The search by strength on the state now: a consolidation's milestone (each
         stage's end; without stages t = 0 and every reported time), the pore water held by
         the time stepping (the factor a sudden failure would find). Its record joins the
         milestone's state (``{"collapse": record}``); the last one's is the study's
         :meth:`findings`."""
-        self._last = self._collapse(self.model.scene.load)
+        self._last = self._collapse(self.model.scene.load, bracket)
         self.log.info("collapse: %s", collapse_words(self._last[0]))
         return {"collapse": self._last[0]}
 
-    def findings(self) -> CollapseFindings:
-        """The last milestone's search (:meth:`at_milestone`)."""
-        return CollapseFindings(*self._last)
+    def carries(self, factor: float) -> tuple[bool, str]:
+        """Whether the ground carries the load now with its strength divided by ``factor``
+        (:meth:`CollapseSearch.carries`: a fill schedule's check, the pore water held by
+        the time stepping); the state now given back afterwards: (carried, why not)."""
+        search = self._search()
+        end = search.snapshot()
+        try:
+            return search.carries(factor)
+        finally:
+            search.restore(end)
+
+    def findings(self) -> CollapseFindings | None:
+        """The last milestone's search (:meth:`at_milestone`), or the one :meth:`keep`
+        chose; None where there is none."""
+        return None if self._last is None else CollapseFindings(*self._last)
+
+    def keep(self, findings: CollapseFindings | None) -> None:
+        """The findings the study reports (a fill schedule's last accepted state's, not
+        those of the last search it tried)."""
+        self._last = None if findings is None else (findings.collapse, findings.fields)
 
     def run(self, load) -> CollapseFindings:
         """The study after the scene's own analysis of ``load``: the search, and the bounds
@@ -94,7 +112,7 @@ class CollapseStudy:
         self.log.info("bounds: %s", bounds_words(bounds))
         return CollapseFindings(record, fields, bounds, mechanism)
 
-    def _collapse(self, load) -> tuple[dict, dict]:
+    def _collapse(self, load, bracket: float | None = None) -> tuple[dict, dict]:
         """The search of the study's kind: by load from the ground before the load, by
         strength from the load's converged state; that state given back afterwards: (its
         record for results.json, its mechanism's fields)."""
@@ -106,7 +124,7 @@ class CollapseStudy:
                     search.restore(self.before)
                     outcome = search.by_load(load)
                 else:
-                    outcome = search.by_strength()
+                    outcome = search.by_strength(*([bracket] if bracket else []))
             p = self.model.soil.plastic
             fields = {"increment": outcome.increment,
                       "plastic": cell_field(self.model.domain.mesh,

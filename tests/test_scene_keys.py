@@ -21,7 +21,8 @@ FULL = {"soil": {"E": 10e6, "nu": 0.3},
         "ringwall": {"inner_radius": 0.8, "outer_radius": 1.2, "depth": 0.5, "E": 30e9},
         "interface": {"condition": "mohr_coulomb", "tan_phi": 0.5},
         "load": {"pressure": 50e3}, "domain": {}, "mesh": {}, "solver": {}, "analysis": {},
-        "consolidation": {"permeability": 1e-9, "times": [86400.0]}}
+        "consolidation": {"permeability": 1e-9, "times": [86400.0]},
+        "fill": {"height": 3.0, "step": 1.0, "rate": 1.0}}
 
 
 def test_the_reference_is_generated_and_current():
@@ -74,7 +75,7 @@ def test_every_limit_is_enforced_with_the_key_and_the_range(name, key, spec):
 def test_within_the_limits_the_full_scene_reads():
     """The scene the limits are checked on is itself valid but for the consolidation's
     rules (a consolidation under a ringwall): the refusals above are the limits'."""
-    ok = {sec: dict(t) for sec, t in FULL.items() if sec != "consolidation"}
+    ok = {sec: dict(t) for sec, t in FULL.items() if sec not in ("consolidation", "fill")}
     scene = Scene.from_dict(ok)
     assert scene.interface.tan_phi == 0.5 and scene.ringwall.nu == 0.2
 

@@ -49,6 +49,11 @@ class OutOfBalance:
                       for row_bcs in fem.bcs_by_block(spaces, bcs)]
         self.rows, self.unknowns = rows, unknowns
         self.comm = unknowns[0].function_space.mesh.comm
+        #: relative to the largest load vector so far rather than the current one (a load
+        #: path in time, which may come to no load: an empty tank, whose load vector holds
+        #: only round-off)
+        self.relative_to_largest = False
+        self._largest = 0.0
 
     def __call__(self) -> float:
         residual = load = 0.0
@@ -65,4 +70,7 @@ class OutOfBalance:
             residual += float(r @ r)
             load += float(vecs[0] @ vecs[0])
         comm = self.comm
-        return math.sqrt(comm.allreduce(residual) / max(comm.allreduce(load), 1e-300))
+        load = comm.allreduce(load)
+        if self.relative_to_largest:
+            self._largest = load = max(load, self._largest)
+        return math.sqrt(comm.allreduce(residual) / max(load, 1e-300))

@@ -36,7 +36,7 @@ increments' displacement, the mechanism.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from dolfinx import fem
 
@@ -226,9 +226,10 @@ class CollapseSearch:
         return None, "", its
 
     # ---- strength ----------------------------------------------------------------------
-    def by_strength(self) -> CollapseOutcome:
+    def by_strength(self, bracket: float = BRACKET) -> CollapseOutcome:
         """The factor on c and tan phi at which the ground fails under the scene's load,
-        from the converged state at the full strength."""
+        from the converged state at the full strength, bracketed to ``bracket``
+        (relative)."""
         m, nw, log = self.model, self.newton, self.log
         t0 = time.perf_counter()
         full = nw.plastic.points
@@ -248,7 +249,7 @@ class CollapseSearch:
         try:
             failed_from = None          # (the converged factor the failed trial started from)
             for trial in range(1, self.MAX_TRIALS + 1):
-                if F_fail is not None and F_fail / F_ok - 1.0 <= BRACKET:
+                if F_fail is not None and F_fail / F_ok - 1.0 <= bracket:
                     if failed_from == F_ok:
                         break
                     # the failed trial started further down: try it again from the
@@ -261,7 +262,7 @@ class CollapseSearch:
                 # (a trial far above the last converged one stalls soon where it fails; a
                 # false failure there only brings the next trial nearer, and the bracket's
                 # own failed trial is always one within 4 brackets of its converged state)
-                near = F / F_ok - 1.0 <= 4.0 * BRACKET
+                near = F / F_ok - 1.0 <= 4.0 * bracket
                 ok, its, residual, why = nw.solve(
                     self.inner, self.STRENGTH_ITERATIONS,
                     self.STRENGTH_STALL if near else self.FAR_STALL)
@@ -277,7 +278,7 @@ class CollapseSearch:
                     self._point(F, m.mean_settlement(), its)
                     if F_fail is not None and F >= F_fail:
                         # (the failure did not hold from nearer: search on above)
-                        F_fail, dF = None, BRACKET * F
+                        F_fail, dF = None, bracket * F
                     if F_fail is None and its <= nw.FAST:
                         dF *= 2.0
                 else:
@@ -291,10 +292,46 @@ class CollapseSearch:
                 reason = f"no bracket within {self.MAX_TRIALS} trials"
         finally:
             nw.plastic.use(full)
-        found = F_fail is not None and F_fail / F_ok - 1.0 <= BRACKET
-        return self._outcome("strength", F_ok, (F_ok, F_fail) if found else None, found,
-                             reason, iterations, t0, load=m.scene.load,
-                             failure=failure if found else None)
+        found = F_fail is not None and F_fail / F_ok - 1.0 <= bracket
+        return replace(self._outcome("strength", F_ok, (F_ok, F_fail) if found else None,
+                                     found, reason, iterations, t0, load=m.scene.load,
+                                     failure=failure if found else None),
+                       bracket_width=bracket)
+
+    def carries(self, factor: float) -> tuple[bool, str]:
+        """Whether the ground carries the scene's load with c and tan phi divided by
+        ``factor`` (> 1): the question a check asks (is the factor of safety at least
+        this?), one trial at the factor from the converged state at full strength. Where
+        Newton does not converge there from that far, trials nearer it in halved steps,
+        down to a sixteenth of the way (a false failure would only ask for more safety).
+        A trial beyond the settlement criterion fails at once (a weaker soil settles
+        more). The state is left at the last trial that converged (its caller restores
+        the one it wants): (carried, why not)."""
+        nw, m = self.newton, self.model
+        full = nw.plastic.points
+        F_ok, F, smallest = 1.0, factor, (factor - 1.0) / 16.0
+        try:
+            while True:
+                nw.plastic.use(full.reduced(F))
+                ok, its, _, why = nw.solve(self.inner, self.STRENGTH_ITERATIONS,
+                                           self.STRENGTH_STALL)
+                ok, why = self._small(ok, why)
+                self.log.debug("  strength trial %.6g from %.6g: %s (%d Newton iterations)",
+                               F, F_ok, "carried" if ok else why, its)
+                if ok:
+                    nw.commit()
+                    F_ok = F
+                    if F >= factor:
+                        return True, ""
+                    F = factor
+                    continue
+                m.rollback()
+                if self.failure == Failure.SETTLEMENT or F - F_ok <= smallest * (1 + 1e-9):
+                    return False, (f"with c and tan phi divided by {F:.6g} (from "
+                                   f"{F_ok:.6g}), {self._failed(why)}")
+                F = F_ok + 0.5 * (F - F_ok)
+        finally:
+            nw.plastic.use(full)
 
     # ---- what both record ------------------------------------------------------------------
     def _point(self, factor: float, w: float, iterations: int) -> None:

@@ -132,8 +132,7 @@ class NewtonIteration:
         return IterationStatus.of({
             "converged": True, "iterations": total_iterations, "history": self.history,
             "steps": len(self.history),
-            "plastic_points": nw.plastic_points(),
-            "max_plastic_shear_strain": nw.largest_plastic_shear_strain(),
+            **nw.yielding_record(),
             "criterion": criterion.format(steps=len(self.history)),
             "time_s": time.perf_counter() - t_stage},
             # (per cell, for the fields and figures: yielding, and tau / tau_f)

@@ -83,6 +83,9 @@ class Newton:
             u.x.array[:] = x
         self.plastic.update()
         self.model.rollback()
+        # (and which points yield, as committed: what the results count)
+        p = self.plastic
+        p.yielding = p.point_values(p.plastic) > 0.5
 
     def commit(self) -> None:
         """The converged state becomes the committed one: the points' and the model's."""
@@ -213,6 +216,39 @@ class Newton:
         own = self.model.domain.mesh.topology.index_map(2).size_local
         return comm.allreduce(
             float(p.plastic_shear_strain()[:own * p.n_points].max(initial=0.0)), op=MPI.MAX)
+
+    def yielding_record(self) -> dict:
+        """What a status records of the yielding (results.json's ``soil``): the points that
+        yield, the largest plastic shear strain and, where the law defines it, the
+        undrained strength where the clay yields. Collective."""
+        out = {"plastic_points": self.plastic_points(),
+               "max_plastic_shear_strain": self.largest_plastic_shear_strain()}
+        s_u = self.undrained_strength()
+        if s_u is not None:
+            out["undrained_strength"] = s_u
+        return out
+
+    def undrained_strength(self) -> dict | None:
+        """s_u where the clay yields (a law that defines it: Cam Clay), over all ranks:
+        its least, mean and largest (Pa) over the yielding points, how many, and their
+        depths' range (m); None where the law has none. Collective."""
+        p, comm = self.plastic, self.model.domain.mesh.comm
+        s_u = p.undrained_strength()
+        if s_u is None:
+            return None
+        own = self.model.domain.mesh.topology.index_map(2).size_local * p.n_points
+        flag = p.point_values(p.plastic)[:own] > 0.5
+        here = s_u[:own][flag & np.isfinite(s_u[:own])]
+        depth = p.depth[:own][flag & np.isfinite(s_u[:own])]
+        n = comm.allreduce(len(here))
+        if n == 0:
+            return {"points": 0}
+        return {"points": n,
+                "min": comm.allreduce(float(here.min(initial=np.inf)), op=MPI.MIN),
+                "max": comm.allreduce(float(here.max(initial=-np.inf)), op=MPI.MAX),
+                "mean": comm.allreduce(float(here.sum())) / n,
+                "depth_min": comm.allreduce(float(depth.min(initial=np.inf)), op=MPI.MIN),
+                "depth_max": comm.allreduce(float(depth.max(initial=-np.inf)), op=MPI.MAX)}
 
     def yielding_zone(self) -> str:
         """Where the soil yields, in words (gathered over the ranks). Collective."""

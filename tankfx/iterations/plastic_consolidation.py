@@ -81,8 +81,7 @@ class PlasticConsolidation(TimeStepping):
             "time_steps": status.iterations,
             "criterion": f"every time step by Newton to an out-of-balance force <= "
                          f"{self.TOLERANCE:g} of the load vector",
-            "plastic_points": nw.plastic_points(),
-            "max_plastic_shear_strain": nw.largest_plastic_shear_strain()})
+            **nw.yielding_record()})
         return self.last
 
     def _set_loads(self, load) -> None:

@@ -23,6 +23,7 @@ from .active_set import ActiveSet
 from .by_law import soil_iteration
 from .continuation import run_to_settlement
 from .excavation import excavate
+from .fill_schedule import FillSchedule
 from .plastic_consolidation import PlasticConsolidation
 from .status import CONVERGED, AtDebug, IterationStatus
 from .time_stepping import TimeStepping
@@ -73,7 +74,11 @@ def stage_plan(scene) -> list[type]:
     """The classes of the iterations that solve a stage of ``scene``, outermost first (no
     mesh needed: ``tankfx check`` describes them)."""
     plan = []
-    if scene.consolidation is not None and scene.soil.law.at_points:
+    if scene.fill is not None:
+        # (the safe fill: the elastoplastic skeleton's consolidation along a schedule it
+        # searches)
+        plan.append(FillSchedule)
+    elif scene.consolidation is not None and scene.soil.law.at_points:
         # (the elastoplastic skeleton's consolidation: Newton in every time step)
         plan.append(PlasticConsolidation)
     elif (soil := soil_iteration(scene.soil.law)) is not None:
@@ -128,10 +133,13 @@ class StageIterations:
         return run_to_settlement(self.iterations[0], self._call(1, log), solver, log,
                                  settlement, steps)
 
-    def at_milestones(self, call) -> None:
+    def at_milestones(self, call, study=None) -> None:
         """``call()`` at every milestone of a consolidation's path (its outermost
-        iteration's :attr:`TimeStepping.milestone`)."""
+        iteration's :attr:`TimeStepping.milestone`); a fill schedule's collapse study
+        (:attr:`tankfx.iterations.fill_schedule.FillSchedule.study`), whose checks and
+        findings it uses."""
         self.iterations[0].milestone = call
+        self.iterations[0].study = study
 
     def inner(self, log):
         """The chain inside the outermost iteration, as one call (a collapse search drives

@@ -128,6 +128,9 @@ class ConsolidationRun:
     #: at each reported time (t = 0 first): (t, the soil's displacement, the excess pore
     #: pressure, the yielding cells' DG0 flag or None), copies for the figures
     fields: list = None
+    #: a fill schedule's record (results.json's ``fill``:
+    #: :class:`tankfx.iterations.fill_schedule.FillSchedule`), None without a [fill]
+    fill: dict | None = None
 
 
 class TimeStepping:
@@ -170,6 +173,7 @@ class TimeStepping:
         self.last: IterationStatus | None = None
         # (a step of the path with no load left: see the solver's relative_to_largest_load)
         solver.relative_to_largest_load = True
+        model._out_of_balance.relative_to_largest = True
         scene = model.scene
         self.c = scene.consolidation
         self.soil = model.soil
@@ -264,6 +268,32 @@ class TimeStepping:
             raise SolveError(f"consolidation, at {when} (load {self.model.applied_load:.6g} "
                              f"N): {e}", e.history, code=e.code) from None
 
+    def _step(self, t: float, kind: str, load, path, t_prev: float,
+              dt_prev: float) -> tuple[dict, float]:
+        """One step of :func:`path_steps` to t (s) from the state at t_prev, whose step was
+        dt_prev: its state (recorded in the history) and its length."""
+        soil = self.soil
+        self._advance()
+        if kind == "jump":
+            # the load changes at once: undrained (no flow in a step of no time)
+            self._set_loads(load)
+            soil.step_weights.set(1.0, 0.0, False)
+            self._solve(0.0, t)
+            dt = 0.0
+        else:
+            self._set_loads(load_at(path, t))
+            dt = t - t_prev
+            # (a step after one divided in parts restarts: its predecessor's dt is not the
+            # step before's)
+            restart = kind == "restart" or self.divided
+            self.divided, self.span = False, (t_prev, t, path)
+            self._solve(soil.step_weights.set(dt, 0.0 if restart else dt_prev, True), t)
+        state = self._state(float(t))
+        state["applied_load"] = self.model.applied_load
+        state["liquid_height"] = self.model.scene.load.liquid_height
+        self.history.append(state)
+        return state, dt
+
     def _advance(self) -> None:
         soil = self.soil
         soil.u_nn.x.array[:] = soil.u_n.x.array
@@ -292,7 +322,7 @@ class TimeStepping:
 
     def run(self, inner, log) -> IterationStatus:
         self._inner, self._log = inner, log
-        soil, c, model = self.soil, self.c, self.model
+        c, model = self.c, self.model
         scene = model.scene
         path = load_path(scene)
         # the drained limit first, under the path's last load, from rest (it does not
@@ -311,25 +341,7 @@ class TimeStepping:
         #: the states of the steps that converged (what a failed step keeps)
         self.history = history
         for k, (t, kind, load) in enumerate(steps):
-            self._advance()
-            if kind == "jump":
-                # the load changes at once: undrained (no flow in a step of no time)
-                self._set_loads(load)
-                soil.step_weights.set(1.0, 0.0, False)
-                self._solve(0.0, t)
-                dt = 0.0
-            else:
-                self._set_loads(load_at(path, t))
-                dt = t - t_prev
-                # (a step after one divided in parts restarts: its predecessor's dt is not
-                # the step before's)
-                restart = kind == "restart" or self.divided
-                self.divided, self.span = False, (t_prev, t, path)
-                self._solve(soil.step_weights.set(dt, 0.0 if restart else dt_prev, True), t)
-            state = self._state(float(t))
-            state["applied_load"] = model.applied_load
-            state["liquid_height"] = model.scene.load.liquid_height
-            history.append(state)
+            state, dt = self._step(t, kind, load, path, t_prev, dt_prev)
             last_at_t = k + 1 == len(steps) or steps[k + 1][0] != t
             if last_at_t and t in milestones and self.milestone is not None:
                 found[float(t)] = self._held(self.milestone) or {}

@@ -303,6 +303,18 @@ class CamClayPoints:
         return replace(self, E_fixed=np.where(mask, E_here, self.E_fixed),
                        nu=self.nu if nu is None else np.where(mask, nu, self.nu))
 
+    def undrained_strength(self, stress, state) -> np.ndarray:
+        """s_u (Pa) of each point's effective ``stress`` (its total: at rest plus its
+        change) and preconsolidation pressure: the deviator half at the critical state
+        reached undrained from an isotropic state of the same p' and p_c,
+        s_u = (M / 2) p' (p_c / (2 p'))^L, L = (lambda* - kappa*) / lambda* (Wood 1990,
+        Eq. 10.35): what a field vane measures, up to the anisotropy Cam Clay leaves out.
+        NaN at the points that never yield (a ringwall's, a void's)."""
+        p = np.maximum(invariants(stress)[0], self.p_min)
+        L = (self.lambda_star - self.kappa_star) / self.lambda_star
+        s_u = 0.5 * self.M * p * (state["p_c"][:, 0] / (2.0 * p)) ** L
+        return np.where(np.isfinite(self.E_fixed), np.nan, s_u)
+
     def mobilised(self, stress, per: int = 1) -> np.ndarray:
         """q / (M p'): the stress ratio's share of the critical state's (1 there; the
         ellipse's dry side passes it)."""

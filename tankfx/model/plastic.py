@@ -76,6 +76,8 @@ class PlasticState:
         x = fem.Expression(ufl.SpatialCoordinate(msh), points).eval(msh, self.cells)
         x = x.reshape(-1, 2)
         depth = -x[:, 1]
+        #: each point's depth below the ground surface, m
+        self.depth = depth
         #: the law at the points (tankfx.laws.point_law.PointLaw)
         points_law = law.point_law(soil, depth)
         # the points of the cells that carry no soil (an excavation, the tank's inside)
@@ -208,6 +210,10 @@ class PlasticState:
         self.offset.x.array[:] = self.stress_n.x.array
         self._trial = (np.zeros((len(self.yielding), 4)), None)
 
+    def point_values(self, field) -> np.ndarray:
+        """A scalar field's values at every point, in point order (cell by cell)."""
+        return self._get(field, self._dofs1, 1)[:, 0]
+
     def cell_average(self, field, width: int) -> np.ndarray:
         """Each local cell's mean of a field over its points (the rule's weights), N x
         width, in cell order."""
@@ -230,6 +236,18 @@ class PlasticState:
         """tau / tau_f of each local cell's mean stress (its strength at its mean depth)."""
         mean = self.cell_average(self.stress, 4) + self.cell_average(self.geostatic, 4)
         return self.points.mobilised(mean, per=self.n_points)
+
+    def undrained_strength(self) -> np.ndarray | None:
+        """s_u per point of the committed state, where the law defines one
+        (:meth:`tankfx.laws.cam_clay_points.CamClayPoints.undrained_strength`), else None."""
+        law = getattr(self.points, "undrained_strength", None)
+        if law is None:
+            return None
+        stress = self._get(self.stress_n, self._dofs4, 4) + \
+            self._get(self.geostatic, self._dofs4, 4)
+        state = {name: self._get(f, self._dofs_w[self.points.state[name]],
+                                 self.points.state[name]) for name, f in self.own.items()}
+        return law(stress, state)
 
     def mobilised(self) -> np.ndarray:
         """tau / tau_f per point of the current stress (1 on the yield surface)."""

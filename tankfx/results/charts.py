@@ -436,6 +436,49 @@ def plot_collapse(results: dict, path: str | Path, title: str = "") -> Path | No
     return save(fig, path)
 
 
+def fill_chart(results: dict, title: str = "") -> Figure:
+    """A fill schedule (results.json's ``fill``): the liquid's height against days, the
+    safe schedule (its holds flat) beside the fill at the rate with no hold; and the factor
+    of safety at each step's end, both ways, against the target."""
+    f = results["fill"]
+    history = results["consolidation"]["history"]
+    fig, (ax_h, ax_f) = figure(2)
+    days = [s["t_days"] for s in history]
+    ax_h.plot(days, [s["liquid_height"] for s in history], color=COLORS[0], lw=2,
+              label=f"safe schedule ({f['total_days']:.4g} days)" if f["complete"] else
+              f"safe schedule (to {f['reached_height']:.4g} m)")
+    unheld = f["unheld"]
+    ax_h.plot([0.0] + [u["day"] for u in unheld], [0.0] + [u["height"] for u in unheld],
+              color=COLORS[1], lw=1.5, ls="--", marker="o", ms=4,
+              label=f"no holds, {f['rate']:g} m/day" + (" (fails)" if f["unheld_fails"]
+                                                        else ""))
+    ax_h.set_xlabel("time [days]")
+    ax_h.set_ylabel("liquid height [m]")
+    ax_h.legend(fontsize=8, loc="lower right")
+    if title:
+        ax_h.set_title(title)
+    steps = [s for s in f["schedule"] if s["strength_factor"] is not None]
+    ax_f.plot([s["fill_end_day"] for s in steps], [s["strength_factor"] for s in steps],
+              color=COLORS[0], lw=2, marker="o", ms=5, label="safe schedule, each step's end")
+    ax_f.plot([u["day"] for u in unheld], [u["strength_factor"] for u in unheld],
+              color=COLORS[1], lw=1.5, ls="--", marker="x", ms=6,
+              label="no holds (1: the ground fails)")
+    ax_f.axhline(f["target_factor"], color=COLORS[2], lw=1.2, ls="--",
+                 label=f"target {f['target_factor']:g}")
+    ax_f.axhline(1.0, color="0.5", lw=1.0, ls=":")
+    ax_f.set_xlabel("time [days]")
+    ax_f.set_ylabel("factor of safety on the strength, undrained [-]")
+    ax_f.legend(fontsize=8, loc="best")
+    return fig
+
+
+def plot_fill(results: dict, path, title: str = "") -> Path | None:
+    """:func:`fill_chart` written to ``path`` (rank 0); None without a fill schedule."""
+    if "fill" not in results or not _rank0():
+        return None
+    return save(fill_chart(results, title), path)
+
+
 def failure_words(failure: str | None) -> str:
     """How a collapse search's failed trial failed, for a legend."""
     return {Failure.SETTLEMENT: "the settlement criterion (0.1 D)",

@@ -19,6 +19,7 @@ from .charts import (  # noqa: F401  (the line charts, re-exported: one place to
     plot_collapse,
     plot_contact,
     plot_curves,
+    plot_fill,
     plot_settlement,
     plot_structure_profiles,
     plot_surface_settlement,
@@ -666,6 +667,8 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
                     (plot_contact, (r, directory / "contact.png"), {"title": title})]
     if "consolidation" in r:
         figures += _consolidation_figures(solution, directory, section, title)
+    if "fill" in r:
+        figures.append((plot_fill, (r, directory / "fill.png"), {"title": title}))
     if "overturning" in r:
         figures += [(plot_overturning, (r, directory / "overturning.png",
                                         directory / "overturning_wall.png"),

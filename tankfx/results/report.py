@@ -22,7 +22,7 @@ def summary_rows(results: dict) -> list[tuple[str, str, str]]:
     plate, no interface lengths for a bonded one)."""
     return (_validity_rows(results) + _load_rows(results) + _settlement_rows(results)
             + _bearing_rows(results) + _structure_rows(results)
-            + _consolidation_rows(results) + _overturning_rows(results)
+            + _consolidation_rows(results) + _fill_rows(results) + _overturning_rows(results)
             + collapse_rows(results) + bounds_rows(results) + _nondim_rows(results) + _iteration_rows(results)
             + _stage_rows(results))
 
@@ -172,6 +172,33 @@ def _consolidation_rows(r: dict) -> list[tuple[str, str, str]]:
     return rows
 
 
+def _fill_rows(r: dict) -> list[tuple[str, str, str]]:
+    """A fill schedule: the plan, a row a step (its hold, its filling days, its factor of
+    safety), its total and the fill with no hold."""
+    f = r.get("fill")
+    if not f:
+        return []
+    rows = [("fill: safe schedule" if f["complete"] else "fill: safe only to",
+             f"{f['total_days']:.4g} days" if f["complete"] else f"{f['reached_height']:.4g} m",
+             f"to {f['height']:g} m in steps of {f['step']:g} m at {f['rate']:g} m/day, the "
+             f"factor of safety at least {f['target_factor']:g} at each step's end (holds "
+             f"to {f['hold_resolution_days']:g} day)" + ("" if f["complete"] else
+                                                         f": {f['reason']}"))]
+    for k, s in enumerate(f["schedule"], start=1):
+        F = s["strength_factor"]
+        rows.append((f"  step {k}: to {s['height']:.4g} m",
+                     f"hold {s['hold_days']:.4g} d" if s["hold_days"] else "no hold",
+                     f"fills from day {s['fill_start_day']:.4g} to {s['fill_end_day']:.4g}; "
+                     f"factor of safety {'-' if F is None else f'{F:.3g}'}, w0 "
+                     f"{1e3 * s['w0']:.1f} mm, w_edge {1e3 * s['w_edge']:.1f} mm"))
+    rows.append(("fill: no holds, least factor of safety",
+                 f"{f['unheld_factor']:.3g}" if f["unheld_factor"] is not None else "-",
+                 (f"the ground fails at {f['unheld_height']:.4g} m of liquid" if
+                  f["unheld_fails"] else f"at {f['unheld_height']:.4g} m of liquid")
+                 + f", filled at {f['rate']:g} m/day"))
+    return rows
+
+
 def _stage_note(s: dict) -> str:
     """A consolidation stage's load, piezometers and factor of safety, in words."""
     words = [f"load {s['applied_load'] / 1e6:.4g} MN"]
@@ -248,6 +275,14 @@ def _iteration_rows(r: dict) -> list[tuple[str, str, str]]:
         # (an elastoplastic soil: where it yields, and how far)
         rows.append(("soil yielding", f"{soil['plastic_points']} quadrature points",
                      f"largest plastic shear strain {soil['max_plastic_shear_strain']:.2e}"))
+        s_u = soil.get("undrained_strength") or {}
+        if s_u.get("points"):
+            # (Cam Clay: the strength a field vane would measure, where the clay yields)
+            rows.append(("undrained strength where the clay yields",
+                         f"{s_u['min'] / 1e3:.3g} to {s_u['max'] / 1e3:.3g} kPa",
+                         f"mean {s_u['mean'] / 1e3:.3g} kPa over {s_u['points']} points, "
+                         f"{s_u['depth_min']:.3g} to {s_u['depth_max']:.3g} m deep "
+                         f"(s_u = M/2 p' (p_c / 2p')^L: check against field vanes)"))
         note = f"{soil['time_steps']} time steps" if "time_steps" in soil else \
             f"{soil['steps']} load steps"
     rows.append(("iterations: soil, interface (solves)", f"{soil.get('iterations', 0)}, "

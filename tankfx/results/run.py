@@ -52,6 +52,9 @@ def run_record(results: dict, scene, solver, dofs: dict, timings: dict, ranks: i
             # with its piezometers and, asked for, its factor of safety)
             results["stages"] = [{"stage": k, **s} for k, s in enumerate(
                 results["consolidation"]["at_stages"], start=1)]
+        if consolidation.data.fill is not None:
+            # (a fill schedule's plan: tankfx.iterations.fill_schedule)
+            results["fill"] = consolidation.data.fill
 
 
 def excavation_record(status) -> dict:

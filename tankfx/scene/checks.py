@@ -122,6 +122,9 @@ def check_consolidation(rd: Reader, c: dict, data: dict, soil: dict, layers: lis
     """A consolidation needs a linear, compressible (drained) soil of one stratum, the
     direct solver and Taylor-Hood elements; its times are positive and increasing."""
     times = c.get("times")
+    if times is None and "fill" not in data:
+        rd.bad("consolidation.times: missing; add 'times = ...' under [consolidation] (s after "
+               "the load starts, e.g. [86400, 2592000] for a day and a month)")
     if times is not None:
         if not isinstance(times, (list, tuple)) or not times or any(
                 isinstance(t, bool) or not isinstance(t, (int, float)) or not math.isfinite(t)
@@ -163,6 +166,48 @@ def check_consolidation(rd: Reader, c: dict, data: dict, soil: dict, layers: lis
     if degree == 1:
         rd.bad("mesh.degree = 1 with [consolidation]: the displacement and pore pressure are "
                "Taylor-Hood pairs (the pressure one degree lower), which need degree 2 or 3")
+
+
+def check_fill(rd: Reader, fill: dict, data: dict, soil: dict) -> None:
+    """A fill schedule needs a tank (a plate and a wall) with a liquid, on a soil that
+    consolidates and can fail, with a [consolidation] and no [[stages]] of its own; its
+    whole fill at the rate fits in ``max_days``."""
+    if "consolidation" not in data:
+        rd.bad("[fill] without a [consolidation]: the schedule's holds are the time the clay "
+               "takes to drain and grow stronger; add [consolidation] with the soil's "
+               "permeability")
+    law = SOIL_LAWS.get(soil.get("model", Soil.model))
+    if law is not None and not (law.fails and law.consolidates and law.at_points):
+        rd.bad(f"[fill] with soil.model = {law.word!r}: {law.title} has no strength that "
+               f"grows as it drains (the schedule holds until the factor of safety on the "
+               f"strength is reached); use soil.model = "
+               f"{words(SOIL_LAWS.values(), lambda x: x.fails and x.consolidates)}")
+    if "plate" not in data or "wall" not in data:
+        rd.bad("[fill] needs a tank: a [plate] and a [wall] that hold the liquid")
+    collapse = (data.get("analysis") or {}).get("collapse") \
+        if isinstance(data.get("analysis"), dict) else None
+    if collapse not in (None, "strength"):
+        rd.bad(f"analysis.collapse = {collapse!r} with [fill]: the schedule's factor of safety "
+               f"is on the soil's strength at each step's end; remove analysis.collapse (or "
+               f"give \"strength\")")
+    cons = data.get("consolidation")
+    if isinstance(cons, dict) and "times" in cons:
+        rd.bad("consolidation.times with [fill]: the schedule reports its own times (each "
+               "step's start and end); remove consolidation.times")
+    load = data.get("load") if isinstance(data.get("load"), dict) else {}
+    height, rate, days = fill.get("height"), fill.get("rate"), fill.get("max_days", 365.0)
+    given = load.get("liquid_height")
+    if given not in (None, 0, 0.0) and height is not None and given != height:
+        rd.bad(f"load.liquid_height = {given!r} with fill.height = {height!r}: the fill "
+               f"ends at fill.height; remove load.liquid_height (or make them equal)")
+    if not load.get("liquid_unit_weight"):
+        rd.bad("[fill] without load.liquid_unit_weight: the liquid's unit weight (N/m^3) is "
+               "the load the schedule raises; add e.g. 'liquid_unit_weight = 9810.0' under "
+               "[load]")
+    if all(isinstance(x, (int, float)) and x > 0 for x in (height, rate, days)) and \
+            height / rate > days:
+        rd.bad(f"fill.max_days = {days!r}: filling to {height!r} m at {rate!r} m/day takes "
+               f"{height / rate:.4g} days without a hold; raise max_days or the rate")
 
 
 def check_annular_ring(rd: Reader, plate: dict, wall: dict | None) -> None:

@@ -17,6 +17,7 @@ from .sections import (
     Analysis,
     Consolidation,
     DomainSize,
+    Fill,
     Interface,
     Layer,
     Load,
@@ -31,7 +32,8 @@ from .sections import (
 #: The sections of a scene file and the dataclass each is read into
 SECTIONS = {"soil": Soil, "plate": Plate, "wall": Wall, "ringwall": Ringwall,
             "interface": Interface, "load": Load, "domain": DomainSize, "mesh": MeshOptions,
-            "solver": SolverOptions, "consolidation": Consolidation, "analysis": Analysis}
+            "solver": SolverOptions, "consolidation": Consolidation, "analysis": Analysis,
+            "fill": Fill}
 _TYPES = {"float": float, "int": int, "bool": bool, "str": str}
 
 

@@ -17,6 +17,7 @@ from ..laws.rigidity import Kp_from_thickness
 from .checks import (
     check_analysis,
     check_consolidation,
+    check_fill,
     check_discretisation,
     check_domain,
     check_interface,
@@ -45,6 +46,7 @@ from .sections import (
     Analysis,
     Consolidation,
     DomainSize,
+    Fill,
     Interface,
     Load,
     MeshOptions,
@@ -128,6 +130,8 @@ class Scene:
     accepted: tuple[str, ...] = field(default=(), compare=False)
     #: what is asked beyond the response to the load: the ground's collapse
     analysis: Analysis = field(default_factory=Analysis)
+    #: the safe filling of the tank in time (None: the [load] or the [[stages]] as given)
+    fill: Fill | None = None
 
     @property
     def foundation_radius(self) -> float:
@@ -219,12 +223,15 @@ class Scene:
         if self.accept:
             out["accept"] = list(self.accept)
         for name in ("soil", "plate", "wall", "ringwall", "interface", "load", "domain",
-                     "mesh", "solver", "consolidation", "analysis"):
+                     "mesh", "solver", "consolidation", "analysis", "fill"):
             part = getattr(self, name)
             if part is not None:
                 out[name] = plain(part)
-        if not out["analysis"]:
+        if not out["analysis"] or self.fill is not None:
+            # (a fill's collapse = "strength" is its own, not the user's)
             del out["analysis"]
+        if self.consolidation is not None and not self.consolidation.times:
+            del out["consolidation"]["times"]
         # (re-readable: without what the soil's law derives itself; resolved: with it)
         written = (lambda t: t) if resolved else self.soil.law.written
         out["soil"] = written(out["soil"])
@@ -299,7 +306,11 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
     if not isinstance(data, dict):
         raise SceneError([f"a scene must be a table of sections, got {type(data).__name__}"])
     if "stages" in data:
+        if "fill" in data:
+            raise SceneError(["[[stages]] with [fill]: the schedule makes the load path itself "
+                              "(its steps and holds); remove the [[stages]] or the [fill]"])
         return _parse_path(data)
+    data = _filled(data)
     soil_raw, raw_layers = data.get("soil"), None
     if isinstance(soil_raw, dict) and "layers" in soil_raw:
         raw_layers = soil_raw["layers"]
@@ -329,6 +340,8 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
                        layers, secs["ringwall"])
     if secs["consolidation"] is not None:
         check_consolidation(rd, secs["consolidation"], data, soil or {}, layers, deg, method)
+    if secs["fill"] is not None:
+        check_fill(rd, secs["fill"], data, soil or {})
     else:
         for k, layer in enumerate(layers, start=1):
             if "permeability" in layer:
@@ -341,6 +354,18 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
         raise SceneError(bad)
     return replace(scene, accept=tuple(data.get("accept", ())),
                    accepted=tuple(rd.accepted_outside))
+
+
+def _filled(data: dict[str, Any]) -> dict[str, Any]:
+    """A [fill]'s scene with its [load] at the fill's end (``liquid_height`` = fill.height),
+    so that every load rule checks the full tank."""
+    fill, load = data.get("fill"), data.get("load", {})
+    if not (isinstance(fill, dict) and isinstance(load, dict)) or load.get("liquid_height"):
+        return data
+    height = fill.get("height")
+    if isinstance(height, (int, float)) and not isinstance(height, bool):
+        return {**data, "load": {**load, "liquid_height": height}}
+    return data
 
 
 def _piezometers_outside(scene: Scene) -> list[str]:
@@ -416,11 +441,14 @@ def _build(data: dict[str, Any], secs: dict, layers: list, choices: dict[str, st
                  solver=solver_of(secs["solver"] or {}),
                  ringwall=None if ring is None else Ringwall(**ring),
                  consolidation=None if cons is None else Consolidation(
-                     **{**cons, "times": tuple(float(t) for t in cons["times"]),
+                     **{**cons, "times": tuple(float(t) for t in cons.get("times", ())),
                         "piezometers": tuple((float(r), float(d)) for r, d in
                                              cons.get("piezometers", ()))}),
                  title=data.get("title", Scene.title),
-                 analysis=given(Analysis, secs["analysis"] or {}))
+                 # (a fill's steps are checked by the factor of safety on the strength)
+                 analysis=given(Analysis, (secs["analysis"] or {}) | (
+                     {"collapse": "strength"} if secs["fill"] is not None else {})),
+                 fill=None if secs["fill"] is None else given(Fill, secs["fill"]))
 
 
 def _parse_stages(data: dict[str, Any], raw, scene: Scene) -> tuple[Load, ...]:

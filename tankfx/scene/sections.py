@@ -781,11 +781,14 @@ class Consolidation:
                                       "(and of each layer that gives none of its own): the pore "
                                       "water flows at (k / gamma_w) grad p, gamma_w the "
                                       "`water_unit_weight`")
-    times: tuple[float, ...] = key(unit="s", required=True, kind=list, custom=True,
+    times: tuple[float, ...] = key((), unit="s", kind=list, custom=True,
+                                   default_doc="required (with [fill]: none, the schedule's)",
                                    meaning="the times after the load starts (t = 0) at which "
                                            "results are reported (positive, increasing); t = 0 "
                                            "(undrained) and the drained limit are always reported;"
-                                           " the results' top level is the last time's")
+                                           " the results' top level is the last time's. With a "
+                                           "[fill] the schedule's own times are reported: leave "
+                                           "it out")
     piezometers: tuple[tuple[float, float], ...] = key(
         (), unit="m", kind=list, custom=True,
         meaning="points [r, depth] in the ground (r from the axis, depth below the ground "
@@ -814,6 +817,41 @@ class Consolidation:
                                         "applied at once, from a fifth where only the load's "
                                         "rate changes); 10 keep Terzaghi's settlement within 0.6 % of its "
                                         "final value, 20 within 0.2 %")
+
+
+@dataclass(frozen=True)
+class Fill:
+    """The safe filling of a tank on a consolidating plastic soil: the liquid raised to
+    ``height`` in steps of ``step`` at ``rate``, each step preceded by the shortest hold
+    (to half a day) after which the factor of safety on the soil's strength at the step's
+    end, the pore water held, is at least ``target_factor``
+    (:class:`tankfx.iterations.fill_schedule.FillSchedule`)."""
+
+    height: float = key(unit="m", required=True, limit=POSITIVE,
+                        meaning="the liquid's final height in the tank (the hydrotest's full "
+                                "height); [load] gives the liquid's unit weight")
+    step: float = key(unit="m", required=True, limit=POSITIVE,
+                      meaning="the rise of the liquid in one filling step (the last one may be "
+                              "shorter, to end at `height`); before each step the schedule may "
+                              "hold")
+    rate: float = key(unit="m/day", required=True, limit=POSITIVE,
+                      meaning="how fast the liquid rises while filling, in metres a day "
+                              "(e.g. 1.0 for a pump filling a 25 m tank at 490 m^3/day)")
+    target_factor: float = key(1.3, unit="-", limit=Limit(1.0, low_open=False),
+                               meaning="the least factor of safety on the soil's strength (c' "
+                                       "and tan phi', or M's tan phi_cs) at the end of every "
+                                       "filling step, the pore water held (undrained): a "
+                                       "step begins only after a hold that gives it")
+    max_days: float = key(365.0, unit="day", limit=POSITIVE,
+                          meaning="the longest the whole schedule may take: where the holds "
+                                  "it needs would pass it, the schedule stops at the highest "
+                                  "level reached safely, and says why")
+
+    @property
+    def heights(self) -> tuple[float, ...]:
+        """The liquid's height at the end of each filling step, m."""
+        n = max(1, math.ceil(self.height / self.step - 1e-9))
+        return tuple(min(k * self.step, self.height) for k in range(1, n + 1))
 
 
 @dataclass(frozen=True)
