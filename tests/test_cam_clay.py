@@ -39,6 +39,32 @@ def test_one_dimensional_compression_of_a_normally_consolidated_layer():
                       + Q / GAMMA * math.log((GAMMA * H + Q) / Q))
     assert r["w0"] == pytest.approx(exact, rel=1e-2)
     assert r["soil"]["plastic_points"] > 0
+    _undrained_strength_on_the_k0_line(r)
+
+
+def _undrained_strength_on_the_k0_line(r):
+    """The undrained strength down the axis: on the K0_nc line (sigma'_h = K0_nc
+    sigma'_v, the ellipse through it: p_c = p' + q^2 / (M^2 p')), s_u = (M/2) p' (p_c /
+    2p')^L is a fixed share of sigma'_v = gamma z + q (measured: within 0.6 %) below the top
+    0.3 m (the least mean stress's reach) and above the base's cells; the yielding points
+    counted with their range."""
+    from tankfx.laws.cam_clay_points import normally_consolidated_ratio
+    M = 1.2
+    K0 = float(normally_consolidated_ratio(M, LAMBDA, KAPPA, NU)[1])
+    p, q = (1.0 + 2.0 * K0) / 3.0, 1.0 - K0          # per unit sigma'_v
+    share = 0.5 * M * p * ((p + q * q / (M * M * p)) / (2.0 * p)) ** ((LAMBDA - KAPPA)
+                                                                      / LAMBDA)
+    s_u = r["soil"]["undrained_strength"]
+    z, values = np.array(s_u["axis"]["depth"]), np.array(s_u["axis"]["s_u"])
+    inside = (z > 0.3) & (z < H - 0.2)
+    assert inside.sum() > 10
+    # (each cell's mean: the profile steps cell by cell, each within 1 % of the closed
+    # form somewhere across its cell, about 0.25 m here)
+    zi = z[inside]
+    assert np.all(values[inside] >= 0.99 * share * (GAMMA * (zi - 0.2) + Q))
+    assert np.all(values[inside] <= 1.01 * share * (GAMMA * (zi + 0.2) + Q))
+    assert abs(np.mean(values[inside]) / np.mean(share * (GAMMA * zi + Q)) - 1.0) < 1e-2
+    assert s_u["points"] > 0 and s_u["min"] <= s_u["mean"] <= s_u["max"]
 
 
 @pytest.mark.mpi

@@ -18,6 +18,7 @@ from typing import NamedTuple
 import numpy as np
 from mpi4py import MPI
 
+from ..fem.blocks import cell_field
 from ..fem.evaluate import evaluate_at
 from ..fem.solvers import SolveError
 
@@ -241,14 +242,29 @@ class Newton:
         here = s_u[:own][flag & np.isfinite(s_u[:own])]
         depth = p.depth[:own][flag & np.isfinite(s_u[:own])]
         n = comm.allreduce(len(here))
+        out = {"points": n, "axis": self._undrained_strength_on_axis(s_u)}
         if n == 0:
-            return {"points": 0}
-        return {"points": n,
+            return out
+        return out | {
                 "min": comm.allreduce(float(here.min(initial=np.inf)), op=MPI.MIN),
                 "max": comm.allreduce(float(here.max(initial=-np.inf)), op=MPI.MAX),
                 "mean": comm.allreduce(float(here.sum())) / n,
                 "depth_min": comm.allreduce(float(depth.min(initial=np.inf)), op=MPI.MIN),
                 "depth_max": comm.allreduce(float(depth.max(initial=-np.inf)), op=MPI.MAX)}
+
+    def _undrained_strength_on_axis(self, s_u: np.ndarray) -> dict:
+        """s_u down the axis (each cell's mean, Pa), from the foundation's level to 3 radii
+        below it (or the base): the profile a field vane under the tank's centre reads."""
+        m, p = self.model, self.plastic
+        sc = m.scene
+        D, a = sc.embedment, sc.foundation_radius
+        depth = np.linspace(D, min(D + 3.0 * a, sc.domain.depth), 31)
+        values = np.nan_to_num(s_u).reshape(len(p.cells), p.n_points) @ p.weights / \
+            p.weights.sum()
+        field = cell_field(m.domain.mesh, values, "undrained_strength")
+        on_axis = evaluate_at(field, np.column_stack([np.zeros_like(depth), -depth]),
+                              cells=m.domain.cells("soil"))[:, 0]
+        return {"depth": depth.tolist(), "s_u": on_axis.tolist()}
 
     def yielding_zone(self) -> str:
         """Where the soil yields, in words (gathered over the ranks). Collective."""
