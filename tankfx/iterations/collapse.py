@@ -108,6 +108,12 @@ class CollapseSearch:
         self.model, self.solver, self.log = model, solver, log
         self.iteration = chain.iterations[0]
         self.newton = self.iteration.newton
+        #: a strength trial's convergence: a consolidation's own (its time steps converge
+        #: to 1e-6 of the load where a few points flip between their returns: a trial from
+        #: such a state to Newton's 1e-8 stalled at 1.2e-6 a hair above F = 1, measured on
+        #: a Cam Clay tank), else Newton's
+        self.tolerance = getattr(self.iteration, "TOLERANCE", None)
+        self.round_off = getattr(self.iteration, "ROUND_OFF", None)
         self.inner = chain.inner(log)
         self.curve: list[dict] = []
         self.increment = None
@@ -226,10 +232,15 @@ class CollapseSearch:
         return None, "", its
 
     # ---- strength ----------------------------------------------------------------------
-    def by_strength(self, bracket: float = BRACKET) -> CollapseOutcome:
+    def by_strength(self, bracket: float = BRACKET,
+                    ceiling: float | None = None) -> CollapseOutcome:
         """The factor on c and tan phi at which the ground fails under the scene's load,
         from the converged state at the full strength, bracketed to ``bracket``
-        (relative)."""
+        (relative). With a ``ceiling``, no trial above it, and the search ends where it is
+        carried: the question of a check (is the factor of safety at least this?), asked
+        along the search's own ladder of trials (an elastoplastic state depends on the
+        path of the reduction: measured on a Cam Clay tank, one trial from 1 to 1.3
+        converged where the ladder failed at 1.12)."""
         m, nw, log = self.model, self.newton, self.log
         t0 = time.perf_counter()
         full = nw.plastic.points
@@ -257,6 +268,8 @@ class CollapseSearch:
                     F = F_fail
                 else:
                     F = F_ok + dF if F_fail is None else 0.5 * (F_ok + F_fail)
+                if ceiling is not None:
+                    F = min(F, ceiling)
                 ts = time.perf_counter()
                 reduce(F)
                 # (a trial far above the last converged one stalls soon where it fails; a
@@ -265,7 +278,8 @@ class CollapseSearch:
                 near = F / F_ok - 1.0 <= 4.0 * bracket
                 ok, its, residual, why = nw.solve(
                     self.inner, self.STRENGTH_ITERATIONS,
-                    self.STRENGTH_STALL if near else self.FAR_STALL)
+                    self.STRENGTH_STALL if near else self.FAR_STALL, self.tolerance,
+                    self.round_off)
                 iterations += its
                 ok, why = self._small(ok, why)
                 log.info("  %5d  %9.5f  %9s  %6d  %19s  %6.2f", trial, F, ok, its,
@@ -281,6 +295,9 @@ class CollapseSearch:
                         F_fail, dF = None, bracket * F
                     if F_fail is None and its <= nw.FAST:
                         dF *= 2.0
+                    if ceiling is not None and F >= ceiling:
+                        reason = f"carried at the ceiling {ceiling:.6g}"
+                        break
                 else:
                     m.rollback()
                     F_fail = F if F_fail is None else min(F_fail, F)
@@ -297,41 +314,6 @@ class CollapseSearch:
                                      found, reason, iterations, t0, load=m.scene.load,
                                      failure=failure if found else None),
                        bracket_width=bracket)
-
-    def carries(self, factor: float) -> tuple[bool, str]:
-        """Whether the ground carries the scene's load with c and tan phi divided by
-        ``factor`` (> 1): the question a check asks (is the factor of safety at least
-        this?), one trial at the factor from the converged state at full strength. Where
-        Newton does not converge there from that far, trials nearer it in halved steps,
-        down to a sixteenth of the way (a false failure would only ask for more safety).
-        A trial beyond the settlement criterion fails at once (a weaker soil settles
-        more). The state is left at the last trial that converged (its caller restores
-        the one it wants): (carried, why not)."""
-        nw, m = self.newton, self.model
-        full = nw.plastic.points
-        F_ok, F, smallest = 1.0, factor, (factor - 1.0) / 16.0
-        try:
-            while True:
-                nw.plastic.use(full.reduced(F))
-                ok, its, _, why = nw.solve(self.inner, self.STRENGTH_ITERATIONS,
-                                           self.STRENGTH_STALL)
-                ok, why = self._small(ok, why)
-                self.log.debug("  strength trial %.6g from %.6g: %s (%d Newton iterations)",
-                               F, F_ok, "carried" if ok else why, its)
-                if ok:
-                    nw.commit()
-                    F_ok = F
-                    if F >= factor:
-                        return True, ""
-                    F = factor
-                    continue
-                m.rollback()
-                if self.failure == Failure.SETTLEMENT or F - F_ok <= smallest * (1 + 1e-9):
-                    return False, (f"with c and tan phi divided by {F:.6g} (from "
-                                   f"{F_ok:.6g}), {self._failed(why)}")
-                F = F_ok + 0.5 * (F - F_ok)
-        finally:
-            nw.plastic.use(full)
 
     # ---- what both record ------------------------------------------------------------------
     def _point(self, factor: float, w: float, iterations: int) -> None:

@@ -17,9 +17,10 @@ The search, on the path of :class:`tankfx.iterations.plastic_consolidation.Plast
    its check fails, holds of 1, 2, 4, ... days are tried, the hold continued from the
    longest one tried below it (one hold is one consolidation under a constant load, its
    states reused), then the hold bisected between the longest that fails and the shortest
-   that passes down to ``HOLD_RESOLUTION``. The check is one strength-reduction trial at the
-   target (:meth:`tankfx.iterations.collapse.CollapseSearch.carries`); the accepted step's
-   factor is then searched in full (``strength_factor``).
+   that passes down to ``HOLD_RESOLUTION``. The check is the strength-reduction search up to
+   the target (:meth:`tankfx.iterations.collapse.CollapseSearch.by_strength` with a
+   ceiling: its own ladder of trials, stopped where the target is carried); the accepted
+   step's factor is then searched in full (``strength_factor``).
 3. Where a hold would pass ``max_days``, the schedule stops at the highest level reached
    safely and says why.
 """
@@ -133,7 +134,8 @@ class FillSchedule(PlasticConsolidation):
         """The check at the end of a step: does the ground carry the load with its
         strength divided by the target factor, the pore water held?"""
         self.checks += 1
-        return self._held(lambda: self.study.carries(self.fill.target_factor))
+        return self._held(lambda: self.study.carries(self.fill.target_factor,
+                                                     FACTOR_BRACKET))
 
     def _factor(self) -> dict:
         """The factor of safety now, the pore water held: the collapse study's record."""
