@@ -47,7 +47,7 @@ suppress_warnings = ["myst.header"]
 #: The demos, in the order a reader meets them, each a tutorial page.
 TUTORIALS = ["embedded_tank", "surface_tank", "flexible_load", "nonlinear_soil",
              "layered_ground", "tank_on_sand", "steel_tank", "seismic_tank", "tank_on_clay",
-             "hydrotest", "tank_collapse"]
+             "hydrotest", "tank_collapse", "hydrotest_schedule"]
 GENERATED = DOCS / "_generated"
 
 

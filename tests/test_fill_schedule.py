@@ -150,3 +150,13 @@ def test_refused_beside_stages():
     with pytest.raises(SceneError) as e:
         Scene.from_dict(data)
     assert "[[stages]] with [fill]" in str(e.value)
+
+
+def test_the_fill_decides_the_liquid_height():
+    """The [load]'s liquid is the fill's at its end, and follows a changed fill.height
+    (a sweep's axis, with_changes); the scene re-reads equal."""
+    scene = Scene.from_dict(SMALL)
+    assert scene.load.liquid_height == 8.0 and scene.analysis.collapse == "strength"
+    lower = scene.with_changes(fill={"height": 6.0})
+    assert lower.load.liquid_height == 6.0 and lower.fill.heights == (4.0, 6.0)
+    assert Scene.from_dict(scene.to_dict()) == scene

@@ -232,6 +232,10 @@ class Scene:
             del out["analysis"]
         if self.consolidation is not None and not self.consolidation.times:
             del out["consolidation"]["times"]
+        if self.fill is not None:
+            # (the fill's height, resolved into the load: a changed fill.height is the
+            # load's too)
+            out["load"].pop("liquid_height", None)
         # (re-readable: without what the soil's law derives itself; resolved: with it)
         written = (lambda t: t) if resolved else self.soil.law.written
         out["soil"] = written(out["soil"])
