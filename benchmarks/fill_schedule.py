@@ -1,5 +1,5 @@
 """The safe fill schedule's search, and what it costs: the 25 m tank of
-demos/scenes/hydrotest_schedule.toml (Modified Cam Clay with a crust, 9 m of water in 3 m
+benchmarks/scenes/hydrotest_schedule.toml (Modified Cam Clay with a crust, 9 m of water in 3 m
 steps at 1.8 m a day) on the coarse mesh, as demos/hydrotest_schedule.py runs it.
 
     python benchmarks/fill_schedule.py [--out results/benchmarks]
@@ -23,7 +23,7 @@ import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
 from tankfx import analyse, load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
-SCENE = ROOT / "demos" / "scenes" / "hydrotest_schedule.toml"
+SCENE = ROOT / "benchmarks" / "scenes" / "hydrotest_schedule.toml"
 
 
 def main() -> None:

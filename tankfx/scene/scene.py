@@ -344,13 +344,13 @@ def _parse(data: dict[str, Any], empty_load: bool = False) -> Scene:
                        layers, secs["ringwall"])
     if secs["consolidation"] is not None:
         check_consolidation(rd, secs["consolidation"], data, soil or {}, layers, deg, method)
-    if secs["fill"] is not None:
-        check_fill(rd, secs["fill"], data, soil or {})
     else:
         for k, layer in enumerate(layers, start=1):
             if "permeability" in layer:
                 rd.bad(f"soil.layers[{k}].permeability: only used with a [consolidation] "
                        f"table; remove it or add [consolidation]")
+    if secs["fill"] is not None:
+        check_fill(rd, secs["fill"], data, soil or {})
     if rd.problems:
         raise SceneError(rd.problems)
     scene = _build(data, secs, layers, choices, deg)
