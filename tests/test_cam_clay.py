@@ -1,6 +1,7 @@
 """Modified Cam Clay in the analysis (soil.model = "cam_clay"): the scene's rules and the
 ground at rest, and the drained one-dimensional compression of a normally consolidated layer
-against its closed form."""
+against its closed form, and the undrained triaxial test through a cell of the coupled
+analysis."""
 from __future__ import annotations
 
 import math
@@ -80,6 +81,44 @@ def test_serial_and_two_ranks_compress_the_layer_alike():
     # 13,008 against 13,007 on a fresh clone)
     assert abs(parallel["soil"]["plastic_points"] - serial["soil"]["plastic_points"]) <= \
         1e-3 * serial["soil"]["plastic_points"]
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("R0", [1.0, 1.5, 4.0])
+def test_undrained_triaxial_through_a_cell_of_the_coupled_analysis(R0):
+    """A saturated sample in the coupled analysis's forms (the plastic state at the
+    quadrature points, Biot's blocks with no flow: tankfx.verification.triaxial), from an
+    isotropic p'_0 with p_c0 = R0 p'_0, its side free under the cell pressure, shortened
+    by 50 % in 100 steps with no time: at the critical state p'_f / p'_0 = (R0 / 2)^L, L =
+    (lambda* - kappa*) / lambda*, q_f = M p'_f, s_u = q_f / 2, and the excess pore pressure
+    p'_0 + q_f / 3 - p'_f (sigma_3 constant): positive on the wet side (R0 < 2), negative on
+    the dry. The volume is kept and the sample stays uniform (every point alike). Measured
+    within 1e-13 on one rank and on two; the platens' strain path is the point law's of
+    tests/test_cam_clay_points.py, here with the coupling solving for the pore pressure."""
+    from tankfx.laws.cam_clay_points import CamClayPoints
+    from tankfx.verification.triaxial import TriaxialCell
+    M, p0 = 1.2, 100e3
+
+    def points_of(n):
+        return CamClayPoints(
+            M=np.full(n, M), lambda_star=np.full(n, LAMBDA), kappa_star=np.full(n, KAPPA),
+            nu=np.full(n, NU), sigma0=np.tile([-p0, -p0, 0.0, -p0], (n, 1)),
+            p_c0=np.full(n, R0 * p0), p_min=1e3, E_fixed=np.full(n, np.nan))
+
+    cell = TriaxialCell(points_of, cells=(2, 2))
+    for k in range(1, 101):
+        cell.compress(5e-3 * k)
+    got = cell.record()
+    p_f = p0 * (R0 / 2.0) ** ((LAMBDA - KAPPA) / LAMBDA)
+    assert got["p"] == pytest.approx(p_f, rel=1e-9)
+    assert got["q"] == pytest.approx(M * p_f, rel=1e-9)
+    assert got["q"] / 2.0 == pytest.approx(M / 2.0 * p0 * (R0 / 2.0) ** ((LAMBDA - KAPPA)
+                                                                          / LAMBDA), rel=1e-9)
+    excess = p0 + M * p_f / 3.0 - p_f
+    assert got["pore_pressure"] == pytest.approx(excess, rel=1e-9, abs=1e-6 * p0)
+    assert (excess > 0.0) == (R0 < 2.0)
+    assert abs(got["volumetric_strain"]) < 1e-12
+    assert got["spread"] < 1e-9 * p0
 
 
 @pytest.mark.parametrize("change,says", [
