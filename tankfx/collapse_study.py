@@ -68,13 +68,15 @@ class CollapseStudy:
                       f"does not carry the load with its full strength (collapse = "
                       f"\"load\" brackets the share of it that it carries)",)
 
-    def at_milestone(self, bracket: float | None = None) -> dict:
+    def at_milestone(self, bracket: float | None = None,
+                     through: float | None = None) -> dict:
         """The search by strength on the state now: a consolidation's milestone (each
         stage's end; without stages t = 0 and every reported time), the pore water held by
         the time stepping (the factor a sudden failure would find). Its record joins the
         milestone's state (``{"collapse": record}``); the last one's is the study's
-        :meth:`findings`."""
-        self._last = self._collapse(self.model.scene.load, bracket)
+        :meth:`findings`. ``through``: along the ladder of :meth:`carries` at that factor
+        (:meth:`CollapseSearch.by_strength`)."""
+        self._last = self._collapse(self.model.scene.load, bracket, through)
         self.log.info("collapse: %s", collapse_words(self._last[0]))
         return {"collapse": self._last[0]}
 
@@ -116,7 +118,8 @@ class CollapseStudy:
         self.log.info("bounds: %s", bounds_words(bounds))
         return CollapseFindings(record, fields, bounds, mechanism)
 
-    def _collapse(self, load, bracket: float | None = None) -> tuple[dict, dict]:
+    def _collapse(self, load, bracket: float | None = None,
+                  through: float | None = None) -> tuple[dict, dict]:
         """The search of the study's kind: by load from the ground before the load, by
         strength from the load's converged state; that state given back afterwards: (its
         record for results.json, its mechanism's fields)."""
@@ -128,7 +131,8 @@ class CollapseStudy:
                     search.restore(self.before)
                     outcome = search.by_load(load)
                 else:
-                    outcome = search.by_strength(*([bracket] if bracket else []))
+                    outcome = search.by_strength(*([bracket] if bracket else []),
+                                                 through=through)
             p = self.model.soil.plastic
             fields = {"increment": outcome.increment,
                       "plastic": cell_field(self.model.domain.mesh,

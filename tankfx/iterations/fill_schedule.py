@@ -20,7 +20,8 @@ The search, on the path of :class:`tankfx.iterations.plastic_consolidation.Plast
    that passes down to ``HOLD_RESOLUTION``. The check is the strength-reduction search up to
    the target (:meth:`tankfx.iterations.collapse.CollapseSearch.by_strength` with a
    ceiling: its own ladder of trials, stopped where the target is carried); the accepted
-   step's factor is then searched in full (``strength_factor``).
+   step's factor is then searched in full along the same ladder (``strength_factor``: at
+   least the target).
 3. Where a hold would pass ``max_days``, the schedule stops at the highest level reached
    safely and says why.
 """
@@ -137,9 +138,11 @@ class FillSchedule(PlasticConsolidation):
         return self._held(lambda: self.study.carries(self.fill.target_factor,
                                                      FACTOR_BRACKET))
 
-    def _factor(self) -> dict:
-        """The factor of safety now, the pore water held: the collapse study's record."""
-        return (self._held(lambda: self.milestone(FACTOR_BRACKET)) or {}).get("collapse", {})
+    def _factor(self, through: float | None = None) -> dict:
+        """The factor of safety now, the pore water held: the collapse study's record
+        (``through``: along the check's ladder at that factor)."""
+        return (self._held(lambda: self.milestone(FACTOR_BRACKET, through))
+                or {}).get("collapse", {})
 
     # ---- the search ----------------------------------------------------------------------------
     def run(self, inner, log):
@@ -219,7 +222,9 @@ class FillSchedule(PlasticConsolidation):
     def _entry(self, height: float, hold: float, end: dict, attempts=()) -> dict:
         """One step of the schedule (``end``: its milestone)."""
         s = end["state"]
-        return {"height": height, "fill_start_day": s["t_days"] - self._fill_days(height),
+        # (its start to a nanoday: the first step's, its end less its days, was 2e-16)
+        return {"height": height,
+                "fill_start_day": round(s["t_days"] - self._fill_days(height), 9),
                 "fill_end_day": s["t_days"], "hold_days": hold,
                 "strength_factor": s.get("collapse", {}).get("strength_factor"),
                 "holds_tried": list(attempts), "w0": s["w0"], "w_edge": s["w_edge"]}
@@ -291,9 +296,12 @@ class FillSchedule(PlasticConsolidation):
         return self._accept(h, best, passed[best], attempts, log), ""
 
     def _accept(self, height: float, hold: float, end: dict, attempts: list, log) -> dict:
-        """The step that passed, from its end's state: its factor searched in full."""
+        """The step that passed, from its end's state: its factor searched in full,
+        along its check's ladder (the same trials up to the target, then on: a state
+        reduced along another ladder may not carry the target, measured 1.298 against a
+        check that carried 1.3)."""
         self._back(end)
-        collapse = self._factor()
+        collapse = self._factor(self.fill.target_factor)
         milestone = self._milestone_state(collapse)
         self._ends.append(milestone)
         entry = self._entry(height, hold, milestone, attempts)

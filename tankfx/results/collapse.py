@@ -132,8 +132,10 @@ def _how(record: dict) -> str:
     """How the failed state failed, where it was the settlement criterion."""
     if record.get("failure") != Failure.SETTLEMENT:
         return ""
+    since = " more than where the reduction began" if record.get("kind") == "strength" else ""
     return (f": beyond the settlement criterion, a mean settlement of "
-            f"{record['failure_settlement']:.3g} m = 0.1 D, on a curve still rising slowly")
+            f"{record['failure_settlement']:.3g} m = 0.1 D{since}, on a curve still rising "
+            f"slowly")
 
 
 def _knee_row(c: dict, tail: str) -> list[tuple[str, str, str]]:
