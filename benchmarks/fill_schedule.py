@@ -43,7 +43,9 @@ def main() -> None:
     lines = ["| step | to (m) | hold (days) | fills (days) | factor | holds tried (+ passed) |",
              "|---|---|---|---|---|---|"]
     for k, s in enumerate(f["schedule"], start=1):
+        # (each hold tried: + passed, - failed, and the factor its check found)
         tried = ", ".join(f"{h['hold_days']:g}{'+' if h['passed'] else '-'}"
+                          + (f" ({h['strength_factor']:.3g})" if h["strength_factor"] else "")
                           for h in s["holds_tried"]) or "none"
         lines.append(f"| {k} | {s['height']:.3g} | {s['hold_days']:.3g} | "
                      f"{s['fill_start_day']:.4g}-{s['fill_end_day']:.4g} | "

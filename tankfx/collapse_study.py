@@ -80,21 +80,6 @@ class CollapseStudy:
         self.log.info("collapse: %s", collapse_words(self._last[0]))
         return {"collapse": self._last[0]}
 
-    def carries(self, factor: float, bracket: float) -> tuple[bool, str]:
-        """Whether the ground carries the load now with its strength divided by ``factor``
-        (a fill schedule's check, the pore water held by the time stepping): the search by
-        strength (:meth:`CollapseSearch.by_strength`) up to it, bracketed to ``bracket``
-        below it; the state now given back afterwards: (carried, why not)."""
-        search = self._search()
-        end = search.snapshot()
-        try:
-            outcome = search.by_strength(bracket, ceiling=factor)
-        finally:
-            search.restore(end)
-        carried = outcome.factor >= factor * (1.0 - 1e-12)
-        return carried, "" if carried else (
-            f"the factor of safety is {outcome.factor:.4g} ({outcome.reason})")
-
     def findings(self) -> CollapseFindings | None:
         """The last milestone's search (:meth:`at_milestone`), or the one :meth:`keep`
         chose; None where there is none."""

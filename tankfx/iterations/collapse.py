@@ -245,18 +245,15 @@ class CollapseSearch:
         return None, "", its
 
     # ---- strength ----------------------------------------------------------------------
-    def by_strength(self, bracket: float = BRACKET, ceiling: float | None = None,
+    def by_strength(self, bracket: float = BRACKET,
                     through: float | None = None) -> CollapseOutcome:
         """The factor on c and tan phi at which the ground fails under the scene's load,
         from the converged state at the full strength, bracketed to ``bracket``
-        (relative). With a ``ceiling``, no trial above it, and the search ends where it is
-        carried: the question of a check (is the factor of safety at least this?), asked
+        (relative). With ``through``, no trial above it until it is carried, then on: a
+        check (is the factor of safety at least this?) and the factor in one search,
         along the search's own ladder of trials (an elastoplastic state depends on the
         path of the reduction: measured on a Cam Clay tank, one trial from 1 to 1.3
-        converged where the ladder failed at 1.12). With ``through``, the same ladder
-        as the check at it up to it, then on to the factor: the factor of a state whose
-        check passed, found along the check's own path (from 1 again, the search's own
-        ladder found 1.298 where the check had carried 1.3)."""
+        converged where the ladder failed at 1.12)."""
         m, nw, log = self.model, self.newton, self.log
         t0 = time.perf_counter()
         full = nw.plastic.points
@@ -285,9 +282,7 @@ class CollapseSearch:
                     F = F_fail
                 else:
                     F = F_ok + dF if F_fail is None else 0.5 * (F_ok + F_fail)
-                if ceiling is not None:
-                    F = min(F, ceiling)
-                elif through is not None and F_ok < through:
+                if through is not None and F_ok < through:
                     F = min(F, through)
                 ts = time.perf_counter()
                 reduce(F)
@@ -318,9 +313,6 @@ class CollapseSearch:
                         F_fail, dF = None, bracket * F
                     if F_fail is None and its <= nw.FAST:
                         dF *= 2.0
-                    if ceiling is not None and F >= ceiling:
-                        reason = f"carried at the ceiling {ceiling:.6g}"
-                        break
                 else:
                     m.rollback()
                     F_fail = F if F_fail is None else min(F_fail, F)

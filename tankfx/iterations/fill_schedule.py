@@ -17,11 +17,12 @@ The search, on the path of :class:`tankfx.iterations.plastic_consolidation.Plast
    its check fails, holds of 1, 2, 4, ... days are tried, the hold continued from the
    longest one tried below it (one hold is one consolidation under a constant load, its
    states reused), then the hold bisected between the longest that fails and the shortest
-   that passes down to ``HOLD_RESOLUTION``. The check is the strength-reduction search up to
-   the target (:meth:`tankfx.iterations.collapse.CollapseSearch.by_strength` with a
-   ceiling: its own ladder of trials, stopped where the target is carried); the accepted
-   step's factor is then searched in full along the same ladder (``strength_factor``: at
-   least the target).
+   that passes down to ``HOLD_RESOLUTION``. The check is the strength-reduction search
+   through the target (:meth:`tankfx.iterations.collapse.CollapseSearch.by_strength`: its
+   own ladder of trials, none above the target until the target is carried): it ends where
+   it brackets a failure below the target; where it carries the target it goes on to the
+   step's factor (``strength_factor``, at least the target). Each hold tried is in
+   ``holds_tried`` with its factor.
 3. Where a hold would pass ``max_days``, the schedule stops at the highest level reached
    safely and says why.
 """
@@ -54,12 +55,11 @@ FACTOR_BRACKET = 0.02
 class FillSchedule(PlasticConsolidation):
     """The fill schedule's search on a model whose soil block holds a plastic state and a
     pore pressure. The analysis gives it its two questions: :attr:`milestone` (the factor of
-    safety now: a collapse study's search by strength) and :attr:`study` (its
-    ``carries(F)``: whether the ground carries the load with its strength divided by F; and
-    the findings it reports); both are asked with the pore water held."""
+    safety now: a collapse study's search by strength, also through a target: the check)
+    and :attr:`study` (the findings it reports); both are asked with the pore water
+    held."""
 
-    #: the collapse study whose check (:meth:`tankfx.collapse_study.CollapseStudy.carries`)
-    #: and findings the schedule uses (set by the analysis)
+    #: the collapse study whose findings the schedule reports (set by the analysis)
     study = None
 
     @staticmethod
@@ -131,12 +131,23 @@ class FillSchedule(PlasticConsolidation):
             return False, f"the ground fails while the tank fills to {height:g} m: {e}"
         return True, ""
 
-    def _checked(self) -> tuple[bool, str]:
-        """The check at the end of a step: does the ground carry the load with its
-        strength divided by the target factor, the pore water held?"""
+    def _checked(self) -> tuple[bool, str, dict, object]:
+        """The check at the end of a step, the pore water held: the factor of safety
+        searched along a ladder whose trials stop at the target on their way up (the
+        search by strength ``through`` it): where it brackets a failure below the target
+        it ends there, as a check; where it carries the target it goes on, and its factor
+        is the step's, at least the target by construction (searched again from 1, the
+        ladder may differ at the target itself: measured 1.296 against a check that had
+        carried 1.3). (whether it reaches the target, why not, its record, its
+        findings)."""
         self.checks += 1
-        return self._held(lambda: self.study.carries(self.fill.target_factor,
-                                                     FACTOR_BRACKET))
+        target = self.fill.target_factor
+        collapse = self._factor(target)
+        F = collapse.get("strength_factor")
+        ok = F is not None and F >= target * (1.0 - 1e-12)
+        why = "" if ok else (f"the factor of safety is {F:.4g} ({collapse.get('reason')})"
+                             if F is not None else "no factor of safety was found")
+        return ok, why, collapse, self.study.findings()
 
     def _factor(self, through: float | None = None) -> dict:
         """The factor of safety now, the pore water held: the collapse study's record
@@ -260,13 +271,16 @@ class FillSchedule(PlasticConsolidation):
                 holds[hold] = self._keep()
             ok, why = self._fill_to(h)
             self.fills += 1
+            collapse = findings = None
             if ok:
-                ok, why = self._checked()
+                ok, why, collapse, findings = self._checked()
+            F = (collapse or {}).get("strength_factor")
             log.info("fill: step to %.4g m after a hold of %.4g days (day %.4g): %s", h, hold,
-                     t0 + hold, "factor of safety at least the target" if ok else why)
-            attempts.append({"hold_days": hold, "passed": ok})
+                     t0 + hold, f"factor of safety {F:.4g}, at least the target" if ok
+                     else why)
+            attempts.append({"hold_days": hold, "passed": ok, "strength_factor": F})
             if ok:
-                passed[hold] = self._keep()
+                passed[hold] = (self._keep(), collapse, findings)
             else:
                 failed.append(hold)
             return ok
@@ -295,13 +309,12 @@ class FillSchedule(PlasticConsolidation):
         best = min(passed)
         return self._accept(h, best, passed[best], attempts, log), ""
 
-    def _accept(self, height: float, hold: float, end: dict, attempts: list, log) -> dict:
-        """The step that passed, from its end's state: its factor searched in full,
-        along its check's ladder (the same trials up to the target, then on: a state
-        reduced along another ladder may not carry the target, measured 1.298 against a
-        check that carried 1.3)."""
-        self._back(end)
-        collapse = self._factor(self.fill.target_factor)
+    def _accept(self, height: float, hold: float, end: tuple, attempts: list, log) -> dict:
+        """The step that passed, from its end's state (``end``: the state, and its check's
+        record and findings: its factor of safety)."""
+        kept, collapse, findings = end
+        self._back(kept)
+        self.study.keep(findings)
         milestone = self._milestone_state(collapse)
         self._ends.append(milestone)
         entry = self._entry(height, hold, milestone, attempts)
