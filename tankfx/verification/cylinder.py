@@ -20,6 +20,18 @@ from ..laws import elasticity as soil_forms
 from ..model.plastic import PlasticState
 
 
+def rig_plastic_state(msh, u, r, law, soil, degree: int) -> PlasticState:
+    """The plastic state of a rig whose whole mesh is soil (no void, no ringwall): a
+    :class:`tankfx.model.plastic.PlasticState` on a stand-in for the soil block (what the
+    state reads of one: the mesh, its soil cells, the displacement and the radius)."""
+    n = msh.topology.index_map(2).size_local + msh.topology.index_map(2).num_ghosts
+    every = np.arange(n, dtype=np.int32)
+    block = SimpleNamespace(domain=SimpleNamespace(mesh=msh, cells=lambda name: every),
+                            u=u, r=r, ringwall_cells=np.zeros(n, bool),
+                            fill_cells=np.zeros(n, bool))
+    return PlasticState(block, law, soil, degree)
+
+
 class ThickCylinder:
     """The cylinder a <= r <= b (height ``height``) of a resolved [soil] (``soil``: its law
     the elastoplastic one, weightless), ``cells`` = (n_r, n_z) triangles' rectangles,
@@ -35,13 +47,7 @@ class ThickCylinder:
         r = soil_forms.radius(msh)
         dx = ufl.Measure("dx", domain=msh,
                          metadata={"quadrature_degree": soil_forms.quadrature_degree(degree)})
-        n = msh.topology.index_map(2).size_local + msh.topology.index_map(2).num_ghosts
-        # (what the plastic state reads of a soil block)
-        every = np.arange(n, dtype=np.int32)
-        block = SimpleNamespace(domain=SimpleNamespace(mesh=msh, cells=lambda name: every),
-                                u=self.u, r=r,
-                                ringwall_cells=np.zeros(n, bool), fill_cells=np.zeros(n, bool))
-        self.state = PlasticState(block, soil.law, soil, degree)
+        self.state = rig_plastic_state(msh, self.u, r, soil.law, soil, degree)
         du, v = ufl.TrialFunction(V), ufl.TestFunction(V)
         inner = dmesh.locate_entities_boundary(msh, 1, lambda x: np.isclose(x[0], a))
         tags = dmesh.meshtags(msh, 1, inner, np.ones(len(inner), dtype=np.int32))

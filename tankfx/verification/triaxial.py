@@ -29,7 +29,7 @@ from ..fem.solvers import DirectSolver
 from ..laws import elasticity as soil_forms
 from ..laws.biot import biot_forms
 from ..laws.plasticity import IDENTITY
-from ..model.plastic import PlasticState
+from .cylinder import rig_plastic_state
 
 
 class TriaxialCell:
@@ -51,14 +51,9 @@ class TriaxialCell:
         r = soil_forms.radius(msh)
         dx = ufl.Measure("dx", domain=msh,
                          metadata={"quadrature_degree": soil_forms.quadrature_degree(degree)})
-        n = msh.topology.index_map(2).size_local + msh.topology.index_map(2).num_ghosts
-        every = np.arange(n, dtype=np.int32)
-        # (what the plastic state reads of a soil block and of a law)
-        block = SimpleNamespace(domain=SimpleNamespace(mesh=msh, cells=lambda name: every),
-                                u=self.u, r=r,
-                                ringwall_cells=np.zeros(n, bool), fill_cells=np.zeros(n, bool))
+        # (what the plastic state reads of a law: its points)
         law = SimpleNamespace(point_law=lambda soil, depth: points_of(len(depth)))
-        self.state = PlasticState(block, law, None, degree)
+        self.state = rig_plastic_state(msh, self.u, r, law, None, degree)
         du, v = ufl.TrialFunction(V), ufl.TestFunction(V)
         dp, q = ufl.TrialFunction(Q), ufl.TestFunction(Q)
         # no time: no flow (the conductance dt k / gamma_w is zero), the volume kept at
