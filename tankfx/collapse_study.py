@@ -74,7 +74,7 @@ class CollapseStudy:
         stage's end; without stages t = 0 and every reported time), the pore water held by
         the time stepping (the factor a sudden failure would find). Its record joins the
         milestone's state (``{"collapse": record}``); the last one's is the study's
-        :meth:`findings`. ``through``: along the ladder of :meth:`carries` at that factor
+        :meth:`findings`. ``through``: a check at that factor and the factor in one search
         (:meth:`CollapseSearch.by_strength`)."""
         self._last = self._collapse(self.model.scene.load, bracket, through)
         self.log.info("collapse: %s", collapse_words(self._last[0]))
