@@ -8,7 +8,7 @@ NP      ?= 2
 STAMP   := $(VENV)/.tankfx-installed
 INSTALL_CHROMIUM ?= yes
 
-.PHONY: demo test lint docs test-serial test-mpi benchmark venv clean gallery verification figures browser
+.PHONY: demo test verify lint docs test-serial test-mpi verify-serial verify-mpi benchmark venv clean gallery verification figures browser
 
 venv: $(STAMP)
 
@@ -69,13 +69,27 @@ lint: $(STAMP)
 # against 661 s one after another. WORKERS=0 runs them in this one process.
 WORKERS ?= 2
 
+PYTEST   = $(PY) -m pytest -q -rfEs -p no:cacheprovider
+XDIST    = $(if $(filter 0,$(WORKERS)),,-n $(WORKERS) --dist loadfile)
+
 test-serial: $(STAMP)
-	$(PY) -m pytest -q -rfEs -p no:cacheprovider --durations=12 $(if $(filter 0,$(WORKERS)),,-n $(WORKERS) --dist loadfile)
+	$(PYTEST) --durations=12 $(XDIST) -m "not verify"
 
 # The tests marked `mpi` again on $(NP) ranks: each compares its parallel results with a
 # serial solve of the same scene.
 test-mpi: $(STAMP)
-	$(MPIEXEC) -n $(NP) $(PY) -m pytest -q -rfEs -p no:cacheprovider -m mpi
+	$(MPIEXEC) -n $(NP) $(PYTEST) -m "mpi and not verify"
+
+# The rest of the verification (docs/development/testing.md): the tests marked `verify`
+# (convergence studies, fine meshes, the bounds at their published gaps, the slow demos
+# at their default meshes), serially and, those marked `mpi` too, on $(NP) ranks.
+verify: verify-serial verify-mpi
+
+verify-serial: $(STAMP)
+	$(PYTEST) --durations=12 $(XDIST) -m verify
+
+verify-mpi: $(STAMP)
+	$(MPIEXEC) -n $(NP) $(PYTEST) -m "mpi and verify"
 
 benchmark: $(STAMP)
 	$(PY) benchmarks/flexible_load.py

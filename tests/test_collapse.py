@@ -27,7 +27,10 @@ def footing(condition="smooth", collapse="load", soil=None, pressure=S_U,
             "domain": {"radius": 5.0, "depth": 5.0}, "analysis": {"collapse": collapse}}
 
 
-@pytest.mark.parametrize("condition,exact", [("smooth", 5.69), ("bonded", 6.05)])
+# (the rough footing by load is solved, with cubic elements, by test_bounds' scene test in
+# `make test`; here in `make verify`)
+@pytest.mark.parametrize("condition,exact", [
+    ("smooth", 5.69), pytest.param("bonded", 6.05, marks=pytest.mark.verify)])
 def test_a_rigid_footing_collapses_at_its_exact_bearing_capacity(condition, exact, tmp_path):
     """collapse = "load" on weightless Tresca soil: N_c = q_ult / s_u within 1 % of 5.69
     (smooth, Shield 1955) and 6.05 (rough, Eason & Shield 1960), bracketed to 0.5 % between
@@ -66,10 +69,13 @@ def test_a_rigid_footing_collapses_at_its_exact_bearing_capacity(condition, exac
     assert "factor of safety on the loads" in summary_table(r)
 
 
+@pytest.mark.verify
 def test_for_tresca_soil_the_strength_factor_is_the_load_factor():
     """Tresca's limit load is proportional to s_u: dividing it by F fails the footing under
     q where q F does at full strength. The two searches (different paths, different
-    iterations) agree within 1 %, and their brackets overlap."""
+    iterations) agree within 1 %, and their brackets overlap. (On a coarser mesh, 0.03 and
+    0.5 m, they agreed within 1 % but their brackets did not overlap: 5.846 against 5.85;
+    2026-12-01.)"""
     load = analyse(Scene.from_dict(footing(mesh=(0.01, 0.25)))).results["collapse"]
     strength = analyse(Scene.from_dict(footing(collapse="strength", mesh=(0.01, 0.25)))
                        ).results["collapse"]
@@ -79,6 +85,7 @@ def test_for_tresca_soil_the_strength_factor_is_the_load_factor():
     assert load["bracket"][0] < strength["bracket"][1]
 
 
+@pytest.mark.verify
 def test_a_c_phi_soil_at_its_strength_factor_carries_its_load_and_no_more():
     """c = 10 kPa, phi = 20 degrees, weightless, under 100 kPa: F from collapse = "strength";
     the same soil with c / F and tan phi / F has a load factor of 1 on 100 kPa within the
@@ -99,6 +106,7 @@ def test_a_c_phi_soil_at_its_strength_factor_carries_its_load_and_no_more():
                                                       + 2e-3)
 
 
+@pytest.mark.verify
 def test_a_load_that_fails_is_bracketed_below_one():
     """A footing pressed with 8 s_u, beyond its capacity: the analysis fails, saying so, and
     the collapse search from the share carried brackets the factor near 5.7 / 8."""
@@ -131,6 +139,7 @@ def test_a_collapse_that_cannot_be_computed_is_refused_before_any_mesh(data, say
     assert says in str(e.value), str(e.value)
 
 
+@pytest.mark.verify
 @pytest.mark.mpi
 @pytest.mark.skipif(MPI.COMM_WORLD.size == 1, reason="needs mpiexec -n 2 (make test-mpi)")
 def test_serial_and_two_ranks_follow_the_same_collapse():

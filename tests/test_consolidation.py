@@ -189,8 +189,9 @@ def test_wide_load_on_a_thin_layer_is_terzaghi():
     assert abs(c["drained"]["w0"] / final - 1) < 1e-3
 
 
-@pytest.mark.parametrize("interface", [{"condition": "bonded"},
-                                       {"condition": "mohr_coulomb", "tan_phi": 0.5}])
+@pytest.mark.parametrize("interface", [
+    pytest.param({"condition": "bonded"}, marks=pytest.mark.verify),
+    {"condition": "mohr_coulomb", "tan_phi": 0.5}])
 def test_tank_limits_are_the_undrained_and_drained_analyses(interface):
     """An embedded tank (plate, wall, a Mohr-Coulomb interface iterated at every step): its
     drained limit is the analysis with E', nu' (1e-6), its start the analysis of the
@@ -266,7 +267,7 @@ def test_layer_permeability_needs_a_consolidation():
             "load": {"pressure": 1e5, "load_radius": 1.0}})
 
 
-@pytest.mark.parametrize("sand_below", [True, False])
+@pytest.mark.parametrize("sand_below", [True, pytest.param(False, marks=pytest.mark.verify)])
 def test_clay_and_sand_layers(sand_below):
     """A load of 20 m radius on 1 m of clay and 0.5 m of sand (k 1e4 times the clay's;
     with the stiff sand on top a narrower load spreads: 3.8 % of the final settlement at
@@ -371,6 +372,7 @@ def test_a_load_path_in_time_fills_and_holds():
         [x["w0"] for x in plain["at_times"]], rel=1e-10)
 
 
+@pytest.mark.verify
 def test_loads_at_once_along_a_path_superpose():
     """Half the load at t = 0, the other half at once at T_v = 0.1, and all of it taken off
     at once at T_v = 0.5: a linear soil superposes the responses to each change alone
@@ -410,6 +412,7 @@ def test_loads_at_once_along_a_path_superpose():
 
 
 
+@pytest.mark.verify
 def test_a_mohr_coulomb_interface_emptied_to_a_twentieth(monkeypatch):
     """The small tank filled at once, held 10 days and emptied over 20 to 5 % of its load,
     with a slipping interface: the step that empties it does not converge from the full
@@ -484,7 +487,7 @@ def test_overturning_on_a_consolidating_soil_is_undrained():
     assert o["equilibrium"]["moment_relative_error"] < 1e-8
 
 
-@pytest.mark.parametrize("fill", [False, True])
+@pytest.mark.parametrize("fill", [pytest.param(False, marks=pytest.mark.verify), True])
 def test_a_ringwall_on_consolidating_ground(fill):
     """A concrete ringwall (and a compacted fill inside it, which drains) under the wall
     of a surface tank on consolidating clay: the drained limit is the drained analysis of
@@ -529,7 +532,10 @@ def test_a_ringwall_on_consolidating_ground(fill):
     assert sol.results["overturning"]["equilibrium"]["moment_relative_error"] < 1e-8
 
 
-@pytest.mark.parametrize("case", ["ringwall with a fill", "mohr_coulomb", "flexible load"])
+@pytest.mark.parametrize("case", [
+    *(pytest.param(c, marks=pytest.mark.verify) for c in ("ringwall with a fill",
+                                                          "mohr_coulomb")),
+    "flexible load"])
 def test_only_the_flow_terms_are_reassembled_at_each_step(case, monkeypatch):
     """A consolidation's time step changes only the flow terms of the matrix (dt k /
     gamma_w times the pore pressure's blocks; a Mohr-Coulomb interface's states too): the

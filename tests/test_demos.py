@@ -18,7 +18,12 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-DEMOS = sorted((ROOT / "demos").glob("*.py"))
+#: the demos `make verify` runs instead (docs/development/testing.md): the safe fill
+#: schedule (81 s coarse: its small tank is tests/test_fill_schedule.py's, solved there
+#: once; here at its default mesh, the 25 m tank) and the tank's collapse (43 s coarse,
+#: its pinned factors and bounds)
+SLOW = {"hydrotest_schedule", "tank_collapse"}
+DEMOS = sorted(d for d in (ROOT / "demos").glob("*.py") if d.stem not in SLOW)
 #: the demo `make demo` runs, and the one run on two ranks too
 HEADLINE = ROOT / "demos" / "embedded_tank.py"
 
@@ -32,11 +37,28 @@ CORES = 2
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
-    """Every demo serially, and the headline demo on 2 ranks, run once for the module, side
-    by side within CORES: (demo, ranks) -> (completed process, working directory)."""
+    """Every demo but the SLOW ones serially (--coarse), and the headline demo on 2 ranks,
+    run once for the module, side by side within CORES: (demo, ranks) -> (completed
+    process, working directory)."""
     mpiexec = shutil.which("mpiexec", path=os.path.dirname(sys.executable))
-    jobs = [(demo, ranks) for ranks in (2, 1) for demo in DEMOS
+    jobs = [(demo, ranks, ["--coarse"]) for ranks in (2, 1) for demo in DEMOS
             if ranks == 1 or (demo == HEADLINE and mpiexec is not None)]
+    return _run_side_by_side(jobs, tmp_path_factory)
+
+
+@pytest.fixture(scope="module")
+def slow_runs(tmp_path_factory):
+    """The SLOW demos (make verify): the fill schedule at its default mesh, the collapse
+    coarse (its recorded factors)."""
+    jobs = [(ROOT / "demos" / "hydrotest_schedule.py", 1, []),
+            (ROOT / "demos" / "tank_collapse.py", 1, ["--coarse"])]
+    return _run_side_by_side(jobs, tmp_path_factory)
+
+
+def _run_side_by_side(jobs, tmp_path_factory):
+    """Run (demo, ranks, arguments) jobs side by side within CORES."""
+    mpiexec = shutil.which("mpiexec", path=os.path.dirname(sys.executable))
+    jobs = list(jobs)
     done, running = {}, []
     # each process keeps its BLAS to one thread: two side by side share the two cores
     env = os.environ | {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
@@ -52,9 +74,10 @@ def runs(tmp_path_factory):
     while jobs or running:
         busy = sum(job[1] for job, *_ in running)
         if jobs and busy + jobs[0][1] <= CORES:
-            demo, ranks = job = jobs.pop(0)
+            demo, ranks, arguments = jobs.pop(0)
+            job = demo, ranks
             cwd = tmp_path_factory.mktemp(f"{demo.stem}_{ranks}")
-            cmd = [sys.executable, str(demo), "--coarse"]
+            cmd = [sys.executable, str(demo), *arguments]
             if ranks > 1:
                 cmd = [mpiexec, "-n", str(ranks), *cmd]
             log = open(cwd / "output.txt", "w+")
@@ -78,11 +101,26 @@ def runs(tmp_path_factory):
 @pytest.mark.parametrize("demo, ranks", [(d, 1) for d in DEMOS] + [(HEADLINE, 2)],
                          ids=[d.stem for d in DEMOS] + [f"{HEADLINE.stem}-2-ranks"])
 def test_demo_runs(runs, demo, ranks):
-    proc, cwd = runs(demo, ranks)
+    _ran_and_drew(*runs(demo, ranks))
+
+
+def _ran_and_drew(proc, cwd) -> None:
     assert proc.returncode == 0, proc.stdout[-5000:]
     pngs = list((cwd / "results").rglob("*.png"))
     assert pngs, "the demo made no figure"
     assert all(p.stat().st_size > 10_000 for p in pngs), [(p, p.stat().st_size) for p in pngs]
+
+
+@pytest.mark.verify
+def test_the_25_m_tanks_safe_fill_schedule_on_its_default_mesh(slow_runs):
+    """demos/hydrotest_schedule.py on its default mesh: it ends, draws, and its schedule is
+    complete (every step at its target factor, the tank full)."""
+    proc, cwd = slow_runs(ROOT / "demos" / "hydrotest_schedule.py", 1)
+    _ran_and_drew(proc, cwd)
+    (path,) = (cwd / "results").rglob("results.json")
+    f = json.loads(path.read_text())["fill"]
+    assert f["complete"]
+    assert all(s["strength_factor"] >= f["target_factor"] for s in f["schedule"])
 
 
 def test_headline_demo_gives_the_same_numbers_on_two_ranks(runs):
@@ -103,15 +141,16 @@ def test_headline_demo_gives_the_same_numbers_on_two_ranks(runs):
         serial["profiles"]["plate"]["contact_status"]
 
 
-def test_the_tank_on_soft_clay_keeps_its_collapse_factors(runs):
+@pytest.mark.verify
+def test_the_tank_on_soft_clay_keeps_its_collapse_factors(slow_runs):
     """demos/tank_collapse.py --coarse: the 25 m tank's factor by load (the settlement
     criterion, an edge mechanism, the knee below it) and its limit analysis bounds (floor
     and shell rigid), against the values recorded on this mesh (2026-11-28: 1.190 in
     [1.190, 1.196], knee 1.147-1.158, bounds [1.308, 1.338]; the default mesh: 1.178, knee
     1.125-1.132, docs/development/2026-11-27-collapse.md). The tolerances are the search's
     bracket (0.5 %) and the bounds' round-off across machines (1e-4)."""
-    proc, cwd = runs(ROOT / "demos" / "tank_collapse.py", 1)
-    assert proc.returncode == 0, proc.stdout[-3000:]
+    proc, cwd = slow_runs(ROOT / "demos" / "tank_collapse.py", 1)
+    _ran_and_drew(proc, cwd)
     r = json.loads((cwd / "results" / "tank_collapse" / "bounds" / "results.json").read_text())
     c, b = r["collapse"], r["bounds"]
     assert c["failure"] == "settlement" and c["mechanism"]["kind"] == "edge"

@@ -140,26 +140,34 @@ def test_a_thick_cylinder_carries_von_mises_limit_pressure(match, xi):
         cyl.load(1.01 * limit, max_iterations=40)
 
 
-@pytest.mark.parametrize("match,low,high", [
-    # von Mises through Tresca's corners contains it: at least 5.69, at most 2 / sqrt 3 more
-    ("compression", 5.69, 5.69 * 2.0 / math.sqrt(3.0)),
-    # through its flats, inside it: at most 5.69 (within the elements' 1 %), at least
-    # sqrt 3 / 2 of it
-    ("plane_strain", 5.69 * math.sqrt(3.0) / 2.0, 5.69 * 1.01)])
-def test_a_footing_on_von_mises_soil_collapses_on_its_side_of_tresca(match, low, high):
+def test_a_footing_on_von_mises_soil_collapses_on_its_side_of_tresca():
     """The smooth rigid footing (Shield's N_c = 5.69 on Tresca soil) on von Mises soil
-    (Drucker-Prager at phi = 0): sqrt(J2) <= c lies inside Tresca's hexagon of c, which
-    lies inside sqrt(J2) <= 2 c / sqrt 3, so the collapse loads are ordered as the yield
-    sets; the bounds are refused in words (Drucker-Prager has none in tankfx)."""
+    (Drucker-Prager at phi = 0), sqrt(J2) <= xi c. The plane-strain cone (xi = 1) lies
+    inside Tresca's hexagon of c: it carries at most 5.69 (within the elements' 1 %) and at
+    least sqrt 3 / 2 of it. The compression cone (xi = 2 / sqrt 3) is the same soil scaled:
+    with E and the load scaled by 2 / sqrt 3 too, every stress of its path is 2 / sqrt 3
+    times the plane-strain one's at the same displacements, so its search takes the same
+    steps and its bearing capacity is 2 / sqrt 3 times the other's to the search's
+    round-off (a wrong xi moves it by the error in xi). The bounds are refused in words
+    (Drucker-Prager has none in tankfx)."""
     from test_collapse import footing
 
     from tankfx import analyse
     from tankfx.scene.sections import SceneError
 
-    data = footing("smooth")
-    data["soil"] = {**data["soil"], "model": "drucker_prager", "drucker_prager_match": match}
-    c = analyse(Scene.from_dict(data)).results["collapse"]
-    assert c["found"] and low <= c["load_factor"] <= high
+    xi = 2.0 / math.sqrt(3.0)
+    found = {}
+    for match, scale in (("plane_strain", 1.0), ("compression", xi)):
+        data = footing("smooth", pressure=C * scale)
+        data["soil"] = {**data["soil"], "model": "drucker_prager",
+                        "drucker_prager_match": match, "E": data["soil"]["E"] * scale}
+        found[match] = analyse(Scene.from_dict(data)).results["collapse"]
+        assert found[match]["found"]
+    N = found["plane_strain"]["bearing_pressure"] / C
+    assert 5.69 * math.sqrt(3.0) / 2.0 <= N <= 5.69 * 1.01
+    assert found["compression"]["load_factor"] == pytest.approx(
+        found["plane_strain"]["load_factor"], rel=1e-6)
+    assert found["compression"]["bearing_pressure"] / C == pytest.approx(xi * N, rel=1e-6)
     with pytest.raises(SceneError, match="takes Mohr-Coulomb's cones"):
         Scene.from_dict({**data, "analysis": {"collapse": "bounds"}})
 

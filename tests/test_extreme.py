@@ -111,6 +111,7 @@ def test_wall_rigidity_range():
         assert soft[key] == pytest.approx(bare[key], rel=2e-3), key
 
 
+@pytest.mark.verify
 def test_modulus_rising_from_almost_zero_at_the_surface():
     """E = E_s (1 + lambda h) with E_s = 10 kPa: at lambda = 50 /m the modulus doubles
     within 2 cm, and the mesh grades its elements from 0.25 / lambda at the surface
@@ -190,6 +191,7 @@ def test_penalty_far_too_stiff_is_refused_by_the_residual_check(monkeypatch):
         analyse(plate())
 
 
+@pytest.mark.verify
 def test_penalty_too_stiff_for_a_mohr_coulomb_interface_is_refused(monkeypatch):
     """A Mohr-Coulomb interface 1e3 times stiffer than the default (embedded 1 m tank, water
     load, tan phi = 0.5): the element tractions change sign from solve to solve, the
@@ -260,6 +262,7 @@ def test_nearly_full_separation():
 HYPER = {"model": "hyperbolic", "hyperbolic_a": 2.1e-7, "hyperbolic_b": 1e-5, "nu": 0.3}
 
 
+@pytest.mark.verify
 def test_loads_just_below_and_above_the_soils_capacity():
     """The flexible load on Kondner's soil (1/b = 100 kPa ultimate deviator): 150 kPa
     converges with a few cells at the ultimate deviator, reported; 200 kPa cannot be

@@ -181,3 +181,18 @@ def test_the_section_shows_the_quantity_asked(tmp_path):
                          capture_output=True, text=True, timeout=300)
     assert bad.returncode == 2 and "a stress level is a nonlinear soil's" in bad.stderr
     assert not (tmp_path / "b").exists()
+
+
+def test_a_figure_that_fails_to_draw_fails(steel, tmp_path, monkeypatch):
+    """In the suite (TANKFX_STRICT_FIGURES, set by conftest.py) a plotting error is no
+    warning: every other figure is still drawn, then write_figures raises naming the one
+    that failed, so that no figure can break silently."""
+    from tankfx.results import figures as plots
+
+    def broken(r, path, **kwargs):
+        raise KeyError("w_edge")
+
+    monkeypatch.setattr(plots, "plot_contact", broken)
+    with pytest.raises(RuntimeError, match=r"contact.png \(KeyError: 'w_edge'\)"):
+        plots.write_figures(steel, tmp_path)
+    assert (tmp_path / "moments.png").exists()

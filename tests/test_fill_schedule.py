@@ -13,7 +13,10 @@ DAY = 86400.0
 
 #: a rigid 1 m tank (a stiff floor and a thin wall) on weightless c' = 10 kPa, phi' = 20
 #: deg, E' = 10 MPa, a^2 / c_v = 0.1 days, filled with water to 8 m in two steps at 80 m a
-#: day (a step in half a^2 / c_v: mostly undrained)
+#: day (a step in half a^2 / c_v: mostly undrained). Its second step's factor with no hold
+#: (measured 1.21) lies within the search's bracket of the target 1.22: the method's tests
+#: read the plan, not which side of the target that step falls. (On a mesh twice as coarse
+#: the schedule took twice as long, 134 s, trying more holds; 2026-12-01)
 SMALL = {"title": "small tank, safe fill",
          "soil": {"model": "mohr_coulomb", "E": 10e6, "nu": 0.3, "cohesion": 10e3,
                   "friction_angle": 20.0},
@@ -27,56 +30,57 @@ SMALL = {"title": "small tank, safe fill",
                            "piezometers": [[0.0, 0.5]]},
          "fill": {"height": 8.0, "step": 4.0, "rate": 80.0, "target_factor": 1.22}}
 
+#: the same tank on a clay ten times less permeable (a^2 / c_v = 1 day: a step fills in a
+#: twentieth of it, undrained), on a coarse mesh, to the target 1.055. Filled with no hold
+#: its second step fails (factor 1.0); held, the clay under the first step's water drains
+#: and the second's factor rises past the target (measured 2026-12-01: 1.014, 1.041,
+#: 1.0675 after 2, 4 and 8 days; the hold 4.5 days): its decisions lie more than two of
+#: the search's 2 % brackets apart
+SLOW_CLAY = SMALL | {
+    "mesh": {"edge_size": 0.1, "near_size": 1.0, "growth": 0.3},
+    "consolidation": {**SMALL["consolidation"], "permeability": 8.43e-9},
+    "fill": {**SMALL["fill"], "target_factor": 1.055}}
+
 
 @pytest.fixture(scope="module")
 def small():
     return analyse(Scene.from_dict(SMALL))
 
 
-def test_a_hold_lets_the_clay_carry_the_next_step(small, tmp_path):
-    """Filled at the rate with no hold, the second step's factor of safety is short of the
-    target (measured 1.21 against 1.22); the schedule holds the first level until the
-    clay under it has drained enough that the second step's factor reaches it (measured:
-    half a day, then 1.22-1.25). The hold is the shortest to half a day: a hold half a day
-    shorter failed its check. The plan's days add up, and the results, the stages and the
-    figure carry it."""
+def _the_plan_holds_together(solution, data, tmp_path) -> None:
+    """What every schedule's record says of itself: each tried hold passed exactly where
+    its check's factor reached the target; the hold chosen is the shortest that passed,
+    within HOLD_RESOLUTION of the longest that failed (or none needed); each step fills in
+    step / rate after its hold; the results, the stages and the figure carry the plan."""
     from tankfx.results.figures import write_figures
     from tankfx.results.report import summary_table
 
-    r = small.results
+    r = solution.results
     f = r["fill"]
-    target = SMALL["fill"]["target_factor"]
-    first, second = f["unheld"]
-    assert first["height"] == 4.0 and first["strength_factor"] > target
-    assert second["height"] == 8.0 and second["strength_factor"] < target
-    assert f["unheld_factor"] == second["strength_factor"] and f["unheld_height"] == 8.0
-    assert not f["unheld_fails"]
+    target = data["fill"]["target_factor"]
+    assert f["complete"] and len(f["schedule"]) == 2
+    for s in f["schedule"]:
+        # (None: the check's trials failed below the target, without a factor found)
+        for h in s["holds_tried"]:
+            assert h["passed"] == (h["strength_factor"] is not None
+                                   and h["strength_factor"] >= target)
+        assert s["strength_factor"] >= target
+        if s["hold_days"] > 0.0:
+            passed = [h["hold_days"] for h in s["holds_tried"] if h["passed"]]
+            failed = [h["hold_days"] for h in s["holds_tried"] if not h["passed"]] + [0.0]
+            assert s["hold_days"] == min(passed)
+            assert s["hold_days"] - max(failed) <= HOLD_RESOLUTION * (1 + 1e-9)
+            # the step reports its own check's factor
+            assert s["strength_factor"] == [h["strength_factor"] for h in s["holds_tried"]
+                                            if h["hold_days"] == s["hold_days"]][0]
     one, two = f["schedule"]
-    assert one["hold_days"] == 0.0 and one["strength_factor"] == first["strength_factor"]
-    assert two["hold_days"] > 0.0
-    # the hold: the shortest that passed, a hold within HOLD_RESOLUTION shorter failed
-    passed = [h["hold_days"] for h in two["holds_tried"] if h["passed"]]
-    failed = [h["hold_days"] for h in two["holds_tried"] if not h["passed"]] + [0.0]
-    assert two["hold_days"] == min(passed)
-    assert two["hold_days"] - max(failed) <= HOLD_RESOLUTION * (1 + 1e-9)
-    # each hold's check is its factor: passed where it reaches the target, and the hold
-    # chosen reports its own check's factor (so at least the target)
-    for h in two["holds_tried"]:
-        assert h["passed"] == (h["strength_factor"] >= target)
-    assert two["strength_factor"] >= target
-    assert two["strength_factor"] == [h["strength_factor"] for h in two["holds_tried"]
-                                      if h["hold_days"] == two["hold_days"]][0]
-    # drained under the first step's load, the clay carries the second with more margin
-    assert two["strength_factor"] <= target * (1.0 + 2 * FACTOR_BRACKET)
-    assert two["strength_factor"] > second["strength_factor"]
-    # the days: each step fills step / rate, after its hold
-    fill_days = SMALL["fill"]["step"] / SMALL["fill"]["rate"]
+    assert one["hold_days"] == 0.0 and one["strength_factor"] == f["unheld"][0]["strength_factor"]
+    fill_days = data["fill"]["step"] / data["fill"]["rate"]
     assert one["fill_start_day"] == pytest.approx(0.0, abs=1e-12)
     for s in (one, two):
         assert s["fill_end_day"] - s["fill_start_day"] == pytest.approx(fill_days)
     assert two["fill_start_day"] == pytest.approx(one["fill_end_day"] + two["hold_days"])
-    assert f["total_days"] == two["fill_end_day"] and f["complete"]
-    # the results: the full tank at the schedule's end, its factor the last step's
+    assert f["total_days"] == two["fill_end_day"]
     c = r["consolidation"]
     assert c["history"][-1]["liquid_height"] == 8.0
     assert c["history"][-1]["t_days"] == pytest.approx(f["total_days"])
@@ -84,9 +88,43 @@ def test_a_hold_lets_the_clay_carry_the_next_step(small, tmp_path):
         [one["strength_factor"], two["strength_factor"]]
     assert r["collapse"]["strength_factor"] == two["strength_factor"]
     assert "fill: safe schedule" in summary_table(r)
-    written = {p.name for p in write_figures(small, tmp_path)}
+    written = {p.name for p in write_figures(solution, tmp_path)}
     if MPI.COMM_WORLD.rank == 0:
         assert {"fill.png", "consolidation.png"} <= written
+
+
+def test_the_schedule_plans_its_holds(small, tmp_path):
+    """The small tank's schedule: filled at the rate with no hold first, its first step
+    carried with a margin (measured 1.98 against 1.22); every decision its checks', the
+    days adding up, the plan in the results and the figure."""
+    f = small.results["fill"]
+    first, second = f["unheld"]
+    margin = 1.0 + 2.0 * FACTOR_BRACKET
+    assert first["height"] == 4.0
+    assert first["strength_factor"] > SMALL["fill"]["target_factor"] * margin
+    assert second["height"] == 8.0 and f["unheld_height"] == 8.0
+    assert f["unheld_factor"] == second["strength_factor"]
+    _the_plan_holds_together(small, SMALL, tmp_path)
+
+
+@pytest.mark.verify
+def test_a_hold_lets_the_clay_carry_the_next_step(tmp_path):
+    """The slow clay's tank: filled at the rate with no hold, its second step's factor of
+    safety is short of the target by more than two of the search's brackets (measured
+    1.0 against 1.055, a failure); the schedule holds the first level until the clay under
+    it has drained enough that the second step's factor reaches it (measured: 4.5 days),
+    the held factor more than two brackets above the unheld one and the plan whole."""
+    solution = analyse(Scene.from_dict(SLOW_CLAY))
+    f = solution.results["fill"]
+    target, margin = SLOW_CLAY["fill"]["target_factor"], 1.0 + 2.0 * FACTOR_BRACKET
+    first, second = f["unheld"]
+    assert first["strength_factor"] > target * margin
+    assert second["strength_factor"] * margin < target
+    one, two = f["schedule"]
+    assert two["hold_days"] > 0.0
+    assert target <= two["strength_factor"] <= target * margin
+    assert two["strength_factor"] > second["strength_factor"] * margin
+    _the_plan_holds_together(solution, SLOW_CLAY, tmp_path)
 
 
 def test_the_schedule_is_the_path_it_reports(small):

@@ -36,7 +36,7 @@ def _close(a, b, rel):
         assert a[key] == pytest.approx(b[key], rel=rel), key
 
 
-@pytest.mark.parametrize("embedment", [0.0, 0.3])
+@pytest.mark.parametrize("embedment", [0.0, pytest.param(0.3, marks=pytest.mark.verify)])
 def test_friction_limits_reproduce_bonded_and_smooth(embedment, solved):
     """tan phi = 10 is bonded and tan phi = 0.001 smooth (the paper's own choice of limits),
     within 0.5 % on w0, wd and M0 for a surface tank. For the embedded tank the linear bonded
@@ -63,6 +63,7 @@ def test_friction_limits_reproduce_bonded_and_smooth(embedment, solved):
         assert r["interface"]["converged"] and r["interface"]["iterations"] >= 1
 
 
+@pytest.mark.verify
 def test_friction_limits_on_the_papers_embedded_tank(solved):
     """The paper's own partially embedded tank (Fig. 13: a = 10 m, D = 2 m, the wall's face
     in the soil): tan phi = 10 reproduces bonded and tan phi = 0.001 smooth within 0.5 % on
@@ -130,7 +131,7 @@ def test_rim_load_lifts_a_flexible_plate_off_at_its_centre():
     assert stiff["interface"]["separated_length"]["plate"] == 0.0
 
 
-@pytest.mark.parametrize("states", ["element", "node"])
+@pytest.mark.parametrize("states", ["element", pytest.param("node", marks=pytest.mark.verify)])
 def test_separated_centre_rebonds_on_the_second_load_step(states):
     """Stage 1: the wall's weight alone lifts the plate's centre; stage 2 adds a uniform
     pressure on the plate and the centre closes again: those elements (nodes) are reported
@@ -148,6 +149,7 @@ def test_separated_centre_rebonds_on_the_second_load_step(states):
     assert r2["equilibrium"]["contact_relative_error"] < 1e-6
 
 
+@pytest.mark.verify
 def test_load_path_of_a_scene_is_the_same_as_analyse_path():
     """The scene's own load path ([[stages]] in a file; `stages` of the dict) through
     `analyse` (as `tankfx run` and sweeps call it): the last stage's results equal
@@ -168,6 +170,7 @@ def test_load_path_of_a_scene_is_the_same_as_analyse_path():
         first["separated_length"]["plate"], rel=1e-12)
 
 
+@pytest.mark.verify
 def test_penalty_stiffness_ten_times_larger_changes_little(monkeypatch):
     base = analyse(scene(tan_phi=0.5, embedment=0.3)).results
     monkeypatch.setattr(ifc, "PENALTY_FACTOR", 10 * ifc.PENALTY_FACTOR)
@@ -230,6 +233,7 @@ def test_node_states_agree_with_element_states_where_they_converge(friction_swee
         assert np.all(np.abs(tau) <= tan_phi * np.maximum(sn, 0.0) + 1e-9 * sn.max())
 
 
+@pytest.mark.verify
 def test_node_states_hold_a_cycle_at_the_wall_foot(solved):
     """On an embedded tank at tan phi = 10 the node states at the wall's foot chatter
     between contact and separation (|j_n| ~ 1e-8 m), a few nodes at a time: a node that has
@@ -287,6 +291,7 @@ def test_slip_follows_its_jump_and_sits_on_the_limit():
 
 
 
+@pytest.mark.verify
 def test_a_stage_of_the_same_load_from_secant_slips():
     """A load path's next stage starts from the last states: its slips on the secant law
     (reversed slips) are re-decided as plain slips along their jumps, a change of law the
@@ -305,6 +310,7 @@ def test_a_stage_of_the_same_load_from_secant_slips():
         assert second[key] == pytest.approx(first[key], rel=5e-4), key
 
 
+@pytest.mark.verify
 def test_low_friction_reversed_slips_converge_in_a_few_solves():
     """At tan phi = 0.01-0.03 the small tank's two reversed elements (one at the contact's
     turning point, its jump 1e-8 m) are coupled; each one's secant stiffness follows from
@@ -329,6 +335,7 @@ def test_low_friction_reversed_slips_converge_in_a_few_solves():
     assert w0[0] > w0[1] > w0[2]
 
 
+@pytest.mark.verify
 def test_node_states_on_a_hyperbolic_soil_along_an_emptying_path():
     """The small tank on the paper's hyperbolic soil, tan phi = 0.03, filled to 2.8 m and
     lowered to 0.05 m: node states did not converge there (the secant slips' out-of-balance
@@ -368,6 +375,7 @@ def test_a_mixed_soil_under_a_mohr_coulomb_interface_keeps_its_soil_assembled(mo
     _close(split, full, 1e-10)
 
 
+@pytest.mark.verify
 def test_only_the_interface_is_reassembled_between_solves(monkeypatch):
     """A linear soil under a Mohr-Coulomb interface: between the solves of the iteration
     only the interface's coefficients change, so the soil and structure blocks are

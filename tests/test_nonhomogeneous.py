@@ -25,6 +25,7 @@ def test_settlement_falls_as_lambda_grows():
     assert all(w1 < w0 for w0, w1 in zip(w, w[1:])), w
 
 
+@pytest.mark.verify
 def test_agrees_with_refined_self_reference():
     """Default mesh against a mesh twice as fine and one degree higher: within 0.2 %."""
     kw = {"soil": {"E_gradient": 0.5}}

@@ -1,14 +1,11 @@
 """Biot's consolidation of an elastoplastic skeleton (tankfx.iterations.plastic_consolidation):
 the Mohr-Coulomb soil with a [consolidation] is an effective-stress soil, each time step
 solved by Newton on the skeleton's points and the pore pressure."""
-import numpy as np
 import pytest
 from mpi4py import MPI
 
 from tankfx import Scene, SceneError, SoilFailure, analyse
-from tankfx.laws.biot import consolidation_coefficient
 from tankfx.results.report import summary_table
-from tankfx.verification import reference as ref
 
 DAY = 86400.0
 #: a 5 m flexible plate on a weightless drained skeleton (E, nu), consolidating
@@ -63,60 +60,38 @@ def test_serial_and_two_ranks_consolidate_the_same_plastic_skeleton():
             assert p[key] == pytest.approx(s[key], rel=1e-8), key
 
 
-def test_terzaghi_through_the_newton_path():
-    """The wide load on a thin drained layer (tests/test_consolidation.py's) on a
-    Mohr-Coulomb skeleton far from yield, each step by Newton on the points and the pore
-    pressure: Terzaghi's settlement at the centre within 0.6 % of the final one, the drained
-    limit his final settlement within 0.1 %."""
-    E_s, nu, k, a, q, H = 10e6, 0.3, 1e-9, 10.0, 1e5, 1.0
-    c_v = consolidation_coefficient(E_s, nu, k, 9810.0)
-    times = list(np.array([0.02, 0.1, 0.3, 1.0]) * H**2 / c_v)
-    scene = Scene.from_dict({
-        "soil": {"model": "mohr_coulomb", "E": E_s, "nu": nu, "cohesion": 1e9},
-        "accept": ["soil.cohesion"], "load": {"pressure": q, "load_radius": a},
-        "domain": {"radius": 3 * a, "depth": H},
-        "mesh": {"edge_size": 0.1, "near_size": 0.25, "growth": 0.3},
-        "consolidation": {"permeability": k, "times": times}})
-    r = analyse(scene).results
-    c = r["consolidation"]
-    final = q * H * (1 + nu) * (1 - 2 * nu) / (E_s * (1 - nu))
-    s = np.array([x["w0"] for x in c["at_times"][1:]])
-    err = (s - ref.terzaghi_settlement(q, H, E_s, nu, k, np.array(times))) / final
-    assert np.max(np.abs(err)) < 6e-3, err
-    assert abs(c["drained"]["w0"] / final - 1) < 1e-3
-    assert r["soil"]["iterations"] >= len(c["history"]) and r["soil"]["plastic_points"] == 0
-
-
 S_U, Q = 10e3, 30e3
 
 
-def _footing_in_time(**analysis) -> dict:
+def _footing_in_time(mesh=(0.01, 0.25), **analysis) -> dict:
     """The rigid rough 1 m footing on weightless clay of c' = 10 kPa, phi' = 0, loaded at
     once with 30 kPa (half its bearing capacity) and held for ten days (a^2 / c_v = 0.08
     days: drained by then), its piezometers under the centre and the edge."""
     return {"soil": {"model": "mohr_coulomb", "E": 10e6, "nu": 0.3, "cohesion": S_U},
             "plate": {"radius": 1.0, "Kp": 1000.0, "E": 30e9, "nu": 0.2},
             "interface": {"condition": "bonded"}, "load": {"pressure": Q},
-            "mesh": {"edge_size": 0.01, "near_size": 0.25, "growth": 0.3},
+            "mesh": {"edge_size": mesh[0], "near_size": mesh[1], "growth": 0.3},
             "domain": {"radius": 5.0, "depth": 5.0}, "analysis": analysis,
             "consolidation": {"permeability": 1e-7, "times": [10 * DAY],
                               "steps_per_decade": 2, "piezometers": [[0.0, 0.5], [1.0, 1.0]]},
             "stages": [{"time": 0.0}, {"time": 10 * DAY}]}
 
 
-def test_the_factor_of_safety_in_time_of_a_clay_without_friction(tmp_path):
+@pytest.mark.parametrize("mesh,within", [
+    ((0.03, 0.5), 0.05), pytest.param((0.01, 0.25), 0.02, marks=pytest.mark.verify)])
+def test_the_factor_of_safety_in_time_of_a_clay_without_friction(tmp_path, mesh, within):
     """phi' = 0: the strength does not depend on the effective stress, so the factor of
     safety on c' is the same loaded undrained (at once, t = 0) and drained (ten times
-    the consolidation time later): F q / c' = N_c = 6.05 (Eason & Shield, rough), within
-    2 % on this coarse mesh (measured 6.15: 1.6 % high, the settlement criterion's
-    bracket). Each stage's record has its factor (``stages[k].collapse``) and its
+    the consolidation time later): F q / c' = N_c = 6.05 (Eason & Shield, rough), from
+    above (displacement elements), within 5 % on a coarse mesh and 2 % on a finer one
+    (make verify; measured 6.15: 1.6 % high, the settlement criterion's bracket). Each stage's record has its factor (``stages[k].collapse``) and its
     piezometers; the top-level collapse is the last stage's; the excess pore pressure
     under the centre is about half the load at once and gone ten days later. The figures:
     the history with the factor of safety, the excess pore pressure over the section at
     each reported time."""
     from tankfx.results.figures import write_figures
 
-    solution = analyse(Scene.from_dict(_footing_in_time(collapse="strength")))
+    solution = analyse(Scene.from_dict(_footing_in_time(mesh, collapse="strength")))
     r = solution.results
     written = {p.name for p in write_figures(solution, tmp_path)}
     if MPI.COMM_WORLD.rank == 0:
@@ -125,7 +100,7 @@ def test_the_factor_of_safety_in_time_of_a_clay_without_friction(tmp_path):
     first, last = r["stages"]
     F0, F1 = first["collapse"]["strength_factor"], last["collapse"]["strength_factor"]
     assert first["collapse"]["found"] and last["collapse"]["found"]
-    assert 6.05 < F0 * Q / S_U < 1.02 * 6.05
+    assert 6.05 < F0 * Q / S_U < (1.0 + within) * 6.05
     assert F1 == pytest.approx(F0, rel=first["collapse"]["bracket_width"])
     assert r["collapse"]["strength_factor"] == F1
     c = r["consolidation"]
@@ -206,6 +181,7 @@ def _ramp(T_days: float | None, collapse: str | None = None) -> Scene:
     return Scene.from_dict(data)
 
 
+@pytest.mark.verify
 def test_the_rate_of_loading_orders_the_collapse_loads():
     """Small, Booker & Davis (1976): the faster a footing on a frictional clay is loaded,
     the less it carries. Its pressure raised to 300 kPa over 0.001, 1 and 1000 consolidation

@@ -231,6 +231,7 @@ def test_a_mohr_coulomb_interface_in_the_newton_iteration():
 
 # (quadratic elements, smooth and rough, through the scene's collapse search:
 # tests/test_collapse.py; here quartic ones under the settlement control to 0.1 a)
+@pytest.mark.verify
 @pytest.mark.parametrize("condition,exact,mesh", [("smooth", 5.69, (4, 0.04, 0.4))])
 def test_a_rigid_footing_on_tresca_soil_collapses_at_its_exact_bearing_capacity(condition,
                                                                                 exact, mesh):
@@ -353,6 +354,7 @@ def test_an_embedded_foundations_pit_is_dug_before_it_is_built(wall):
     assert "excavation of the pit: heave" in summary_table(r)
 
 
+@pytest.mark.verify
 def test_a_pit_too_deep_for_its_clay_gives_way():
     """An unsupported 8 m pit in clay of s_u = 10 kPa: its sides are four times the height
     a vertical cut in it stands (3.85 s_u / gamma = 2.1 m), and its bottom is relieved of

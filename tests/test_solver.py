@@ -52,6 +52,7 @@ def test_tank_structure_condensed_equals_direct_and_scales():
     assert 0 < its[1] <= 1.5 * its[0], its
 
 
+@pytest.mark.verify
 def test_nonlinear_tank_iterative_equals_direct():
     """Hyperbolic soil under a bonded plate and wall: every Picard iteration is a new
     operator, on which GAMG keeps the first solve's interpolation (only its coarse operators
@@ -137,6 +138,7 @@ print("RESULT " + json.dumps({k: r[k] for k in ("w0", "wd", "M0", "linear_solves
 """
 
 
+@pytest.mark.verify
 @pytest.mark.skipif(platform.libc_ver()[0] != "glibc", reason="glibc's malloc")
 def test_keeping_freed_memory_changes_no_number():
     """Factorisations that reuse the freed pages of the last one (tankfx._memory) give the
@@ -167,6 +169,7 @@ print("RESULT " + json.dumps({k: r[k] for k in ("w0", "wd", "M0", "linear_solves
 """
 
 
+@pytest.mark.verify
 def test_blas_threads_keep_to_the_share_of_each_rank():
     """Where the MPI launcher says two processes share the machine (MPICH's
     MPI_LOCALNRANKS), numpy's BLAS keeps to half the cores (tankfx._threads: its spinning
@@ -200,6 +203,7 @@ def test_blas_threads_keep_to_the_share_of_each_rank():
             assert out[case][key] == pytest.approx(out["serial"][key], rel=1e-9), key
 
 
+@pytest.mark.verify
 def test_slipping_interface_iterative_equals_direct():
     """A Mohr-Coulomb interface that slips makes the system unsymmetric (the friction
     couples the shear to the normal jump): GMRES with GAMG, whose interpolation was built on
@@ -217,6 +221,7 @@ def test_slipping_interface_iterative_equals_direct():
     assert it["linear_solver"]["krylov_iterations"] < 80 * it["linear_solves"]
 
 
+@pytest.mark.verify
 def test_repeated_factorisations_unscaled_give_the_scaled_numbers(monkeypatch):
     """The factorisations of a nonlinear iteration skip MUMPS's scaling: with the two
     refinement steps they give the numbers of scaled factorisations (the nonlinear tank

@@ -287,6 +287,7 @@ def test_a_soil_past_its_strength_fails_in_physical_terms_keeping_what_converged
     assert all(s["soil"]["converged"] for s in r["converged_stages"])
 
 
+@pytest.mark.verify
 def test_overturning_past_uplift_is_not_valid(tmp_path):
     """The seismic steel tank with four times its moment: its heel lifts, so the
     superposed results are marked not valid (results.json, the summary) and the run exits

@@ -171,6 +171,7 @@ def test_unloading_modulus_without_a_load_path_is_refused(stages):
         Scene.from_dict(data)
 
 
+@pytest.mark.verify
 def test_cells_flipping_at_their_largest_strain_are_held_and_reported():
     """The Fig. 13 tank (demos/scenes/embedded_tank_nonlinear.toml, coarse mesh) with its
     concrete's weight, filled to 3 and 6 m, at a tolerance of 0.002 (which is also the
@@ -250,6 +251,7 @@ def test_duncan_chang_in_its_kondner_limit_unloads_as_kondners_soil(monkeypatch)
     assert dc[1]["soil"]["unloading_cells"] > 0.9 * dc[2]["soil"]["unloading_cells"] > 0
 
 
+@pytest.mark.verify
 def test_duncan_chang_tank_keeps_a_settlement_and_reloads_to_where_it_was():
     """The 1 m tank on Duncan & Chang's sand (n = 0.5: E_ur = 3 K p_a (sigma_3 / p_a)^n at
     each cell's current confinement, solved consistently with it) filled, emptied, filled:

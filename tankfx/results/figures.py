@@ -29,6 +29,11 @@ from ..fem.evaluate import evaluate_at
 from .fields import soil_cell_fields
 from .figure_choices import FIGURES, SECTION_QUANTITIES, section_problem  # noqa: F401
 
+#: an environment variable: where set (not "0"), a figure that cannot be drawn makes
+#: write_figures raise once every figure has been tried, instead of warning (the test suite
+#: sets it, so that a plotting error fails the test that draws the figure)
+STRICT_FIGURES = "TANKFX_STRICT_FIGURES"
+
 if not os.environ.get("DISPLAY"):
     # no X server: render through EGL rather than let VTK try (and warn about) X first
     os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
@@ -600,7 +605,9 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
     where the scene has them. Collective; returns the paths written (on rank 0; an empty
     list elsewhere). A figure rank 0 cannot render (no EGL or display) is left out with a
     warning, and the others are still drawn: the other ranks
-    take part in every section's gathering whatever rank 0's renderer does."""
+    take part in every section's gathering whatever rank 0's renderer does. With the
+    environment variable STRICT_FIGURES set, such a figure raises RuntimeError after the
+    others are drawn."""
 
     directory = Path(directory)
     r, scene = solution.results, solution.scene
@@ -674,7 +681,14 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
                                         directory / "overturning_wall.png"),
                      {"title": title}),
                     (plot_tilt, (r, directory / "tilt.png"), {"title": title})]
-    written = []
+    return _draw(figures)
+
+
+def _draw(figures) -> list[Path]:
+    """Each (plot function, its arguments, its keywords) of ``figures`` drawn: the paths
+    written; one that raises is warned of and the others still drawn (STRICT_FIGURES:
+    then raised)."""
+    written, failed = [], []
     for plot_fn, args, kwargs in figures:
         try:
             path = plot_fn(*args, **kwargs)
@@ -682,9 +696,14 @@ def write_figures(solution, directory: str | Path, section_quantity: str = "sigm
             logging.getLogger("tankfx").warning(
                 "%s not written (%s: %s); --no-figures skips the figures", args[-1].name,
                 type(e).__name__, e)
+            failed.append(f"{args[-1].name} ({type(e).__name__}: {e})")
             continue
         if isinstance(path, list):
             written += path
         elif path is not None:
             written.append(path)
+    if failed and os.environ.get(STRICT_FIGURES, "") not in ("", "0"):
+        # (after every figure: the other ranks have left their gatherings)
+        raise RuntimeError(f"figures not written ({STRICT_FIGURES} is set): "
+                           + "; ".join(failed))
     return written
