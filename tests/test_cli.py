@@ -138,6 +138,7 @@ def test_a_load_path_scene_file(tmp_path):
     assert r["stages"][1]["applied_load"] > r["stages"][0]["applied_load"] > 0
 
 
+@pytest.mark.verify
 def test_hydrotest_scene_file_remembers_through_the_command_line(tmp_path):
     """demos/scenes/hydrotest.toml (Kondner's soil with an unloading modulus, ten stages):
     `tankfx check` says how it unloads; `tankfx run` writes each stage's unloading cells in

@@ -49,15 +49,26 @@ class OutOfBalance:
                       for row_bcs in fem.bcs_by_block(spaces, bcs)]
         self.rows, self.unknowns = rows, unknowns
         self.comm = unknowns[0].function_space.mesh.comm
+        #: the blocks' names (their unknowns'): "u" the soil's equilibrium, "pore_pressure"
+        #: its flow, "structure" the shells'
+        self.names = [u.name for u in unknowns]
         #: relative to the largest load vector so far rather than the current one (a load
         #: path in time, which may come to no load: an empty tank, whose load vector holds
         #: only round-off)
         self.relative_to_largest = False
         self._largest = 0.0
+        self._largest_blocks = np.zeros(len(rows))
+        self._largest_terms = np.zeros(len(rows))
 
-    def __call__(self) -> float:
-        residual = load = 0.0
-        for (actions, L), dofs, u in zip(self.rows, self.fixed, self.unknowns):
+    def blocks(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per block, the norms of its out-of-balance vector A_i u - f_i, of its load vector
+        f_i and of its largest term (f_i or one of the a_ij(u_j): the scale of its
+        round-off, the terms cancelling in balance), each in the block's own units (N for
+        the equilibria, m^3 for the flow), over all ranks; the last two the largest so far
+        where ``relative_to_largest``."""
+        residual, load = np.zeros(len(self.rows)), np.zeros(len(self.rows))
+        squares = []            # (block, each term's sum of squares on this rank)
+        for i, ((actions, L), dofs, u) in enumerate(zip(self.rows, self.fixed, self.unknowns)):
             V = u.function_space
             n = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
             vecs = []
@@ -67,10 +78,24 @@ class OutOfBalance:
                 vec.array[dofs] = 0.0
                 vecs.append(vec.array[:n])
             r = sum(vecs[1:]) - vecs[0]
-            residual += float(r @ r)
-            load += float(vecs[0] @ vecs[0])
-        comm = self.comm
-        load = comm.allreduce(load)
+            residual[i], load[i] = float(r @ r), float(vecs[0] @ vecs[0])
+            squares += [(i, float(v @ v)) for v in vecs]
+        residual, load = self.comm.allreduce(residual), self.comm.allreduce(load)
+        # (each term's norm over all ranks, then the block's largest: the same on any
+        # number of ranks)
+        summed = self.comm.allreduce(np.array([s for _, s in squares]))
+        terms = np.zeros(len(self.rows))
+        for (i, _), s in zip(squares, summed):
+            terms[i] = max(terms[i], s)
         if self.relative_to_largest:
-            self._largest = load = max(load, self._largest)
-        return math.sqrt(comm.allreduce(residual) / max(load, 1e-300))
+            self._largest_blocks = load = np.maximum(load, self._largest_blocks)
+            self._largest_terms = terms = np.maximum(terms, self._largest_terms)
+        return np.sqrt(residual), np.sqrt(load), np.sqrt(terms)
+
+    def __call__(self) -> float:
+        """||A u - f|| / ||f|| over all blocks together."""
+        residual, load, _ = self.blocks()
+        total = float(np.sum(load ** 2))
+        if self.relative_to_largest:
+            self._largest = total = max(total, self._largest)
+        return math.sqrt(float(np.sum(residual ** 2)) / max(total, 1e-300))

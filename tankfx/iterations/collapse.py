@@ -118,12 +118,6 @@ class CollapseSearch:
         self.model, self.solver, self.log = model, solver, log
         self.iteration = chain.iterations[0]
         self.newton = self.iteration.newton
-        #: a strength trial's convergence: a consolidation's own (its time steps converge
-        #: to 1e-6 of the load where a few points flip between their returns: a trial from
-        #: such a state to Newton's 1e-8 stalled at 1.2e-6 a hair above F = 1, measured on
-        #: a Cam Clay tank), else Newton's
-        self.tolerance = getattr(self.iteration, "TOLERANCE", None)
-        self.round_off = getattr(self.iteration, "ROUND_OFF", None)
         self.inner = chain.inner(log)
         self.curve: list[dict] = []
         self.increment = None
@@ -296,8 +290,7 @@ class CollapseSearch:
                 near = F / F_ok - 1.0 <= 4.0 * min(bracket, BRACKET)
                 ok, its, residual, why = nw.solve(
                     self.inner, self.STRENGTH_ITERATIONS,
-                    self.STRENGTH_STALL if near else self.FAR_STALL, self.tolerance,
-                    self.round_off)
+                    self.STRENGTH_STALL if near else self.FAR_STALL)
                 iterations += its
                 ok, why = self._small(ok, why)
                 log.info("  %5d  %9.5f  %9s  %6d  %19s  %6.2f", trial, F, ok, its,

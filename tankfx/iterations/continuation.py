@@ -14,7 +14,7 @@ from typing import Callable, Iterator
 from dolfinx import fem
 
 from ..scene.sections import load_between
-from .newton import Newton
+from .newton import Newton, criterion_words
 from .status import IterationStatus, SoilFailure
 
 
@@ -123,5 +123,5 @@ def run_to_settlement(iteration, inner, solver, log, settlement: float,
         "converged": True, "iterations": control.iterations,
         "history": iteration.history, "steps": len(iteration.history),
         "criterion": f"w0 raised to {settlement:g} m in {len(iteration.history)} steps, "
-                     f"each to an out-of-balance force <= {Newton.TOLERANCE:g}"})
+                     f"each with {criterion_words()}"})
     return iteration.last

@@ -31,6 +31,7 @@ from __future__ import annotations
 import time
 from dataclasses import replace
 
+from .newton import criterion_words
 from .plastic_consolidation import PlasticConsolidation
 from .status import IterationStatus, CONVERGED, SoilFailure
 from .time_stepping import DAY, RAMP_STEP, ConsolidationRun, time_steps
@@ -373,8 +374,7 @@ class FillSchedule(PlasticConsolidation):
             True, len(history) - 1, history, f"the fill schedule: {len(schedule)} steps",
             CONVERGED, {"converged": True, "iterations": self.iterations,
                         "time_steps": len(history) - 1,
-                        "criterion": f"every time step by Newton to an out-of-balance force "
-                                     f"<= {self.TOLERANCE:g} of the load vector",
+                        "criterion": f"every time step by Newton, {criterion_words()}",
                         **nw.yielding_record()},
             data=run)
 

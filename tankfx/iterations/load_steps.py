@@ -9,7 +9,7 @@ import math
 import time
 
 from ..scene.sections import load_between, vertical_load
-from .newton import Newton
+from .newton import Newton, criterion_words
 from .status import IterationStatus, SoilFailure
 
 
@@ -74,8 +74,7 @@ class NewtonIteration:
         sc = m.scene
         unloads = vertical_load(target, sc.plate, sc.wall, sc.ringwall) < vertical_load(
             start, sc.plate, sc.wall, sc.ringwall)
-        log.info("elastoplastic soil: Newton in load steps (tolerance %g on the out-of-balance "
-                 "force)", Newton.TOLERANCE)
+        log.info("elastoplastic soil: Newton in load steps (%s)", criterion_words())
 
         def fail(done, share, reason):
             m.set_loads(load_between(start, target, base=target, f=done))
@@ -84,8 +83,8 @@ class NewtonIteration:
         self.last = self.steps(
             inner, log, lambda share: m.set_loads(load_between(start, target, base=target,
                                                                f=share)),
-            unloads, fail, f"the whole load carried in {{steps}} load steps, each to an "
-                           f"out-of-balance force <= {Newton.TOLERANCE:g} of the load vector")
+            unloads, fail, f"the whole load carried in {{steps}} load steps, each with "
+                           f"{criterion_words()}")
         self.converged_load = target
         return self.last
 

@@ -12,6 +12,7 @@ step that raises it is shortened by a backtracking line search.
 """
 from __future__ import annotations
 
+import logging
 import math
 from typing import NamedTuple
 
@@ -25,7 +26,8 @@ from ..fem.solvers import SolveError
 
 class Solve(NamedTuple):
     """How one Newton solve ended: converged, its iterations, the last out-of-balance force
-    (relative to the load vector), and why not (empty where it converged)."""
+    (its largest block's, relative to that block's tolerance: <= 1 converged), and why not
+    (empty where it converged)."""
 
     converged: bool
     iterations: int
@@ -33,16 +35,64 @@ class Solve(NamedTuple):
     reason: str
 
 
+#: a block's out-of-balance vector is solved at this share of its own at the solve's start:
+#: the step's own change of load and flux, which a small step cannot hide behind
+#: (docs/theory/plasticity.md, "Newton's convergence test")
+STEP_SHARE = 1e-8
+#: or at the round-off of its largest term (the terms of a block cancel in balance: a
+#: block the step does not load, the flow's at an undrained step)
+ROUND_OFF = 1e-10
+
+
+def criterion_words() -> str:
+    """The convergence test in words (a results record's ``criterion``)."""
+    return (f"every block (equilibrium, flow, structure) to {STEP_SHARE:g} of its own "
+            f"out-of-balance at the solve's start or {ROUND_OFF:g} of its largest term")
+
+
+class Balance:
+    """The convergence test of one Newton solve, block by block (the soil's equilibrium,
+    its flow, the structure's), each in its own units: a block is solved where its
+    out-of-balance vector is at most STEP_SHARE of its own at the start of the solve, or
+    ROUND_OFF of its largest term. :meth:`ratio` is the largest block's share of its
+    tolerance (converged at <= 1); :meth:`merit`, what the line search lowers, their
+    root sum of squares."""
+
+    def __init__(self, model):
+        self.model = model
+        self.names, self.start, _ = model.block_residuals()
+        self.residual = self.start
+
+    def measure(self) -> float:
+        """The blocks' out-of-balance now (collective); returns the merit."""
+        _, self.residual, terms = self.model.block_residuals()
+        self.tolerance = np.maximum(STEP_SHARE * self.start, ROUND_OFF * terms)
+        self.tolerance = np.where(self.tolerance > 0.0, self.tolerance, 1e-300)
+        return self.merit()
+
+    def ratios(self) -> np.ndarray:
+        return self.residual / self.tolerance
+
+    def ratio(self) -> float:
+        return float(np.max(self.ratios()))
+
+    def merit(self) -> float:
+        return float(np.sqrt(np.sum(self.ratios() ** 2)))
+
+    def solved(self) -> bool:
+        r = self.ratios()
+        return bool(np.all(np.isfinite(r)) and np.all(r <= 1.0))
+
+    def words(self) -> str:
+        """The blocks' out-of-balance in words: each block's norm and its share of its
+        tolerance."""
+        return ", ".join(f"{n} {r:.3e} ({q:.2g} of its tolerance)"
+                         for n, r, q in zip(self.names, self.residual, self.ratios()))
+
+
 class Newton:
     """Newton's method on a model whose soil block holds a plastic state."""
 
-    #: the out-of-balance force of a converged state, relative to the load vector
-    TOLERANCE = 1e-8
-    #: a state whose out-of-balance force is below ROUND_OFF and has stopped falling (three
-    #: iterations without halving) has converged to the round-off of its state: measured on
-    #: a 25 m tank's collapse at metres of settlement, steps stalled at 1.1-1.5e-8 and were
-    #: cut back for nothing
-    ROUND_OFF = 1e-7
     #: a step (of load, of settlement) that converged in at most this many iterations lets
     #: the next grow by GROWTH
     FAST, GROWTH = 6, 1.5
@@ -103,67 +153,69 @@ class Newton:
         return float(-evaluate_at(self.model.soil.u, self._centre)[0, 1])
 
     def solve(self, inner, max_iterations: int | None = None,
-              stall: int | None = None, tolerance: float | None = None,
-              round_off: float | None = None) -> Solve:
-        """Newton from the committed state under the loads set. ``max_iterations`` (default
-        the soil's); ``stall``: stop where the out-of-balance force has not halved over
-        that many iterations (no equilibrium near: a trial beyond the limit load);
-        ``tolerance``: the converged out-of-balance force (default TOLERANCE);
-        ``round_off``: below it a force that has stopped falling is converged (default
-        ROUND_OFF)."""
+              stall: int | None = None) -> Solve:
+        """Newton from the committed state under the loads set, until every block is
+        solved (:class:`Balance`). ``max_iterations`` (default the soil's); ``stall``: give
+        up where the merit has not halved over that many iterations (no equilibrium near:
+        a trial beyond the limit load). A solve is never accepted because its residual
+        stopped falling."""
         m = self.model
         unknowns = self._unknowns()
         max_iterations = max_iterations or self.max_iterations
-        tolerance = tolerance or self.TOLERANCE
-        previous = m.out_of_balance()
-        residuals = [previous]
+        balance = self.balance = Balance(m)
+        previous = balance.measure()
+        merits = [previous]
+        log = logging.getLogger("tankfx")
         for it in range(1, max_iterations + 1):
             before = [u.x.array.copy() for u in unknowns]
             try:
                 inner()
             except SolveError as e:
-                return Solve(False, it, previous, f"the linear solve failed: {e}")
+                return Solve(False, it, balance.ratio(), f"the linear solve failed: {e}")
             after = [u.x.array.copy() for u in unknowns]
             alpha, tried = 1.0, []
             while True:
                 self.plastic.update()
-                residual = m.out_of_balance()
-                if residual < (1.0 - 1e-4 * alpha) * previous or residual <= tolerance:
+                merit = balance.measure()
+                if merit < (1.0 - 1e-4 * alpha) * previous or balance.solved():
                     break
-                tried.append((residual, alpha))
-                # (a force that is not finite is a step too long for some point's return:
+                tried.append((merit, alpha))
+                # (a merit that is not finite is a step too long for some point's return:
                 # shorter ones are tried beyond the line search's halvings)
                 if len(tried) > self.LINE_SEARCH + (
-                        0 if math.isfinite(residual) else self.NOT_FINITE):
-                    residual = self._least(tried, before, after)
+                        0 if math.isfinite(merit) else self.NOT_FINITE):
+                    merit = self._least(tried, before, after, balance)
                     break
                 alpha *= 0.5
                 for u, a, b in zip(unknowns, before, after):
                     u.x.array[:] = a + alpha * (b - a)
-            if not math.isfinite(residual):
-                return Solve(False, it, residual, "the out-of-balance force is not finite")
-            previous = residual
-            residuals.append(residual)
-            if residual <= tolerance or self._at_round_off(residuals, round_off):
-                return Solve(True, it, residual, "")
-            if stall and it >= stall and residual > 0.5 * residuals[-1 - stall]:
-                return Solve(False, it, residual, (
-                    f"the out-of-balance force stalled at {residual:.2e}: not halved in "
+            if log.isEnabledFor(logging.DEBUG):
+                log.debug("    Newton %d (step %.3g): %s", it, alpha, balance.words())
+            if not math.isfinite(merit):
+                return Solve(False, it, merit, "the out-of-balance force is not finite")
+            previous = merit
+            merits.append(merit)
+            if balance.solved():
+                return Solve(True, it, balance.ratio(), "")
+            if stall and it >= stall and merit > 0.5 * merits[-1 - stall]:
+                return Solve(False, it, balance.ratio(), (
+                    f"the out-of-balance force stalled at {balance.words()}: not halved in "
                     f"{stall} iterations"))
-        return Solve(False, max_iterations, residual, (
-            f"out-of-balance force {residual:.2e} after {max_iterations} iterations"))
+        return Solve(False, max_iterations, balance.ratio(), (
+            f"the out-of-balance force after {max_iterations} iterations: "
+            f"{balance.words()}"))
 
-    def _least(self, tried, before, after) -> float:
-        """No step length of the line search lowered the out-of-balance force: the one of
-        the least, its points updated with it (the unknowns and the points' stress of one
-        state: the next tangent is that state's)."""
+    def _least(self, tried, before, after, balance) -> float:
+        """No step length of the line search lowered the merit: the one of the least, its
+        points updated with it (the unknowns and the points' stress of one state: the next
+        tangent is that state's)."""
         finite = [t for t in tried if math.isfinite(t[0])]
         # (min over tuples with a NaN first returns that one: the finite ones' least)
-        residual, alpha = min(finite) if finite else tried[-1]
+        _, alpha = min(finite) if finite else tried[-1]
         for u, a, b in zip(self._unknowns(), before, after):
             u.x.array[:] = a + alpha * (b - a)
         self.plastic.update()
-        return self.model.out_of_balance()
+        return balance.measure()
 
     def controlled_step(self, inner, solver, load_at, factor: float, target: float,
                         measure) -> tuple[bool, int, float, float]:
@@ -177,7 +229,8 @@ class Newton:
         unknowns = self._unknowns()
         lam = factor
         residual, first = math.inf, math.inf
-        history = []
+        committed = [u.x.array.copy() for u in unknowns]
+        balance = None
         for it in range(1, self.max_iterations + 1):
             m.set_loads(load_at(lam))
             try:
@@ -193,29 +246,30 @@ class Newton:
             if not (abs(w_d) > 0.0 and math.isfinite(w_d)):
                 return False, it, residual, lam
             step = (target - w_a) / w_d
+            if balance is None:
+                # the step's own change: the committed state's out-of-balance under the
+                # first iterate's load (its stress the committed one)
+                for u, x in zip(unknowns, committed):
+                    u.x.array[:] = x
+                m.set_loads(load_at(lam + step))
+                self.plastic.update()
+                balance = self.balance = Balance(m)
             for u, x, dx in zip(unknowns, a, d):
                 u.x.array[:] = x + step * dx
             lam += step
             m.set_loads(load_at(lam))
             self.plastic.update()
-            residual = m.out_of_balance()
+            residual = balance.measure()
             if not math.isfinite(residual):
                 return False, it, residual, lam
-            history.append(residual)
-            if residual <= self.TOLERANCE or self._at_round_off(history):
-                return True, it, residual, lam
+            if balance.solved():
+                return True, it, balance.ratio(), lam
             first = residual if it == 1 else first
             if residual > self.DIVERGING * first:
                 # (no line search here: a step whose out-of-balance force has grown so far
                 # has left Newton's basin; measured, none came back)
                 return False, it, residual, lam
         return False, self.max_iterations, residual, lam
-
-    def _at_round_off(self, residuals: list[float], round_off: float | None = None) -> bool:
-        """Below ``round_off`` (default ROUND_OFF) and not halved over the last three
-        iterations."""
-        return (len(residuals) > 3 and residuals[-1] <= (round_off or self.ROUND_OFF)
-                and residuals[-1] > 0.5 * residuals[-4])
 
     def plastic_points(self) -> int:
         """The quadrature points that yield, over all ranks. Collective."""

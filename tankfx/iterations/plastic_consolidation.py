@@ -16,7 +16,7 @@ from dataclasses import replace
 from ..scene.sections import load_between, vertical_load
 from .collapse import CollapseSearch
 from .load_steps import NewtonIteration
-from .newton import Newton
+from .newton import Newton, criterion_words
 from .status import AtDebug, SoilFailure
 from .time_stepping import DAY, DRAINED_STEP, TimeStepping, load_at
 
@@ -27,23 +27,6 @@ class PlasticConsolidation(TimeStepping):
 
     #: a time step Newton does not converge in is divided in at most this many parts
     MAX_PARTS = 64
-    #: a time step's converged out-of-balance force, relative to the load vector. Measured
-    #: on the 25 m tank's holds (benchmarks/plastic_consolidation.py, coarse mesh): with
-    #: Newton.TOLERANCE (1e-8) the force hovered between 1e-7 and 1.2e-6 from the first
-    #: iteration on, alternating as a few points flipped between their returns, the line
-    #: search finding no descent; 25 to 160 iterations a step. A millionth of the load
-    #: is far inside what the settlements can show (docs/development/
-    #: 2026-11-28-plastic-consolidation.md)
-    TOLERANCE = 1e-6
-    #: a time step whose out-of-balance force is below this and has stopped falling (not
-    #: halved over three iterations) has converged: measured on the same tank (coarse),
-    #: the holds' force rose from 1.0e-6 to 4e-6 over 25 iterations even along 1/64 of
-    #: Newton's direction, while 180 points at the edge of the yielding zone changed
-    #: their returns (a nonsmooth residual; the steps' first solve left 1e-6 to 1e-5). A
-    #: hundred-thousandth of the load vector is still far below what an engineer's
-    #: settlement shows, and far below commercial codes' defaults (PLAXIS: 1e-2)
-    ROUND_OFF = 1e-5
-
     @staticmethod
     def describe(scene) -> str:
         return TimeStepping.describe(scene).replace(
@@ -79,8 +62,7 @@ class PlasticConsolidation(TimeStepping):
         self.last = replace(status, record={
             "converged": True, "iterations": self.iterations,
             "time_steps": status.iterations,
-            "criterion": f"every time step by Newton to an out-of-balance force <= "
-                         f"{self.TOLERANCE:g} of the load vector",
+            "criterion": f"every time step by Newton, {criterion_words()}",
             **nw.yielding_record()})
         return self.last
 
@@ -116,8 +98,7 @@ class PlasticConsolidation(TimeStepping):
         # its undrained start converged in 14 iterations, but given up after 8 that did not
         # halve the force its parts failed down to 1/64 of it: a shorter step drains a
         # thinner layer under the footing's edge, no easier to converge)
-        ok, its, _, self._why = self.newton.solve(self._inner, tolerance=self.TOLERANCE,
-                                                  round_off=self.ROUND_OFF)
+        ok, its, _, self._why = self.newton.solve(self._inner)
         self.iterations += its
         if ok:
             self.newton.commit()

@@ -91,6 +91,12 @@ class FlexibleLoad:
         """||A u - f|| / ||f|| of the current solution (see :class:`OutOfBalance`)."""
         return self._out_of_balance()
 
+    def block_residuals(self) -> tuple[list[str], np.ndarray, np.ndarray]:
+        """Per block: its name, the norm of its out-of-balance vector and of its largest
+        term (:meth:`tankfx.fem.blocks.OutOfBalance.blocks`)."""
+        residual, _, terms = self._out_of_balance.blocks()
+        return self._out_of_balance.names, residual, terms
+
     def soil_residual(self):
         return self.soil.residual(self.soil.a, self.L_u)
 

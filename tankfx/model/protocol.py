@@ -70,6 +70,10 @@ class Model(Protocol):
     def out_of_balance(self) -> float:
         """||A u - f|| / ||f|| of the current fields under the current coefficients."""
 
+    def block_residuals(self) -> tuple[list[str], "np.ndarray", "np.ndarray"]:
+        """Per block (the soil's equilibrium, its flow, the structure): its name, the norm
+        of its out-of-balance vector and of its largest term, in its own units."""
+
     def soil_residual(self):
         """The soil's unconstrained residual form a(u, v) - L(v) (its supports' reactions)."""
 

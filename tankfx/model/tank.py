@@ -292,6 +292,12 @@ class TankModel:
         supports' rows left out; zero, to round-off, at a converged state)."""
         return self._out_of_balance()
 
+    def block_residuals(self) -> tuple[list[str], np.ndarray, np.ndarray]:
+        """Per block: its name, the norm of its out-of-balance vector and of its largest
+        term (:meth:`tankfx.fem.blocks.OutOfBalance.blocks`)."""
+        residual, _, terms = self._out_of_balance.blocks()
+        return self._out_of_balance.names, residual, terms
+
     def soil_residual(self):
         a_ss, a_sb = self.a[0][0], self.a[0][-1]
         return self.soil.residual(a_ss, self.L[0]) + ufl.action(a_sb, self.w)

@@ -1,0 +1,106 @@
+"""A clay layer whose Mohr-Coulomb skeleton yields as it consolidates, against an independent
+geomechanics code: the scene benchmarks/scenes/yielding_layer.toml (10 m of clay, 50 kPa on
+r <= 5 m ramped over 10 days and held) and OpenGeoSys 6.5.9's converged answer (HYDRO_MECHANICS,
+MFront Mohr-Coulomb, axisymmetric Taylor-Hood: w0 = 46.9, 52.4, 57.5, 61.6 mm at 30, 100, 300,
+1000 days, the excess pore pressure at (0, 2.5 m) 24.4 and 10.5 kPa at 30 and 100 days).
+
+    python benchmarks/yielding_layer.py [--steps 10 20 40] [--coarse] [--out results/benchmarks]
+
+For each number of time steps a decade: the settlement under the centre and the piezometer's
+excess pore pressure at the reported times beside the peer's, the Newton iterations (their
+median and largest a time step) and the time, in one table; written to yielding_layer.json
+and .md in --out.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import sys
+import time
+from pathlib import Path
+
+import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
+import numpy as np
+
+from tankfx import analyse, load_scene
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENE = ROOT / "benchmarks" / "scenes" / "yielding_layer.toml"
+#: OpenGeoSys 6.5.9's converged values: days -> (w0 mm, excess pore pressure kPa or None)
+PEER = {30: (46.9, 24.4), 100: (52.4, 10.5), 300: (57.5, None), 1000: (61.6, None)}
+
+
+def run(steps: int, coarse: bool) -> dict:
+    scene = load_scene(SCENE).with_changes(consolidation={"steps_per_decade": steps})
+    if coarse:
+        scene = scene.with_coarse_mesh()
+    per_step: list[int] = []
+    handler = _IterationsPerStep(per_step)
+    logging.getLogger("tankfx").addHandler(handler)
+    t0 = time.perf_counter()
+    try:
+        r = analyse(scene).results
+    finally:
+        logging.getLogger("tankfx").removeHandler(handler)
+    elapsed = time.perf_counter() - t0
+    at = {round(s["t_days"]): s for s in r["consolidation"]["at_times"] if s["t_days"]}
+    return {"steps_per_decade": steps, "time_s": elapsed,
+            "newton_iterations": r["soil"]["iterations"],
+            "time_steps": r["consolidation"]["steps"],
+            "median_iterations": float(np.median(per_step)) if per_step else None,
+            "max_iterations": max(per_step) if per_step else None,
+            "w0_mm": {d: 1e3 * at[d]["w0"] for d in PEER if d in at},
+            "u_kPa": {d: 1e-3 * at[d]["piezometers"][0] for d in PEER if d in at},
+            "plastic_points": r["soil"]["plastic_points"]}
+
+
+class _IterationsPerStep(logging.Handler):
+    """Collects the Newton iterations of each time step from the progress lines."""
+
+    def __init__(self, out):
+        super().__init__(logging.INFO)
+        self.out = out
+
+    def emit(self, record):
+        msg = record.getMessage()
+        if "Newton iterations" in msg and "t = " in msg:
+            self.out.append(int(msg.split(":")[1].split("Newton")[0]))
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--steps", type=int, nargs="+", default=[10, 20, 40])
+    ap.add_argument("--coarse", action="store_true")
+    ap.add_argument("--out", default=str(ROOT / "results" / "benchmarks"))
+    args = ap.parse_args()
+    logging.getLogger("tankfx").setLevel(logging.INFO)
+    rows = []
+    for steps in args.steps:
+        row = run(steps, args.coarse)
+        rows.append(row)
+        print(f"{steps} steps a decade: {row['time_s']:.1f} s, {row['newton_iterations']} "
+              f"Newton iterations in {row['time_steps']} time steps (median "
+              f"{row['median_iterations']}, largest {row['max_iterations']} a step)",
+              flush=True)
+    lines = ["| steps a decade | " + " | ".join(f"w0 {d} d (mm)" for d in PEER) +
+             " | u 30 d (kPa) | u 100 d (kPa) | Newton (median, max) | time (s) |",
+             "|---" * (len(PEER) + 5) + "|",
+             "| OpenGeoSys | " + " | ".join(f"{w:.1f}" for w, _ in PEER.values()) +
+             f" | {PEER[30][1]} | {PEER[100][1]} | | |"]
+    for row in rows:
+        lines.append(f"| {row['steps_per_decade']} | " + " | ".join(
+            f"{row['w0_mm'].get(d, float('nan')):.2f}" for d in PEER) +
+            f" | {row['u_kPa'].get(30, float('nan')):.2f} | "
+            f"{row['u_kPa'].get(100, float('nan')):.2f} | {row['newton_iterations']} "
+            f"({row['median_iterations']}, {row['max_iterations']}) | {row['time_s']:.1f} |")
+    table = "\n".join(lines)
+    print(table)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "yielding_layer.json").write_text(json.dumps(rows, indent=1))
+    (out / "yielding_layer.md").write_text(table + "\n")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
