@@ -330,7 +330,9 @@ def _set_up(scene: Scene, first: Load, comm: MPI.Comm, timings: dict, nested: bo
                              scene.soil), one_shot=one_shot,
                          # on a linear soil only a Mohr-Coulomb interface's states and a
                          # consolidation's time step change the matrix: the rest is kept
-                         split=model.a_split if stiffness_fixed else None)
+                         split=model.a_split if stiffness_fixed else None,
+                         # (Newton's systems solved as corrections: tankfx.fem.solvers)
+                         correction=model.soil.plastic is not None)
     timings["forms"] = time.perf_counter() - t
     return domain, model, solver, StageIterations.of(scene, model, solver, one_shot, nested)
 

@@ -166,7 +166,7 @@ class DirectSolver(_LinearSolver):
 
     def __init__(self, a, L, bcs, u, entity_maps=None, name: str = "soil",
                  symmetric: bool = False, one_shot: bool = False, split=None,
-                 scaled: bool | None = None):
+                 scaled: bool | None = None, correction: bool = False):
         # (``scaled``: MUMPS's scaling; by default for a single factorisation only)
         unscaled = (UNSCALED_REFACTORISATIONS and not one_shot) if scaled is None \
             else not scaled
@@ -204,6 +204,13 @@ class DirectSolver(_LinearSolver):
         self._fixed_matrix = None
         #: the fields' values the last solve started from (its x_k)
         self._start = None
+        #: each solve a correction of the fields' values (see _solve_assembled): Newton's
+        #: systems, whose right-hand side holds the whole state's forces. (Not the others':
+        #: a floating structure's singular system under no load keeps the null space's share
+        #: of the fields' values then, where a solve from nothing has none: measured, a
+        #: Mohr-Coulomb interface restarted from stuck states at t = 0 then found itself
+        #: separated everywhere)
+        self.correction = correction
 
     @property
     def assembly(self) -> str:
@@ -268,7 +275,9 @@ class DirectSolver(_LinearSolver):
         state leaves (the refinement steps' floor). ``again``: from the same x_k as the last
         solve (a factorisation redone: the fields hold the failed one's result)."""
         p = self.problem
-        if again:
+        if not self.correction:
+            pass
+        elif again:
             self._start.copy(p.x)
         else:
             fem_petsc.assign(p.u, p.x)
@@ -276,7 +285,7 @@ class DirectSolver(_LinearSolver):
                 self._start = p.x.duplicate()
             p.x.copy(self._start)
         try:
-            if p.x.norm() > 0.0:
+            if self.correction and p.x.norm() > 0.0:
                 r, dx = p.b.duplicate(), p.x.duplicate()
                 p.A.mult(p.x, r)
                 r.aypx(-1.0, p.b)
@@ -579,7 +588,8 @@ def _checked_residual(problem, why: str, reference: float = 0.0) -> float:
 
 
 def make_solver(options, a, L, bcs, u, entity_maps=None, name: str = "tank",
-                symmetric: bool = False, one_shot: bool = False, split=None):
+                symmetric: bool = False, one_shot: bool = False, split=None,
+                correction: bool = False):
     """The solver ``options`` ask for: its ``method`` ("direct" or "iterative") and, for an
     iterative one, ``rtol`` and ``max_iterations`` (a scene's [solver] section);
     ``one_shot``: a single factorisation is expected, shared by all solves (the direct
@@ -591,7 +601,7 @@ def make_solver(options, a, L, bcs, u, entity_maps=None, name: str = "tank",
         return IterativeSolver(a, L, bcs, u, entity_maps=entity_maps, name=name,
                                rtol=options.rtol, max_iterations=options.max_iterations)
     return DirectSolver(a, L, bcs, u, entity_maps=entity_maps, name=name, symmetric=symmetric,
-                        one_shot=one_shot, split=split)
+                        one_shot=one_shot, split=split, correction=correction)
 
 
 def mass_solve(a, L, bcs, u, name: str = "projection"):

@@ -41,7 +41,7 @@ class Solve(NamedTuple):
 STEP_SHARE = 1e-8
 #: or at the round-off of its largest term (the terms of a block cancel in balance: a
 #: block the step does not load, the flow's at an undrained step)
-ROUND_OFF = 1e-10
+ROUND_OFF = 1e-12
 
 
 def criterion_words() -> str:

@@ -43,7 +43,8 @@ def collapse_curve(data: dict, settlement: float = 0.1, steps: int = 10,
     model = build_model(scene, build_domain(scene, comm))
     solver = make_solver(scene.solver, model.a, model.L, model.bcs, model.unknowns,
                          entity_maps=model.entity_maps, name="collapse",
-                         symmetric=scene.soil.law.symmetric_tangent(scene.soil))
+                         symmetric=scene.soil.law.symmetric_tangent(scene.soil),
+                         correction=True)
     chain = StageIterations.of(scene, model, solver)
     model.begin_stage()
     chain.begin_stage()
