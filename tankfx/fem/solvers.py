@@ -265,9 +265,23 @@ class DirectSolver(_LinearSolver):
         fem_petsc.assemble_matrix(p.A, p.a, bcs=p.bcs)
         p.A.assemble()
 
+    def _start_from_fields(self, again: bool) -> bool:
+        """x_k into the solution vector: the fields' values now, kept for a solve redone
+        (``again``: the last one's). Whether it is not zero. Collective."""
+        p = self.problem
+        if again:
+            self._start.copy(p.x)
+        else:
+            fem_petsc.assign(p.u, p.x)
+            if self._start is None:
+                self._start = p.x.duplicate()
+            p.x.copy(self._start)
+        return p.x.norm() > 0.0
+
     def _solve_assembled(self, again: bool = False):
-        """Solve the assembled system for the assembled right-hand side into ``u``, as a
-        correction of the fields' values now, x_k: A dx = b - A x_k, x = x_k + dx. It is
+        """Solve the assembled system for the assembled right-hand side into ``u`` (with
+        ``correction``: as a correction of the fields' values now, x_k: A dx = b - A x_k,
+        x = x_k + dx). It is
         the same solution, but the factorisation's relative error falls on the
         correction's right-hand side instead of the whole load's: a Newton iteration on
         this system (whose b holds the whole state's forces) then reduces its
@@ -275,17 +289,8 @@ class DirectSolver(_LinearSolver):
         state leaves (the refinement steps' floor). ``again``: from the same x_k as the last
         solve (a factorisation redone: the fields hold the failed one's result)."""
         p = self.problem
-        if not self.correction:
-            pass
-        elif again:
-            self._start.copy(p.x)
-        else:
-            fem_petsc.assign(p.u, p.x)
-            if self._start is None:
-                self._start = p.x.duplicate()
-            p.x.copy(self._start)
         try:
-            if self.correction and p.x.norm() > 0.0:
+            if self.correction and self._start_from_fields(again):
                 r, dx = p.b.duplicate(), p.x.duplicate()
                 p.A.mult(p.x, r)
                 r.aypx(-1.0, p.b)

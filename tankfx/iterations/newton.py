@@ -162,7 +162,7 @@ class Newton:
         m = self.model
         unknowns = self._unknowns()
         max_iterations = max_iterations or self.max_iterations
-        balance = self.balance = Balance(m)
+        balance = Balance(m)
         previous = balance.measure()
         merits = [previous]
         log = logging.getLogger("tankfx")
@@ -253,7 +253,7 @@ class Newton:
                     u.x.array[:] = x
                 m.set_loads(load_at(lam + step))
                 self.plastic.update()
-                balance = self.balance = Balance(m)
+                balance = Balance(m)
             for u, x, dx in zip(unknowns, a, d):
                 u.x.array[:] = x + step * dx
             lam += step
