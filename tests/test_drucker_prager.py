@@ -70,6 +70,54 @@ def test_every_return_lies_on_its_cone_and_its_tangent_is_the_derivative(phi, ps
     assert np.median(rate[0]) > 1.9 and np.median(rate[1]) > 1.9
 
 
+@pytest.mark.parametrize("phi,psi", [(25.0, 0.0), (25.0, 10.0), (25.0, 25.0)])
+def test_past_the_apex_the_return_is_a_flow_and_its_tangent_the_derivative(phi, psi):
+    """Trials about the apex xi c / eta (psi = 0, psi < phi, psi = phi). A trial is taken to
+    the apex exactly where its plastic strain D^-1 (sigma_tr - sigma_apex) has the volume
+    change a flow gives there (the cone's potential, or at psi = 0 the associated cap p <=
+    p_apex that the apex carries: tr e >= sqrt 2 eta_bar |dev e|), and to the smooth cone
+    elsewhere; the finite-difference remainder relative to h |D d| falls as h on the cone
+    and is the millionth of D kept at the apex (where the stress is fixed)."""
+    n = 20000
+    law = points(n, phi, psi, E=10e6, nu=0.3, seed=3)
+    rng = np.random.default_rng(4)
+    # (the ground at rest taken to about the apex: compressions of 0-30 kPa)
+    law = DruckerPragerPoints(**{**{k: getattr(law, k) for k in ("E", "nu", "cohesion",
+                                                                  "sin_phi", "sin_psi")},
+                                 "sigma0": -rng.uniform(0.0, 30e3, (n, 4)) * [1, 1, 0.1, 1],
+                                 "match": "compression"})
+    d_eps = rng.standard_normal((n, 4)) * 1e-3 + 5e-4
+    up = law.update(d_eps, np.zeros((n, 4)), {})
+    total = up.stress + law.sigma0
+    eta, xi = cone(np.sin(np.radians(phi)), "compression")
+    eta_bar = cone(np.sin(np.radians(psi)), "compression")[0]
+    p = total @ IDENTITY / 3.0
+    at_apex = up.yielding & np.isclose(p, xi * C / eta, rtol=1e-9)
+    smooth = up.yielding & ~at_apex
+    assert at_apex.sum() > 100 and smooth.sum() > 100
+    # (on the cone, the deviator not turned over)
+    assert np.all(np.abs(law.mobilised(total)[up.yielding] - 1.0) < 1e-9)
+    # the plastic strain of an apex point is a flow's
+    e = up.plastic_strain[at_apex]
+    tr = e @ IDENTITY
+    dev = np.linalg.norm(e - (tr / 3.0)[:, None] * IDENTITY, axis=1)
+    assert np.all(tr >= math.sqrt(2.0) * eta_bar * dev - 1e-12)
+    direction = rng.standard_normal((n, 4)) * 1e-4
+    D = law.update(np.zeros((1, 4)), np.zeros((1, 4)), {}).tangent[0]
+    scale = np.linalg.norm(direction @ D, axis=1)
+    remainder = []
+    for h in (1e-2, 1e-3):
+        moved = law.update(d_eps + h * direction, np.zeros((n, 4)), {})
+        p_h = (moved.stress + law.sigma0) @ IDENTITY / 3.0
+        same = np.isclose(p_h, xi * C / eta, rtol=1e-9) == at_apex
+        r = np.linalg.norm(moved.stress - up.stress
+                           - h * np.einsum("nij,nj->ni", up.tangent, direction), axis=1)
+        remainder.append(np.where(same, r / (h * scale), np.nan))
+    assert np.nanmedian(remainder[1][at_apex]) < 2e-6
+    coarse, fine = np.nanmedian(remainder[0][smooth]), np.nanmedian(remainder[1][smooth])
+    assert fine < 1e-4 and coarse / fine > 10 ** 0.8, (coarse, fine)
+
+
 @pytest.mark.parametrize("match", MATCHES)
 def test_the_cone_passes_through_its_mohr_coulomb_meridian(match):
     """phi = 30 degrees, c = 10 kPa: at Mohr-Coulomb's strength in triaxial compression

@@ -83,9 +83,15 @@ def test_isochoric_flow_keeps_the_volume():
     sigma_n = np.tile([-100e3, -100e3, 0.0, -100e3], (500, 1))
     for phi in (0.0, 0.5):
         _, _, code, d_eps_p = stress_update(d, sigma_n, E, NU, 10e3, np.sin(phi), 0.0)
-        plastic = (code != ELASTIC) & (code != APEX)
+        # (the cut-off's flow, associated, opens: a tension crack)
+        plastic = on_mohr_coulomb_only(code)
         assert plastic.sum() > 100
         np.testing.assert_allclose(d_eps_p[plastic] @ IDENTITY, 0.0, atol=1e-15)
+
+
+def on_mohr_coulomb_only(code):
+    """The points whose return is to Mohr-Coulomb's planes alone (no cut-off plane)."""
+    return np.array([0 <= k < APEX and all(j < 3 for j in CANDIDATES[k]) for k in code])
 
 
 def test_every_return_lies_on_or_inside_the_yield_surface():
@@ -97,16 +103,20 @@ def test_every_return_lies_on_or_inside_the_yield_surface():
                                       np.sin(np.radians(10.0)))
     level = mobilised_strength(sigma, c, np.sin(phi))
     assert np.all(level <= 1 + 1e-9)
-    plastic = (code != ELASTIC) & (code != APEX)
+    plastic = code != ELASTIC
     np.testing.assert_allclose(level[plastic], 1.0, rtol=1e-9)
-    # every kind of return is met: the plane, both edges, the apex
+    # every kind of return is met: the plane, both edges, the apex (the corner of the
+    # cut-off that sits there); none is left without a return
     assert {CANDIDATES.index((0,)), CANDIDATES.index((0, 1)), CANDIDATES.index((0, 2)),
-            APEX} <= set(code.tolist())
+            CANDIDATES.index((3, 4, 5))} <= set(code.tolist())
+    assert APEX not in code
 
 
 @pytest.mark.parametrize("psi", [0.0, 20.0])
 def test_hydrostatic_tension_returns_to_the_apex(psi):
-    """c cot phi: the apex, the largest isotropic tension the soil takes."""
+    """c cot phi: the apex, the largest isotropic tension the soil takes, reached by the flow
+    of the cut-off that sits there (also where psi < phi, when no Mohr-Coulomb potential's
+    flow reaches it)."""
     c, phi = 10e3, np.radians(30.0)
     d = np.array([[1e-2, 1e-2, 0.0, 1e-2]])
     sigma, C, code, _ = stress_update(d, np.zeros((1, 4)), E, NU, c, np.sin(phi),
@@ -114,7 +124,7 @@ def test_hydrostatic_tension_returns_to_the_apex(psi):
     np.testing.assert_allclose(sigma[0], c / np.tan(phi) * IDENTITY, rtol=1e-10)
     # (its tangent, zero, is held at a millionth of the elastic one: a cell of apex points
     # would make the matrix singular; more would slow Newton)
-    assert code[0] == APEX
+    assert CANDIDATES[code[0]] == (3, 4, 5)
     assert 0.0 < np.abs(C).max() <= 1.01e-6 * np.abs(elastic_matrix(E, NU)).max()
 
 
@@ -163,6 +173,72 @@ def test_a_trial_on_a_sector_boundary_returns_as_its_neighbours_do():
 def _D():
     lmbda, G = E * NU / ((1 + NU) * (1 - 2 * NU)), E / (2 * (1 + NU))
     return lmbda * np.outer(IDENTITY, IDENTITY) + 2 * G * np.eye(4)
+
+
+def near_the_apex(n, c, seed):
+    """Committed stresses about the apex (c cot phi, phi 25 degrees) and strain increments
+    that take them past it, beside it and back: trials of every kind of return."""
+    rng = np.random.default_rng(seed)
+    apex = max(c, 1e3) / np.tan(np.radians(25.0))
+    sigma_n = rng.uniform(-3.0 * apex, apex, (n, 4))
+    sigma_n[:, 2] *= 0.3
+    return rng.standard_normal((n, 4)) * 2e-4 + 1e-4, sigma_n
+
+
+def equal_in_plane(n, seed):
+    """Trials whose in-plane principal values are equal (rr = zz, rz = 0), past the
+    surface: the eigenvectors' turn at its limit."""
+    rng = np.random.default_rng(seed)
+    d = np.zeros((n, 4))
+    d[:, 0] = d[:, 1] = rng.uniform(-6e-3, 2e-3, n)
+    d[:, 3] = rng.uniform(-6e-3, 2e-3, n)
+    return d, np.tile([-60e3, -60e3, 0.0, -60e3], (n, 1))
+
+
+@pytest.mark.parametrize("phi,psi,c,tension", [
+    (25.0, 0.0, 2e3, None), (25.0, 25.0, 2e3, None), (25.0, 10.0, 0.0, None),
+    (25.0, 0.0, 2e3, 0.0), (25.0, 25.0, 2e3, 500.0), (0.0, 0.0, 2e3, None),
+    (0.0, 0.0, 2e3, 1e3)])
+def test_each_kind_of_return_has_its_derivative_as_tangent(phi, psi, c, tension):
+    """Finite differences of the stress update per kind of return (the plane, both edges,
+    the cut-off's planes, edges and corners, the apex; Tresca's prism), at random states
+    about the apex and at equal in-plane principal values: the remainder
+    |sigma(eps + h d) - sigma(eps) - h C d| relative to h |D d| falls as h (the tangent is
+    the derivative) wherever the return leaves the stress free to move, and at a corner of
+    three planes (where the principal stresses are fixed) falls so to the millionth of D the
+    tangent keeps there, no more. A wrong sign, a missing term or a wrong branch leaves an O(1) remainder."""
+    d1, s1 = near_the_apex(20000, c, seed=11)
+    d2, s2 = equal_in_plane(2000, seed=12)
+    d_eps, sigma_n = np.vstack([d1, d2]), np.vstack([s1, s2])
+    direction = np.random.default_rng(13).standard_normal(d_eps.shape) * 1e-4
+    args = (E, NU, c, np.sin(np.radians(phi)), np.sin(np.radians(psi)), tension)
+    s0, C, code, _ = stress_update(d_eps, sigma_n, *args)
+    assert APEX not in code
+    D = elastic_matrix(E, NU)[0]
+    scale = np.linalg.norm(direction @ D, axis=1)
+    hs = (1e-2, 1e-3)
+    remainders, same = [], np.ones(len(code), dtype=bool)
+    for h in hs:
+        s_h, _, code_h, _ = stress_update(d_eps + h * direction, sigma_n, *args)
+        # (a point whose return changes kind between the two is at a kink: left out)
+        same &= code_h == code
+        remainders.append(np.linalg.norm(s_h - s0 - h * np.einsum("nij,nj->ni", C, direction),
+                                         axis=1) / (h * scale))
+    kinds = 0
+    for k in sorted(set(code[code != ELASTIC].tolist())):
+        at = same & (code == k)
+        if at.sum() < 10:
+            continue
+        kinds += 1
+        coarse, fine = np.median(remainders[0][at]), np.median(remainders[1][at])
+        # (at a corner the principal stresses are fixed, their directions may still turn:
+        # the remainder falls as h down to the floor kept there)
+        at_floor = len(CANDIDATES[k]) == 3 and fine < 2e-6
+        assert fine < 1e-4 and (at_floor or coarse / fine > 10 ** 0.8), \
+            (CANDIDATES[k], coarse, fine)
+        # and every point of the kind, not only the median
+        assert np.quantile(remainders[1][at], 0.95) < 1e-3, CANDIDATES[k]
+    assert kinds >= (2 if phi == 0.0 and tension is None else 5)
 
 
 @pytest.mark.parametrize("phi,psi,tension", [(0.0, 0.0, None), (30.0, 30.0, None),

@@ -19,14 +19,23 @@ return to a plane, an edge or the apex is closed form for planes)
 with the plastic potentials of the dilation angle psi on the Mohr-Coulomb planes (the same
 form, s_psi for s) and associated flow on the cut-off. A return with the active planes J is
 sigma = sigma_tr - D N_J dgamma, with a_J . sigma = b_J: a |J| x |J| linear system per point.
-Every candidate set (the plane, the two edges, the apex, the cut-off's planes and corners)
-is solved for every point, and each point takes the first (smallest) set whose multipliers
-are non-negative and whose stress violates no plane. The KKT conditions decide it, not a
-test on which sector the trial lies in: on a sector's boundary two sets give the same
-stress, so round-off there cannot pick a wrong return. All six Mohr-Coulomb planes meet at
-the apex c cot phi, so no three of them return a trial there (an isotropic trial would need a
-negative multiplier on A, B, C): a point for which no set holds returns to the apex itself,
-with a zero tangent, the closest point of the cone where the flow is associated.
+Every candidate set (the plane, the two edges, the cut-off's planes, edges and corners) is
+solved for every point, and each point takes the first (smallest) set whose multipliers are
+non-negative and whose stress violates no plane. The KKT conditions decide it, not a test on
+which sector the trial lies in: on a sector's boundary two sets give the same stress, so
+round-off there cannot pick a wrong return.
+
+Past the apex. Where no cut-off is given, the cut-off sits at the apex itself, t = c cot phi:
+the cone lies wholly in sigma_1 <= c cot phi, so its strength is unchanged, but the apex is
+now reached by a flow (the cut-off's, associated), also where psi < phi, when the six
+Mohr-Coulomb potentials' flows cannot reach it (no non-negative multipliers take a trial
+there). Without it such a trial could only be set to the apex by hand, its plastic strain
+no flow's. Every trial then has a return whose multipliers are non-negative: of 20,000
+random trial states about the apex (c 2 kPa and 0, phi 25, psi 0 and 25, cut-offs 0 and the
+apex) none is left without one once the corner (A, B, T1) (sigma_1 = sigma_2 = t, sigma_3 on
+A) is among the candidates. At a corner of three planes the stress is fixed and the
+return's derivative is zero (perfect plasticity): its tangent is held at APEX_STIFFNESS D,
+a millionth of the elastic one, so that a cell of such points leaves the matrix regular.
 
 The consistent tangent of an isotropic function of the trial stress (de Souza Neto, Peric &
 Owen, Computational Methods for Plasticity, 2008, App. A):
@@ -50,11 +59,13 @@ IDENTITY = np.array([1.0, 1.0, 0.0, 1.0])
 #: the order they are tried
 _A, _B, _C, _T1, _T2, _T3 = range(6)
 CANDIDATES = ((_A,), (_T1,), (_A, _B), (_A, _C), (_A, _T1), (_T1, _T2), (_A, _C, _T1),
-              (_A, _T1, _T2), (_T1, _T2, _T3))
-#: the tangent at the apex, relative to the elastic one (its own is zero)
+              (_A, _B, _T1), (_A, _T1, _T2), (_T1, _T2, _T3))
+#: the tangent at a corner of three planes (the apex among them), relative to the elastic
+#: one (its own is zero)
 APEX_STIFFNESS = 1e-6
 
-#: the return's code per point: -1 elastic, k the k-th candidate, len(CANDIDATES) the apex
+#: the return's code per point: -1 elastic, k the k-th candidate; APEX (len(CANDIDATES)):
+#: none of them held (not met in any state measured: a guard)
 ELASTIC, APEX = -1, len(CANDIDATES)
 
 
@@ -116,10 +127,13 @@ def principal_return(sigma_tr, E, nu, cohesion, sin_phi, sin_psi, tension=None):
     cos_phi = np.sqrt(1.0 - sp * sp)
     lmbda, G = lame(E, nu)
     D = lmbda[:, None, None] * np.ones((3, 3)) + 2.0 * G[:, None, None] * np.eye(3)
-    a, f, b = _planes(sp, sq, c, cos_phi, t)
     scale = np.max(np.abs(sigma_tr), axis=1) + c + 1.0
     tol = 1e-10 * scale
-    # (a cut-off at or beyond the apex c cot phi never acts)
+    # (no cut-off, or one beyond the apex: at the apex, whose strength is the cone's own
+    # and whose flow reaches the apex; Tresca has none)
+    apex_t = np.where(sp > 0.0, c * cos_phi / np.maximum(sp, 1e-300), np.inf)
+    t = np.minimum(t, apex_t)
+    a, f, b = _planes(sp, sq, c, cos_phi, t)
     has_cut = np.isfinite(t)
     phi_tr = (a @ sigma_tr[..., None])[..., 0] - b
     code = np.full(n, ELASTIC)
@@ -153,22 +167,16 @@ def principal_return(sigma_tr, E, nu, cohesion, sin_phi, sin_psi, tension=None):
         sigma[hit] = s[valid]
         # P = I - D N (A^T D N)^-1 A^T
         P[hit] = np.eye(3) - np.swapaxes(DfJ[valid], 1, 2) @ np.linalg.inv(M[valid]) @ aJ[valid]
+        if len(J) == 3:
+            # (a corner: the stress fixed, P zero; see APEX_STIFFNESS)
+            P[hit] = APEX_STIFFNESS * np.eye(3)
         code[hit] = k
         todo[hit] = False
     if todo.any():
-        # past an apex that no flow reaches (psi = 0): the apex, c cot phi, itself
+        # (a guard: no candidate held. The closest corner of the cut-off, (t, t, t), with
+        # the corner's tangent)
         idx = np.flatnonzero(todo)
-        apex = np.where(sp[idx] > 0.0, c[idx] * cos_phi[idx] / np.maximum(sp[idx], 1e-300),
-                        np.nan)
-        apex = np.minimum(apex, t[idx])
-        sigma[idx] = apex[:, None]
-        # (its tangent is zero; a millionth of the elastic one keeps a cell whose points
-        # all sit there from making the matrix singular: measured, a c-phi footing's
-        # factorisation failed near the surface, where the weightless soil is unconfined.
-        # No more than that: at a thousandth, Newton converged only linearly (by 0.4 an
-        # iteration, 11-17 iterations a step) once a footing on heavy c-phi soil had apex
-        # points, and its collapse search stalled at 0.84 of the limit. The stress, and so
-        # the out-of-balance force and the converged state, are exact)
+        sigma[idx] = np.where(np.isfinite(t[idx]), t[idx], 0.0)[:, None]
         P[idx] = APEX_STIFFNESS * np.eye(3)
         code[idx] = APEX
     return sigma, P, code
