@@ -1,6 +1,7 @@
 """Biot's consolidation of an elastoplastic skeleton (tankfx.iterations.plastic_consolidation):
 the Mohr-Coulomb soil with a [consolidation] is an effective-stress soil, each time step
 solved by Newton on the skeleton's points and the pore pressure."""
+import numpy as np
 import pytest
 from mpi4py import MPI
 
@@ -26,9 +27,15 @@ def test_below_yield_the_plastic_skeleton_consolidates_as_the_linear_one():
     undrained start, its states at every reported time (settlements, the excess pore
     pressure on the axis and its largest, the isochrones) and its drained limit are the
     linear consolidation's to 1e-8 of each quantity (measured: 1e-12), whether each step is
-    one linear solve or Newton's; and the run says the yielding path is not yet verified."""
+    one linear solve or Newton's, on the same steps (the linear skeleton's grid; the
+    elastoplastic one's steps are chosen by their local error, see
+    test_the_yielding_layers_path_is_converged_in_time_at_the_default_tolerance); and the
+    run says the yielding path is not yet verified."""
     linear = analyse(Scene.from_dict(SCENE).with_coarse_mesh()).results
-    plastic = analyse(Scene.from_dict(FAR_FROM_YIELD).with_coarse_mesh()).results
+    # (on the grid's steps alone, as the linear skeleton's: a tolerance of the whole
+    # settlement never shortens one)
+    plastic = analyse(Scene.from_dict(FAR_FROM_YIELD | {"consolidation": SCENE[
+        "consolidation"] | {"time_tolerance": 1.0}}).with_coarse_mesh()).results
     a, b = linear["consolidation"], plastic["consolidation"]
     assert len(a["at_times"]) == len(b["at_times"]) == 3
     for one, two in zip([a["drained"], *a["at_times"]], [b["drained"], *b["at_times"]]):
@@ -198,7 +205,7 @@ def test_the_rate_of_loading_orders_the_collapse_loads():
             analyse(_ramp(T))
         assert "fails at this rate of loading" in str(e.value)
         kept = e.value.kept["largest_load_carried"]
-        assert kept["criterion"] == "settlement"
+        assert kept["criterion"] == "equilibrium"
         carried.append((kept["mean_bearing_pressure_carried"],
                         kept["mean_bearing_pressure_failed"]))
     (fast, _), (middle, _), (slow, slow_failed) = carried
@@ -231,3 +238,78 @@ def test_a_yielding_clay_layer_consolidates_as_an_independent_code_does():
     for days, w0, u, within in ((30, 46.9e-3, 24.4e3, 0.02), (100, 52.4e-3, 10.5e3, 0.06)):
         assert at[days]["w0"] == pytest.approx(w0, rel=0.01), days
         assert at[days]["piezometers"][0] == pytest.approx(u, rel=within), days
+
+
+@pytest.mark.verify
+def test_the_yielding_layers_path_is_converged_in_time_at_the_default_tolerance():
+    """The yielding clay layer (benchmarks/scenes/yielding_layer.toml, coarse mesh), its
+    longest steps 2 a decade so that the local error chooses the steps: at the default
+    time_tolerance and at a sixteenth of it the centre's settlement agrees within 1 % at 30,
+    100, 300 and 1000 days and the excess pore pressure at (0, 2.5 m) within 1 % at 30 and
+    100 days (the issue asks 5 %: where it is over a tenth of its peak). The steps of the
+    floor alone (no error control) are 3.3 % off at 100 days: the check can fail. Measured
+    2026-12-02: 105, 326 and 37 time steps; w0 within 0.02 %, u within 0.32 %."""
+    from pathlib import Path
+
+    from tankfx import load_scene
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "benchmarks" / "scenes" /
+                       "yielding_layer.toml").with_coarse_mesh()
+    tol = scene.consolidation.time_tolerance
+    runs = []
+    for tolerance in (tol, tol / 16.0, 1e9):
+        r = analyse(scene.with_changes(consolidation={"time_tolerance": tolerance,
+                                                      "steps_per_decade": 2})).results
+        runs.append({round(s["t_days"]): s for s in r["consolidation"]["at_times"]
+                     if s["t_days"]})
+    default, fine, floor = runs
+    for days in (30, 100, 300, 1000):
+        assert default[days]["w0"] == pytest.approx(fine[days]["w0"], rel=0.01), days
+    for days in (30, 100):
+        assert default[days]["piezometers"][0] == pytest.approx(
+            fine[days]["piezometers"][0], rel=0.01), days
+    u = [run[100]["piezometers"][0] for run in runs]
+    assert abs(u[2] / u[1] - 1.0) > 0.02
+
+
+def test_the_coupled_residual_has_the_tangent_as_its_derivative_in_a_hold():
+    """Taylor test of the coupled residual R = A(x) x - f (the skeleton's equilibrium and
+    the pore water's flow) at a yielding state of a real hold: the yielding clay layer
+    (benchmarks/scenes/yielding_layer.toml, coarse) held 20 days after its 10-day ramp, its
+    last step's displacement increment taken half as far again, so that the 134 points
+    that yielded in it yield on (a plastic tangent, not the committed state's elastic one).
+    Along the path (that increment, and the pore pressure scaled) no point changes its
+    return for h from 0.1 to 1e-3, and |R(x + h d) - R(x) - h A(x) d| / |h A(x) d| falls as
+    h (measured 1.4e-7, 1.4e-8, 1.4e-9: second order); the flow's block, linear, to
+    round-off (1e-12). A random direction crosses the elastic-plastic boundary of a point
+    that sits on it within h = 1e-5. The elastic tangent at the yielding points leaves a
+    remainder of O(1e-2) at every h; a coupling term missing from A, one of O(1)."""
+    from pathlib import Path
+
+    from tankfx import load_scene
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "benchmarks" / "scenes" /
+                       "yielding_layer.toml").with_coarse_mesh()
+    scene = scene.with_changes(consolidation={"times": [30 * DAY]})
+    m = analyse(scene).model
+    plastic, soil = m.soil.plastic, m.soil
+    step = soil.u.x.array - soil.u_n.x.array
+    soil.u.x.array[:] += 0.5 * step
+    x = [u.x.array.copy() for u in m.unknowns]
+    plastic.update()
+    flags = plastic.yielding.copy()
+    assert int(np.sum(flags)) > 50
+    d = [step, x[1].copy()]
+    R0, Ad = m.block_vectors(), m.block_vectors(d)
+    remainders = []
+    for h in (1e-1, 1e-2, 1e-3):
+        for u, a, b in zip(m.unknowns, x, d):
+            u.x.array[:] = a + h * b
+        plastic.update()
+        assert np.array_equal(plastic.yielding, flags), h
+        remainders.append([np.linalg.norm(r - r0 - h * ad) / np.linalg.norm(h * ad)
+                           for r, r0, ad in zip(m.block_vectors(), R0, Ad)])
+    remainders = np.array(remainders)                  # (h, block)
+    equilibrium, flow = remainders[:, 0], remainders[:, 1]
+    assert np.all(equilibrium[:-1] / equilibrium[1:] > 10 ** 0.8), equilibrium
+    assert equilibrium[1] < 1e-5 and np.all(flow < 1e-9), remainders

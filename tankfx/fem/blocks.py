@@ -92,6 +92,34 @@ class OutOfBalance:
             self._largest_terms = terms = np.maximum(terms, self._largest_terms)
         return np.sqrt(residual), np.sqrt(load), np.sqrt(terms)
 
+    def vectors(self, values: list | None = None) -> list[np.ndarray]:
+        """Per block, its out-of-balance vector A_i u - f_i on this rank's owned dofs (the
+        supports' rows zero) of the fields now; with ``values`` (one array per unknown),
+        the action A_i v of the current coefficients on them instead (the tangent's, where
+        the forms hold one: what a Taylor test of the residual differentiates against)."""
+        kept = None
+        if values is not None:
+            kept = [u.x.array.copy() for u in self.unknowns]
+            for u, v in zip(self.unknowns, values):
+                u.x.array[:] = v
+        try:
+            out = []
+            for (actions, L), dofs, u in zip(self.rows, self.fixed, self.unknowns):
+                V = u.function_space
+                n = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
+                vecs = []
+                for f in ([] if values is not None else [L]) + actions:
+                    vec = fem.assemble_vector(f)
+                    vec.scatter_reverse(la.InsertMode.add)
+                    vec.array[dofs] = 0.0
+                    vecs.append(vec.array[:n].copy())
+                out.append(sum(vecs) if values is not None else sum(vecs[1:]) - vecs[0])
+            return out
+        finally:
+            if kept is not None:
+                for u, v in zip(self.unknowns, kept):
+                    u.x.array[:] = v
+
     def __call__(self) -> float:
         """||A u - f|| / ||f|| over all blocks together."""
         residual, load, _ = self.blocks()

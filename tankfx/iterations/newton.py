@@ -66,6 +66,7 @@ class Balance:
     def measure(self) -> float:
         """The blocks' out-of-balance now (collective); returns the merit."""
         _, self.residual, terms = self.model.block_residuals()
+        self.terms = terms
         self.tolerance = np.maximum(STEP_SHARE * self.start, ROUND_OFF * terms)
         self.tolerance = np.where(self.tolerance > 0.0, self.tolerance, 1e-300)
         return self.merit()
@@ -166,6 +167,9 @@ class Newton:
         previous = balance.measure()
         merits = [previous]
         log = logging.getLogger("tankfx")
+        if log.isEnabledFor(logging.DEBUG):
+            log.debug("    Newton 0: %s; largest terms %s", balance.words(), ", ".join(
+                f"{n} {t:.3e}" for n, t in zip(balance.names, balance.terms)))
         for it in range(1, max_iterations + 1):
             before = [u.x.array.copy() for u in unknowns]
             try:
@@ -184,7 +188,9 @@ class Newton:
                 # shorter ones are tried beyond the line search's halvings)
                 if len(tried) > self.LINE_SEARCH + (
                         0 if math.isfinite(merit) else self.NOT_FINITE):
-                    merit = self._least(tried, before, after, balance)
+                    merit = (self._full(before, after, balance) if self.FULL_WHEN_STUCK
+                             and math.isfinite(tried[0][0]) else
+                             self._least(tried, before, after, balance))
                     break
                 alpha *= 0.5
                 for u, a, b in zip(unknowns, before, after):
@@ -204,6 +210,14 @@ class Newton:
         return Solve(False, max_iterations, balance.ratio(), (
             f"the out-of-balance force after {max_iterations} iterations: "
             f"{balance.words()}"))
+
+    FULL_WHEN_STUCK = False
+
+    def _full(self, before, after, balance) -> float:
+        for u, a, b in zip(self._unknowns(), before, after):
+            u.x.array[:] = b
+        self.plastic.update()
+        return balance.measure()
 
     def _least(self, tried, before, after, balance) -> float:
         """No step length of the line search lowered the merit: the one of the least, its

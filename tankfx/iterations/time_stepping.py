@@ -6,6 +6,7 @@ Beyond the paper: no equation of it is carried out here.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -103,6 +104,72 @@ RAMP_STEP = 0.2
 
 
 DAY = 86400.0
+
+
+class StepError:
+    """The local error of a time step, estimated from the difference between the step's
+    solution x and the quadratic predictor x_P through the stretch's last three states
+    (Lagrange in t): BDF2's local error is -2/9 h^3 x''' and the predictor's h^3 x'''
+    (equal steps), so the step's own is 2/7 |x - x_P|. Measured in the soil's displacement
+    relative to its largest value now and in the excess pore pressure relative to its
+    largest so far on the path (infinity norms over the owned dofs, collective), the larger of
+    the two. A step is accepted where the estimate is at most REJECT times ``tolerance``,
+    and the next is the step times SAFETY (tolerance / error)^(1/3), between SHRINK and GROW
+    times it (BDF2 is zero-stable for step ratios below 1 + sqrt 2). The first two steps
+    of a stretch (after a jump or a change of the load's rate) have no estimate: a
+    predictor across a breakpoint has no meaning."""
+
+    SAFETY, SHRINK, GROW, REJECT = 0.9, 0.25, 2.0, 2.0
+    #: BDF2's local error over the corrector-predictor difference (equal steps)
+    FACTOR = 2.0 / 7.0
+
+    def __init__(self, tolerance: float, u, p):
+        self.tolerance, self.u, self.p = tolerance, u, p
+        self.comm = u.function_space.mesh.comm
+        self._owned = [f.function_space.dofmap.index_map.size_local
+                       * f.function_space.dofmap.index_map_bs for f in (u, p)]
+        self.states: list[tuple] = []
+        self.p_peak = 0.0
+
+    def _now(self) -> tuple[np.ndarray, np.ndarray]:
+        return tuple(f.x.array[:n].copy() for f, n in zip((self.u, self.p), self._owned))
+
+    def restart(self, t: float) -> None:
+        """A stretch begins at t: its first state is the state now."""
+        self.states = [(t, *self._now())]
+
+    def estimate(self, t: float) -> float | None:
+        """The state now's (at t) local error relative to the tolerance's measures; None
+        with fewer than three states in the stretch."""
+        u, p = self._now()
+        self.p_peak = max(self.p_peak, self.comm.allreduce(
+            float(np.max(np.abs(p))) if len(p) else 0.0, op=MPI.MAX))
+        if len(self.states) < 3:
+            return None
+        (t0, u0, p0), (t1, u1, p1), (t2, u2, p2) = self.states[-3:]
+        w = (((t - t1) * (t - t2)) / ((t0 - t1) * (t0 - t2)),
+             ((t - t0) * (t - t2)) / ((t1 - t0) * (t1 - t2)),
+             ((t - t0) * (t - t1)) / ((t2 - t0) * (t2 - t1)))
+        out = []
+        for x, xs, scale in ((u, (u0, u1, u2), None), (p, (p0, p1, p2), self.p_peak)):
+            local = float(np.max(np.abs(x - sum(wk * xk for wk, xk in zip(w, xs))))) \
+                if len(x) else 0.0
+            big = self.comm.allreduce(local, op=MPI.MAX)
+            if scale is None:
+                scale = self.comm.allreduce(float(np.max(np.abs(x))) if len(x) else 0.0,
+                                            op=MPI.MAX)
+            out.append(big / scale if scale > 0.0 else 0.0)
+        return self.FACTOR * max(out)
+
+    def accept(self, t: float) -> None:
+        self.states = [*self.states[-2:], (t, *self._now())]
+
+    def next_step(self, dt: float, error: float | None) -> float:
+        """The step after one of ``dt`` whose error was ``error`` (None: unchanged)."""
+        if error is None:
+            return dt * self.GROW
+        f = self.SAFETY * (self.tolerance / max(error, 1e-300)) ** (1.0 / 3.0)
+        return dt * min(max(f, self.SHRINK), self.GROW)
 
 
 @dataclass
@@ -320,6 +387,38 @@ class TimeStepping:
             f.x.array[:] = 0.0
         return drained
 
+    #: whether the time steps are chosen by their local error (:class:`StepError`): an
+    #: elastoplastic skeleton's (a linear one's grid is verified against Terzaghi's closed
+    #: form at its steps per decade)
+    controlled = False
+    #: a step rejected this many times in a row (each at most SHRINK times the one before)
+    #: is taken as it is, said in the log
+    MAX_REJECTIONS = 8
+
+    def _step_error(self) -> StepError | None:
+        if not self.controlled:
+            return None
+        return StepError(self.c.time_tolerance, self.soil.u, self.soil.pore_pressure)
+
+    def _unknown_fields(self) -> list:
+        u = self.model.unknowns
+        return u if isinstance(u, list) else [u]
+
+    def _keep_step(self) -> dict:
+        """The state before a step (what a rejected step goes back to)."""
+        soil = self.soil
+        return {"values": [f.x.array.copy() for f in self._unknown_fields()],
+                "u_n": soil.u_n.x.array.copy(), "u_nn": soil.u_nn.x.array.copy(),
+                "history": len(self.history), "divided": self.divided}
+
+    def _back_step(self, kept: dict) -> None:
+        soil = self.soil
+        for f, x in zip(self._unknown_fields(), kept["values"]):
+            f.x.array[:] = x
+        soil.u_n.x.array[:], soil.u_nn.x.array[:] = kept["u_n"], kept["u_nn"]
+        del self.history[kept["history"]:]
+        self.divided = kept["divided"]
+
     def run(self, inner, log) -> IterationStatus:
         self._inner, self._log = inner, log
         c, model = self.c, self.model
@@ -340,8 +439,39 @@ class TimeStepping:
         snapshots: list = []
         #: the states of the steps that converged (what a failed step keeps)
         self.history = history
-        for k, (t, kind, load) in enumerate(steps):
+        control = self._step_error()
+        grid = {float(t) for t, _, _ in steps}
+        k, proposal, rejected = 0, math.inf, 0
+        while k < len(steps):
+            t, kind, load = steps[k]
+            if control is not None and kind == "step" and t - t_prev > proposal * (1 + 1e-9):
+                # (shorter than the grid's step, by the error: a step of its own before the
+                # grid's point; no sliver of one after it)
+                t = t_prev + (proposal if t - t_prev > 1.5 * proposal else 0.5 * (t - t_prev))
+                steps.insert(k, (t, "step", None))
+            kept = self._keep_step() if control is not None else None
             state, dt = self._step(t, kind, load, path, t_prev, dt_prev)
+            if control is not None:
+                error = control.estimate(t) if kind == "step" else None
+                if error is not None and error > control.REJECT * control.tolerance \
+                        and rejected < self.MAX_REJECTIONS:
+                    # (rejected: the state before it back, a shorter step tried)
+                    self._back_step(kept)
+                    proposal, rejected = control.next_step(dt, error), rejected + 1
+                    self._log.debug("consolidation: the step to t = %.6g days rejected, its "
+                                    "local error %.3g of the tolerance", t / DAY,
+                                    error / control.tolerance)
+                    if float(t) not in grid:
+                        steps.pop(k)
+                    continue
+                if kind == "jump":
+                    control.restart(t)
+                elif kind == "restart":
+                    control.states = control.states[-1:]
+                    control.accept(t)
+                else:
+                    control.accept(t)
+                proposal, rejected = control.next_step(dt, error) if dt > 0.0 else math.inf, 0
             last_at_t = k + 1 == len(steps) or steps[k + 1][0] != t
             if last_at_t and t in milestones and self.milestone is not None:
                 found[float(t)] = self._held(self.milestone) or {}
@@ -355,6 +485,7 @@ class TimeStepping:
                          "on the axis %.4g Pa (step %d of %d)", t / DAY, state["w0"],
                          state["axis_pore_pressure"], k + 1, len(steps))
             t_prev, dt_prev = t, dt
+            k += 1
         run = ConsolidationRun(
             drained=drained, at_times=at_times, history=history, isochrones=isochrones,
             steps=len(steps) - 1, c_v=self.c_v, time_scale=self.time_scale,

@@ -64,6 +64,10 @@ CANDIDATES = ((_A,), (_T1,), (_A, _B), (_A, _C), (_A, _T1), (_T1, _T2), (_A, _C,
 #: one (its own is zero)
 APEX_STIFFNESS = 1e-6
 
+#: a trial is outside the surface, and a return's multipliers and planes are taken as met,
+#: at this share of the trial's largest stress
+YIELD_TOLERANCE = 1e-10
+
 #: the return's code per point: -1 elastic, k the k-th candidate; APEX (len(CANDIDATES)):
 #: none of them held (not met in any state measured: a guard)
 ELASTIC, APEX = -1, len(CANDIDATES)
@@ -128,7 +132,7 @@ def principal_return(sigma_tr, E, nu, cohesion, sin_phi, sin_psi, tension=None):
     lmbda, G = lame(E, nu)
     D = lmbda[:, None, None] * np.ones((3, 3)) + 2.0 * G[:, None, None] * np.eye(3)
     scale = np.max(np.abs(sigma_tr), axis=1) + c + 1.0
-    tol = 1e-10 * scale
+    tol = YIELD_TOLERANCE * scale
     # (no cut-off, or one beyond the apex: at the apex, whose strength is the cone's own
     # and whose flow reaches the apex; Tresca has none)
     apex_t = np.where(sp > 0.0, c * cos_phi / np.maximum(sp, 1e-300), np.inf)
@@ -222,7 +226,7 @@ def stress_update(d_eps, sigma_n, E, nu, cohesion, sin_phi, sin_psi, tension=Non
     top, bottom = vals.max(axis=1), vals.min(axis=1)
     f = (top - bottom) - 2.0 * circle_strength(0.5 * (top + bottom), c, sp)
     scale = np.max(np.abs(vals), axis=1) + c + 1.0
-    out = np.flatnonzero((f > 1e-10 * scale) | (top > t + 1e-10 * scale))
+    out = np.flatnonzero((f > YIELD_TOLERANCE * scale) | (top > t + YIELD_TOLERANCE * scale))
     if len(out) == 0:
         return sigma, C, code, d_eps_p
     vals, proj, Dp = vals[out], proj[out], D[out]

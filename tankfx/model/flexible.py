@@ -97,6 +97,11 @@ class FlexibleLoad:
         residual, _, terms = self._out_of_balance.blocks()
         return self._out_of_balance.names, residual, terms
 
+    def block_vectors(self, values=None) -> list[np.ndarray]:
+        """Per block, its out-of-balance vector on this rank's dofs, or the current
+        coefficients' action on ``values`` (:meth:`tankfx.fem.blocks.OutOfBalance.vectors`)."""
+        return self._out_of_balance.vectors(values)
+
     def soil_residual(self):
         return self.soil.residual(self.soil.a, self.L_u)
 

@@ -74,6 +74,10 @@ class Model(Protocol):
         """Per block (the soil's equilibrium, its flow, the structure): its name, the norm
         of its out-of-balance vector and of its largest term, in its own units."""
 
+    def block_vectors(self, values=None) -> list:
+        """Per block, its out-of-balance vector on this rank's dofs, or the current
+        coefficients' action on ``values`` (one array per unknown)."""
+
     def soil_residual(self):
         """The soil's unconstrained residual form a(u, v) - L(v) (its supports' reactions)."""
 

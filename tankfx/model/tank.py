@@ -298,6 +298,11 @@ class TankModel:
         residual, _, terms = self._out_of_balance.blocks()
         return self._out_of_balance.names, residual, terms
 
+    def block_vectors(self, values=None) -> list[np.ndarray]:
+        """Per block, its out-of-balance vector on this rank's dofs, or the current
+        coefficients' action on ``values`` (:meth:`tankfx.fem.blocks.OutOfBalance.vectors`)."""
+        return self._out_of_balance.vectors(values)
+
     def soil_residual(self):
         a_ss, a_sb = self.a[0][0], self.a[0][-1]
         return self.soil.residual(a_ss, self.L[0]) + ufl.action(a_sb, self.w)

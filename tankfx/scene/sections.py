@@ -816,7 +816,19 @@ class Consolidation:
                                         "path: from a hundredth of its stretch after a load "
                                         "applied at once, from a fifth where only the load's "
                                         "rate changes); 10 keep Terzaghi's settlement within 0.6 % of its "
-                                        "final value, 20 within 0.2 %")
+                                        "final value, 20 within 0.2 %; with an "
+                                        "elastoplastic skeleton the longest steps, shorter "
+                                        "ones chosen by `time_tolerance`")
+    time_tolerance: float = key(1e-3, unit="-", limit=POSITIVE,
+                                why="measured on a yielding clay layer: benchmarks/"
+                                    "yielding_layer.py",
+                                meaning="with an elastoplastic skeleton, the local error "
+                                        "allowed in a time step (BDF2's, estimated from its "
+                                        "quadratic predictor), relative to the soil's largest "
+                                        "displacement and to the largest excess pore "
+                                        "pressure so far: a step whose error is more than "
+                                        "twice it is taken again shorter, and the next "
+                                        "step is chosen from it")
 
 
 @dataclass(frozen=True)
