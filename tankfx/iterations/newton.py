@@ -188,9 +188,7 @@ class Newton:
                 # shorter ones are tried beyond the line search's halvings)
                 if len(tried) > self.LINE_SEARCH + (
                         0 if math.isfinite(merit) else self.NOT_FINITE):
-                    merit = (self._full(before, after, balance) if self.FULL_WHEN_STUCK
-                             and math.isfinite(tried[0][0]) else
-                             self._least(tried, before, after, balance))
+                    merit = self._least(tried, before, after, balance)
                     break
                 alpha *= 0.5
                 for u, a, b in zip(unknowns, before, after):
@@ -210,14 +208,6 @@ class Newton:
         return Solve(False, max_iterations, balance.ratio(), (
             f"the out-of-balance force after {max_iterations} iterations: "
             f"{balance.words()}"))
-
-    FULL_WHEN_STUCK = False
-
-    def _full(self, before, after, balance) -> float:
-        for u, a, b in zip(self._unknowns(), before, after):
-            u.x.array[:] = b
-        self.plastic.update()
-        return balance.measure()
 
     def _least(self, tried, before, after, balance) -> float:
         """No step length of the line search lowered the merit: the one of the least, its
