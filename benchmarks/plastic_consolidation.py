@@ -7,8 +7,10 @@ consolidating, its factor of safety searched at every stage's end.
                                                [--out results/benchmarks]
 
 Prints each stage's state (time, liquid height, settlements, piezometers, factor of safety)
-and the cost: time steps, Newton iterations of the path and of the factors of safety, and
-the times (the analysis, and the searches within it). Writes plastic_consolidation.json and
+and the cost: time steps, Newton iterations of the path (their median and largest a time
+step) and of the factors of safety, the times (the analysis, and the searches within it)
+and the time by kind of work (assembly, factorisation, solve, the return at the points,
+Newton's residual). Writes plastic_consolidation.json and
 .md in --out.
 """
 from __future__ import annotations
@@ -21,8 +23,10 @@ import time
 from pathlib import Path
 
 import dolfinx_solver  # noqa: F401  (before dolfinx / petsc4py)
+import numpy as np
 
 from tankfx import analyse, load_scene
+from tankfx.fem import timing
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENE = ROOT / "benchmarks" / "scenes" / "hydrotest_on_clay.toml"
@@ -44,9 +48,13 @@ def main() -> None:
         scene = scene.with_coarse_mesh()
     if args.no_safety:
         scene = scene.with_changes(analysis={"collapse": None})
+    per_step: list[int] = []
+    log.addHandler(_IterationsPerStep(per_step))
+    timing.reset()
     t0 = time.perf_counter()
     r = analyse(scene).results
     elapsed = time.perf_counter() - t0
+    split = timing.split()
     c = r["consolidation"]
     rows = []
     for st in r["stages"]:
@@ -63,7 +71,11 @@ def main() -> None:
     cost = {"unknowns": r["dofs"]["total"],
             "time_steps": c["steps"], "newton_iterations_path": r["soil"]["iterations"],
             "newton_iterations_safety": search_its, "time_s": elapsed,
-            "time_safety_s": search_s, "time_path_s": elapsed - search_s}
+            "time_safety_s": search_s, "time_path_s": elapsed - search_s,
+            "iterations_per_step": per_step,
+            "median_iterations": float(np.median(per_step)) if per_step else None,
+            "max_iterations": max(per_step, default=None),
+            "steps_over_15": sum(1 for n in per_step if n > 15), "time_split": split}
     lines = ["| stage | t (days) | H (m) | w0 (mm) | w_edge (mm) | piezometers (kPa) | F |",
              "|---|---|---|---|---|---|---|"]
     for x in rows:
@@ -74,7 +86,11 @@ def main() -> None:
     lines += ["", f"mesh: {'coarse' if args.coarse else 'default'}; {cost['time_steps']} time "
               f"steps, {cost['newton_iterations_path']} Newton iterations on the path "
               f"({cost['time_path_s']:.0f} s), {search_its} in the factors of safety "
-              f"({search_s:.0f} s); {elapsed:.0f} s in all"]
+              f"({search_s:.0f} s); {elapsed:.0f} s in all",
+              f"Newton iterations a time step: median {cost['median_iterations']}, largest "
+              f"{cost['max_iterations']}, {cost['steps_over_15']} steps over 15",
+              "time by kind of work (s, calls; per Newton iteration of the whole run): " +
+              ", ".join(f"{k} {v['seconds']:.1f} ({v['calls']})" for k, v in split.items())]
     text = "\n".join(lines)
     print(text)
     out = Path(args.out)
@@ -83,6 +99,19 @@ def main() -> None:
     (out / "plastic_consolidation.json").write_text(json.dumps(
         {"coarse": args.coarse, "safety": not args.no_safety, "stages": rows, "cost": cost},
         indent=1))
+
+
+class _IterationsPerStep(logging.Handler):
+    """The Newton iterations of each time step, from the progress lines."""
+
+    def __init__(self, out):
+        super().__init__(logging.INFO)
+        self.out = out
+
+    def emit(self, record):
+        msg = record.getMessage()
+        if "Newton iterations" in msg and "t = " in msg:
+            self.out.append(int(msg.split(":")[1].split("Newton")[0]))
 
 
 if __name__ == "__main__":

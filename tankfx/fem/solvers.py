@@ -17,6 +17,7 @@ from petsc4py import PETSc
 from .evaluate import allsum
 from .memory import keep_freed_memory
 from .threads import limit_blas_threads
+from .timing import timed
 
 _ids = itertools.count()
 
@@ -242,20 +243,22 @@ class DirectSolver(_LinearSolver):
         """LinearProblem.solve with the matrix assembled by ``assemble_matrix`` (or, None,
         left as it is: PETSc then keeps its factorisation)."""
         p = self.problem
-        if assemble_matrix is not None:
-            assemble_matrix()
-        with p.b.localForm() as b:
-            b.set(0.0)
-        fem_petsc.assemble_vector(p.b, p.L)
-        if isinstance(p.u, (list, tuple)):                     # blocks, kind="mpi"
-            spaces = fem.extract_function_spaces(p.a, 1)
-            fem_petsc.apply_lifting(p.b, p.a, bcs=fem.bcs_by_block(spaces, p.bcs))
-            p.b.ghostUpdate(PETSc.InsertMode.ADD, PETSc.ScatterMode.REVERSE)
-            fem_petsc.set_bc(p.b, fem.bcs_by_block(fem.extract_function_spaces(p.L), p.bcs))
-        else:
-            fem_petsc.apply_lifting(p.b, [p.a], bcs=[p.bcs])
-            p.b.ghostUpdate(PETSc.InsertMode.ADD, PETSc.ScatterMode.REVERSE)
-            fem_petsc.set_bc(p.b, p.bcs)
+        with timed("assembly"):
+            if assemble_matrix is not None:
+                assemble_matrix()
+            with p.b.localForm() as b:
+                b.set(0.0)
+            fem_petsc.assemble_vector(p.b, p.L)
+            if isinstance(p.u, (list, tuple)):                     # blocks, kind="mpi"
+                spaces = fem.extract_function_spaces(p.a, 1)
+                fem_petsc.apply_lifting(p.b, p.a, bcs=fem.bcs_by_block(spaces, p.bcs))
+                p.b.ghostUpdate(PETSc.InsertMode.ADD, PETSc.ScatterMode.REVERSE)
+                fem_petsc.set_bc(p.b, fem.bcs_by_block(fem.extract_function_spaces(p.L),
+                                                       p.bcs))
+            else:
+                fem_petsc.apply_lifting(p.b, [p.a], bcs=[p.bcs])
+                p.b.ghostUpdate(PETSc.InsertMode.ADD, PETSc.ScatterMode.REVERSE)
+                fem_petsc.set_bc(p.b, p.bcs)
         return self._solve_assembled()
 
     def _assemble_whole(self):
@@ -290,16 +293,21 @@ class DirectSolver(_LinearSolver):
         solve (a factorisation redone: the fields hold the failed one's result)."""
         p = self.problem
         try:
+            # (the factorisation where the matrix changed, timed apart from the solves)
+            with timed("factorisation"):
+                p.solver.getPC().setUp()
             if self.correction and self._start_from_fields(again):
                 r, dx = p.b.duplicate(), p.x.duplicate()
                 p.A.mult(p.x, r)
                 r.aypx(-1.0, p.b)
-                p.solver.solve(r, dx)
+                with timed("solve"):
+                    p.solver.solve(r, dx)
                 p.x.axpy(1.0, dx)
                 r.destroy()
                 dx.destroy()
             else:
-                p.solver.solve(p.b, p.x)
+                with timed("solve"):
+                    p.solver.solve(p.b, p.x)
         except PETSc.Error as e:
             # (MUMPS refusing a solve after a factorisation it could not complete: a
             # SolveError, which the iterations know how to take)

@@ -22,6 +22,7 @@ from mpi4py import MPI
 from ..fem.blocks import cell_field
 from ..fem.evaluate import evaluate_at
 from ..fem.solvers import SolveError
+from ..fem.timing import timed
 
 
 class Solve(NamedTuple):
@@ -65,7 +66,8 @@ class Balance:
 
     def measure(self) -> float:
         """The blocks' out-of-balance now (collective); returns the merit."""
-        _, self.residual, terms = self.model.block_residuals()
+        with timed("residual"):
+            _, self.residual, terms = self.model.block_residuals()
         self.terms = terms
         self.tolerance = np.maximum(STEP_SHARE * self.start, ROUND_OFF * terms)
         self.tolerance = np.where(self.tolerance > 0.0, self.tolerance, 1e-300)

@@ -27,6 +27,7 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
+from ..fem.timing import timed
 from ..laws import elasticity as soil_forms
 from ..laws.plasticity import principal
 from .history import quadrature_space
@@ -167,9 +168,11 @@ class PlasticState:
         every point (the law's :meth:`~tankfx.laws.point_law.PointLaw.update`), and the
         offset sigma - C eps(u) the next solve's load reads. Returns the count of plastic
         points."""
-        eps = self._strain_expr.eval(self.block.domain.mesh, self.cells).reshape(-1, 4)
-        trial = self.points.update(eps - self._get(self.strain, self._dofs4, 4),
-                                   self._get(self.stress_n, self._dofs4, 4), self._own_state())
+        with timed("return"):
+            eps = self._strain_expr.eval(self.block.domain.mesh, self.cells).reshape(-1, 4)
+            trial = self.points.update(eps - self._get(self.strain, self._dofs4, 4),
+                                       self._get(self.stress_n, self._dofs4, 4),
+                                       self._own_state())
         sigma, C = trial.stress, trial.tangent
         self._put(self.stress, sigma, self._dofs4)
         self._put(self.tangent, C.reshape(-1, 16), self._dofs16)
