@@ -13,6 +13,7 @@ from mpi4py import MPI
 from tankfx import Scene, analyse
 from tankfx.scene.sections import SceneError
 
+DAY = 86400.0
 LAMBDA, KAPPA, NU, GAMMA, Q, H, A = 0.1, 0.02, 0.25, 20e3, 100e3, 2.0, 10.0
 
 
@@ -200,3 +201,26 @@ def test_a_crust_is_capped_at_its_ellipse():
     assert np.all(f[~capped] < 0.0)
     (warning,) = law.ground_warnings(soil, H)
     assert f"down to {h:.3g} m" in warning
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("crust", [{}, {"POP": 10e3}])
+def test_a_plain_clay_ground_left_alone_stays_at_rest(crust):
+    """10 m of Cam Clay with water at the surface, normally consolidated (OCR 1) or with a
+    10 kPa POP crust, consolidating under no load for 100 days: it stays exactly at rest
+    (no settlement, no excess pore pressure, no point yielding), on one rank and on two.
+    (The elastic trial rebuilt the stress from its invariants: at a capped crust's points
+    a zero strain changed it by 1e-13 Pa, an out-of-balance force with no load, which a
+    solve under no load can never reduce below its tolerance.)"""
+    scene = Scene.from_dict({
+        "soil": {"model": "cam_clay", "lambda_star": 0.1, "kappa_star": 0.02, "M": 1.0,
+                 "nu": 0.2, "unit_weight": 18e3, "water_table": 0.0, **crust},
+        "load": {"pressure": 40e3, "load_radius": 5.0},
+        "domain": {"radius": 50.0, "depth": 10.0, "side": "roller", "base": "rough"},
+        "consolidation": {"permeability": 1e-9, "times": [DAY, 100 * DAY]},
+        # (a path that stays at no load: [load] alone is refused without a load)
+        "stages": [{"time": 10 * DAY, "pressure": 0.0}]}).with_coarse_mesh()
+    r = analyse(scene, MPI.COMM_WORLD).results
+    assert r["soil"]["plastic_points"] == 0
+    for state in [r["consolidation"]["drained"], *r["consolidation"]["at_times"]]:
+        assert state["w0"] == 0.0 and abs(state["max_pore_pressure"]) <= 1e-9

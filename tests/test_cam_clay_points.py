@@ -187,3 +187,36 @@ def test_an_elastic_point_never_fails_its_return():
     assert np.all(np.isfinite(up.stress[0])) and not up.yielding[0]
     D = points.elastic_matrix()[0]
     assert np.allclose(up.stress[0], D @ d_eps[0])
+
+
+def test_the_least_preconsolidation_pressure():
+    """A point dilating on the dry side softens to the ellipse of p_c = p_min and no further
+    (its return converges there: before, p_c fell towards 0 without end), from the floor
+    and from above it; compressed, a point at the floor hardens from it; the tangent is the
+    update's derivative on the floor too (Taylor), and a zero increment gives the stress
+    back exactly."""
+    sigma0 = np.array([[-200.0, -300.0, 0.0, -200.0], [-300.0, -300.0, 0.0, -300.0],
+                       [-100.0, -100.0, 0.0, -100.0], [-200.0, -300.0, 0.0, -200.0]])
+    N = len(sigma0)
+    law = CamClayPoints(M=np.full(N, M), lambda_star=np.full(N, LAMBDA),
+                        kappa_star=np.full(N, KAPPA), nu=np.full(N, NU), sigma0=sigma0,
+                        p_c0=np.array([P_MIN, 1.2 * P_MIN, P_MIN, P_MIN]), p_min=P_MIN,
+                        E_fixed=np.full(N, np.nan))
+    d = np.array([[1e-2, -2e-2, 1.5e-2, 5e-3], [3e-2, -2e-2, 2e-2, 3e-2],
+                  [5e-2, 3e-2, 0.0, 4e-2], [-3e-2, -8e-2, 1e-2, -3e-2]])
+    stress, state = np.zeros((N, 4)), law.initial_state()
+    u = law.update(d, stress, state)
+    assert np.all(u.yielding) and np.all(np.isfinite(u.stress))
+    p, q, _ = invariants(sigma0 + u.stress)
+    p_c = u.state["p_c"][:, 0]
+    assert np.allclose(p_c[:3], P_MIN, rtol=0.0, atol=0.0)
+    assert p_c[3] > 3.0 * P_MIN
+    assert np.all(np.abs(q ** 2 / M ** 2 + p * (p - p_c)) <= 1e-12 * p_c ** 2)
+    h = np.random.default_rng(3).standard_normal((N, 4))
+    remainders = [np.linalg.norm(law.update(d + t * h, stress, state).stress - u.stress
+                                 - t * np.einsum("nij,nj->ni", u.tangent, h), axis=1)
+                  for t in (1e-5, 1e-6)]
+    assert np.all(np.log10(remainders[0] / remainders[1]) > 1.9), remainders
+    rest = _points(_isotropic(0.3 * P0), P0)
+    assert np.all(rest.update(np.zeros((1, 4)), np.zeros((1, 4)),
+                              rest.initial_state()).stress == 0.0)

@@ -346,7 +346,17 @@ class Newton:
         mid = self.model.domain.cell_midpoints[:own]
         pts = np.concatenate(comm.allgather(mid[flag]))
         if len(pts) == 0:
-            return "no point of the soil had yet yielded"
+            # (none in a converged state: where the last, unconverged, trial yielded, the
+            # points that a failed first step's Newton found)
+            own_points = own * p.n_points
+            trial = np.asarray(p.yielding[:own_points], dtype=bool).reshape(own, p.n_points)
+            at = np.concatenate(comm.allgather(mid[trial.any(axis=1)]))
+            if len(at) == 0:
+                return "no point of the soil had yielded"
+            return (f"no point of the soil had yielded in a converged state; in the last "
+                    f"trial {len(at)} cells yielded, from r = {at[:, 0].min():.3g} to "
+                    f"{at[:, 0].max():.3g} m and down to {-at[:, 1].min():.3g} m below the "
+                    f"ground")
         depth = -pts[:, 1]
         return (f"{len(pts)} cells yield, from r = {pts[:, 0].min():.3g} to "
                 f"{pts[:, 0].max():.3g} m and down to {depth.max():.3g} m below the ground")

@@ -20,7 +20,10 @@ that state, p'_c (1 + eta_nc^2 / M^2). Unloaded from it in one dimension, elasti
 
 The least mean stress P_MIN: below it the bulk modulus is P_MIN / kappa* (the top tens of
 centimetres of a clay at rest; without it the ground surface, at p' = 0, would have no
-stiffness). It changes no strength.
+stiffness); it is also the least preconsolidation pressure (p_c >= P_MIN at rest and after:
+:mod:`~tankfx.laws.cam_clay_points`), the strength of a normally consolidated clay's top
+(q at most M P_MIN / 2 where its own p_c would be less), which a clay with a crust never
+reaches.
 
 A stratum's ``E`` is not an input: it is the law's modulus at rest, 3 (1 - 2 nu) p' /
 kappa*, at the middle of the stratum's first REPRESENTATIVE_DEPTH metres: what the rest of
@@ -251,13 +254,33 @@ class CamClaySoil(ElastoplasticSoil):
 
     @classmethod
     def ground_warnings(cls, soil, bottom: float) -> list[str]:
+        out = []
+        top = cls.constants(soil.strata[0])
+        if top["POP"] is None:
+            # (measured, a 10 m flexible load on 10 m of an OCR = 1 clay, consolidating:
+            # it fails at 2.5 kPa on the coarse mesh, 2.0 kPa on the default one; before
+            # the least p_c at 1.1, 1.6, 3.0 and 6.1 kPa with P_MIN = 0.5, 1, 2 and 4 kPa;
+            # drained, a Mohr-Coulomb ground of c' = 0.2 kPa and the same phi fails at
+            # 6.7 kPa where this one did at 7.3)
+            q = (2.0 + math.pi) * top["M"] * P_MIN / 2.0
+            out.append(
+                f"soil: normally consolidated at the ground surface (no POP; an OCR leaves "
+                f"sigma'_vc = 0 there): a clay's strength is nil at p' = 0, and its top is "
+                f"held at the least "
+                f"preconsolidation pressure {P_MIN:g} Pa (q at most M P_MIN / 2): the edge "
+                f"of a load on the surface (a flexible load's, a shell's foot) punches into "
+                f"it at about (2 + pi) M P_MIN / 2 = {q / 1e3:.2g} kPa, whatever the load's "
+                f"width and the clay below, undrained or drained; give the clay its crust "
+                f"(POP: its undrained strength at the surface must exceed the load / "
+                f"(2 + pi)) to carry a load there")
         h = cls.capped_depth(soil, bottom)
-        if not h:
-            return []
-        return [f"soil: the ground at rest's horizontal stress, unloaded elastically from "
+        if h:
+            out.append(
+                f"soil: the ground at rest's horizontal stress, unloaded elastically from "
                 f"K0_nc by the OCR or POP, would lie outside the clay's yield ellipse down to "
                 f"{h:.3g} m (passive, in extension): it is capped at the ellipse there (what "
-                f"a plastic nil-step would give); those points yield at the first load"]
+                f"a plastic nil-step would give); those points yield at the first load")
+        return out
 
     @classmethod
     def _M(cls, soil, depth) -> np.ndarray:

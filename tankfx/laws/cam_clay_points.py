@@ -15,7 +15,12 @@ over a step, so that the deviatoric return is radial). lambda* and kappa* are th
 indices (the volumetric strain against ln p'; lambda / (1 + e) of the e-ln p' chart).
 
 Below ``p_min`` (the least mean stress) the bulk modulus is that of p_min: a ground surface
-at p' = 0 would have no stiffness; the strength is not changed by it.
+at p' = 0 would have no stiffness. p_min is also the least preconsolidation pressure: p_c =
+max(p_c0 exp(eps_v^p / (lambda* - kappa*)), p_min), so that a dilating point on the dry side
+softens down to the ellipse of p_min and no further (as OpenGeoSys' MFront Cam Clay's
+``MinimalPreConsolidationPressure``), hardening from it again when compressed; without it
+its ellipse shrinks towards the origin without end and the return with it. The ground at rest
+has p_c0 >= p_min (:mod:`tankfx.laws.cam_clay`), so the strength above p_min is not changed.
 
 The return (Borja & Lee 1990; de Souza Neto, Peric & Owen 2008, Sec. 10.2): unknowns the
 plastic volume change x and the multiplier dgamma, with
@@ -25,7 +30,9 @@ plastic volume change x and the multiplier dgamma, with
     x = dgamma (2 p' - p_c),     f(p', q, p_c) = 0,
 
 solved by Newton per point (vectorised over the points), and its consistent tangent from
-the same equations (implicit differentiation). Everything here is numpy; Mandel vectors
+the same equations (implicit differentiation). Where that p_c falls below p_min the return is
+solved again with p_c = p_min held (perfect plasticity on the least ellipse: dp_c/dx = 0 in
+the same equations and tangent). Everything here is numpy; Mandel vectors
 (rr, zz, sqrt 2 rz, theta), tension positive, as :mod:`tankfx.laws.point_law`.
 """
 from __future__ import annotations
@@ -36,7 +43,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from .plasticity import APEX_STIFFNESS, IDENTITY
+from .plasticity import IDENTITY
 from .point_law import PointUpdate
 
 #: the deviatoric projector of Mandel vectors
@@ -45,9 +52,6 @@ DEVIATORIC = np.eye(4) - np.outer(IDENTITY, IDENTITY) / 3.0
 RETURN_ITERATIONS, RETURN_TOLERANCE = 60, 1e-12
 #: the largest exponent taken in the exponential laws (a step of more is no soil's)
 MAX_EXPONENT = 30.0
-#: a return that has not converged with p_c below this share of the least mean stress
-#: is at the origin
-ORIGIN = 1e-2
 
 
 def critical_state_ratio(friction_angle_deg):
@@ -123,10 +127,13 @@ def invariants(sigma):
 
 def cam_clay_update(d_eps, sigma_n, p_cn, M, lambda_star, kappa_star, nu, p_min):
     """The total effective stress after the strain increment ``d_eps`` (N, 4) from the
-    committed total ``sigma_n`` (N, 4) and preconsolidation pressure ``p_cn`` (N,): (stress,
-    consistent tangent (N, 4, 4), yielding (N,), plastic strain increment (N, 4), p_c (N,),
-    converged (N,): the return's Newton converged)."""
+    committed total ``sigma_n`` (N, 4) and preconsolidation pressure ``p_cn`` (N,; at least
+    ``p_min``): (stress, consistent tangent (N, 4, 4), yielding (N,), plastic strain
+    increment (N, 4), p_c (N,), converged (N,): the return's Newton converged). A zero
+    increment gives ``sigma_n`` back bit for bit (the ground at rest is in equilibrium
+    exactly, its crust capped on the ellipse too)."""
     N = len(d_eps)
+    p_cn = np.maximum(p_cn, p_min)
     p_n, _, s_n = invariants(sigma_n)
     G = shear_modulus(np.maximum(p_n, p_min) / kappa_star, nu)
     e_c = -(d_eps @ IDENTITY)                                  # compressive volume change
@@ -141,30 +148,42 @@ def cam_clay_update(d_eps, sigma_n, p_cn, M, lambda_star, kappa_star, nu, p_min)
     # elastic: K_t m m^T + 2 G I_d
     C = K_tr[:, None, None] * np.outer(IDENTITY, IDENTITY) + \
         2.0 * G[:, None, None] * DEVIATORIC
-    C_elastic = C.copy()
-    sigma = -p_tr[:, None] * IDENTITY + s_tr
+    # (the committed stress plus its change, not -p_tr m + s_tr: that rebuilds sigma_n from
+    # its invariants, and a zero strain gave a change of 1e-13 Pa at a capped crust's points
+    # at rest, an out-of-balance force with no load)
+    sigma = sigma_n + (p_n - p_tr)[:, None] * IDENTITY + \
+        2.0 * G[:, None] * (d_eps @ DEVIATORIC)
     p_c = np.array(p_cn, dtype=float, copy=True)
     d_eps_p = np.zeros((N, 4))
     converged = np.ones(N, dtype=bool)
     if out.any():
-        r = _return(e_c[out], q_tr[out], p_n[out], p_cn[out], G[out], n[out], M[out],
-                    lambda_star[out], kappa_star[out], p_min)
+        args = (e_c[out], q_tr[out], p_n[out], p_cn[out], G[out], n[out], M[out],
+                lambda_star[out], kappa_star[out], p_min)
+        r = list(_return(*args))
+        # the least preconsolidation pressure: where the hardening law's p_c falls below
+        # p_min (a point dilating on the dry side, or one whose return found no end there:
+        # its ellipse shrinking towards the origin), the return with p_c = p_min held,
+        # kept where it is consistent (its plastic volume change at most the one that
+        # takes p_c to p_min)
+        low = (r[2] < p_min) | ~r[4]
+        if low.any():
+            held = _return(*(a[low] if isinstance(a, np.ndarray) else a for a in args),
+                           floored=True)
+            x_star = (lambda_star[out][low] - kappa_star[out][low]) * np.log(
+                p_min / p_cn[out][low])
+            x_held = -(held[3] @ IDENTITY)
+            ok = held[4] & (x_held <= x_star + 1e-12 * (1.0 + np.abs(x_star)))
+            idx = np.flatnonzero(low)[ok]
+            for k in range(5):
+                r[k][idx] = held[k][ok]
+            r[4][np.flatnonzero(low)[~ok]] = False
         sigma[out], C[out], p_c[out], d_eps_p[out], converged[out] = r
-        # a point driven to the ellipse's tip at the origin (a dilating surface point of a
-        # clay with next to no preconsolidation: p_c falls towards 0 and the return with
-        # it, without end): its state is the origin, no stress, the tangent a millionth of
-        # the elastic one (as Mohr-Coulomb's apex)
-        origin = ~converged & out & (p_c < ORIGIN * p_min)
-        if origin.any():
-            sigma[origin] = 0.0
-            C[origin] = APEX_STIFFNESS * C_elastic[origin]
-            d_eps_p[origin] = d_eps[origin]
-            converged[origin] = True
     return sigma, C, out, d_eps_p, p_c, converged
 
 
-def _return(e_c, q_tr, p_n, p_cn, G, n, M, lam, kap, p_min):
-    """The return to the ellipse of the points outside it (the module's docstring)."""
+def _return(e_c, q_tr, p_n, p_cn, G, n, M, lam, kap, p_min, floored=False):
+    """The return to the ellipse of the points outside it (the module's docstring);
+    ``floored``: with p_c = p_min held (the least ellipse, perfectly plastic)."""
     hard = lam - kap
     M2 = M * M
     a = 6.0 * G / M2
@@ -173,10 +192,15 @@ def _return(e_c, q_tr, p_n, p_cn, G, n, M, lam, kap, p_min):
     def local(x, g):
         """The state at (x, dgamma) and the local system's Jacobian d(R1, R2)/d(x, g)."""
         p, K = elastic_pressure(p_n, e_c - x, kap, p_min)
-        pc = p_cn * np.exp(np.clip(x / hard, -MAX_EXPONENT, MAX_EXPONENT))
+        if floored:
+            pc = np.full_like(x, p_min)
+            dpc_dx = np.zeros_like(x)
+        else:
+            pc = p_cn * np.exp(np.clip(x / hard, -MAX_EXPONENT, MAX_EXPONENT))
+            dpc_dx = pc / hard
         beta = 1.0 / (1.0 + a * g)
         q = q_tr * beta
-        dp_dx, dpc_dx, dq_dg = -K, pc / hard, -q * a * beta
+        dp_dx, dq_dg = -K, -q * a * beta
         J = (1.0 - g * (2.0 * dp_dx - dpc_dx), -(2.0 * p - pc),
              ((2.0 * p - pc) * dp_dx - p * dpc_dx) / scale, 2.0 * q * dq_dg / M2 / scale)
         return p, K, pc, beta, q, J
@@ -201,8 +225,9 @@ def _return(e_c, q_tr, p_n, p_cn, G, n, M, lam, kap, p_min):
         # is shortened: the exponential laws' Newton overshoots from far outside)
         t = np.ones_like(dx)
         t = np.where(g + dg < 0.0, np.minimum(t, 0.5 * g / np.maximum(-dg, 1e-300)), t)
-        t = np.where(np.abs(dx) > 2.0 * hard,
-                     np.minimum(t, 2.0 * hard / np.maximum(np.abs(dx), 1e-300)), t)
+        if not floored:
+            t = np.where(np.abs(dx) > 2.0 * hard,
+                         np.minimum(t, 2.0 * hard / np.maximum(np.abs(dx), 1e-300)), t)
         t = np.where(done, 0.0, t)
         x, g = x + t * dx, np.maximum(g + t * dg, 0.0)
     p, K, pc, beta, q, (J11, J12, J21, J22) = local(x, g)
