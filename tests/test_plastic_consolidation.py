@@ -192,25 +192,36 @@ def _ramp(T_days: float | None, collapse: str | None = None) -> Scene:
 def test_the_rate_of_loading_orders_the_collapse_loads():
     """Small, Booker & Davis (1976): the faster a footing on a frictional clay is loaded,
     the less it carries. Its pressure raised to 300 kPa over 0.001, 1 and 1000 consolidation
-    times a^2 / c_v: each run fails where its mean settlement passes 0.1 D (beyond the
-    undrained strength the ground settles as fast as its water drains, it does not lose
-    equilibrium), the pressure carried rising with the ramp's time (measured 66.9, 81.7,
-    207 kPa, the last step 238 kPa); the slowest brackets the drained soil's collapse load
+    times a^2 / c_v, each read where its mean settlement passes 0.1 D (the collapse
+    searches' criterion, read here from the path's history): the pressure rising with the
+    ramp's time (measured 2026-12-02: 71.4, 87.9, 235.5 kPa; 66.9, 81.7, 207 when the
+    path failed there, on steps by count), the slowest at the drained soil's collapse load
     (236 kPa by the settlement-controlled search; the limit analysis' bounds 232-238 kPa),
-    the fastest carries less than a third of it."""
+    the fastest less than a third of it. Beyond its strength the ground does not lose
+    equilibrium in a time step (the pore water's drag holds it, even on the slowest ramp's
+    long steps): each ramp goes on to 300 kPa (15, 19 and 55 m of settlement), its results
+    reported not valid (small strains); a loss of equilibrium would be a SoilFailure with
+    criterion "equilibrium"."""
+    import math
+
     drained = analyse(_ramp(None, "load")).results["collapse"]["load_factor"] * 100e3
     carried = []
     for T in (0.001, 1.0, 1000.0):
-        with pytest.raises(SoilFailure) as e:
-            analyse(_ramp(T))
-        assert "fails at this rate of loading" in str(e.value)
-        kept = e.value.kept["largest_load_carried"]
-        assert kept["criterion"] == "equilibrium"
-        carried.append((kept["mean_bearing_pressure_carried"],
-                        kept["mean_bearing_pressure_failed"]))
-    (fast, _), (middle, _), (slow, slow_failed) = carried
+        try:
+            r = analyse(_ramp(T)).results
+            history = r["consolidation"]["history"]
+            assert not r["validity"]["valid"] and not r["validity"]["parts"]["small_strain"]
+        except SoilFailure as e:
+            assert e.kept["largest_load_carried"]["criterion"] == "equilibrium"
+            history = e.history
+        w = np.array([s["w_mean"] for s in history])
+        P = np.array([s["applied_load"] for s in history]) / math.pi
+        k = int(np.argmax(w > 0.2))
+        assert k > 0, T
+        carried.append(P[k - 1] + (0.2 - w[k - 1]) / (w[k] - w[k - 1]) * (P[k] - P[k - 1]))
+    fast, middle, slow = carried
     assert fast < middle < slow
-    assert slow <= drained <= slow_failed
+    assert slow <= drained * 1.02
     assert fast < drained / 3.0
 
 
