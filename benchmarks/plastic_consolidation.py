@@ -48,14 +48,15 @@ def main() -> None:
         scene = scene.with_coarse_mesh()
     if args.no_safety:
         scene = scene.with_changes(analysis={"collapse": None})
-    per_step: list[int] = []
-    log.addHandler(_IterationsPerStep(per_step))
     timing.reset()
     t0 = time.perf_counter()
     r = analyse(scene).results
     elapsed = time.perf_counter() - t0
     split = timing.split()
     c = r["consolidation"]
+    # (each time step's Newton iterations, its tries and parts together)
+    per_step = [s["newton_iterations"] for s in c["history"]
+                if s.get("newton_iterations") is not None]
     rows = []
     for st in r["stages"]:
         col = st.get("collapse")
@@ -99,19 +100,6 @@ def main() -> None:
     (out / "plastic_consolidation.json").write_text(json.dumps(
         {"coarse": args.coarse, "safety": not args.no_safety, "stages": rows, "cost": cost},
         indent=1))
-
-
-class _IterationsPerStep(logging.Handler):
-    """The Newton iterations of each time step, from the progress lines."""
-
-    def __init__(self, out):
-        super().__init__(logging.INFO)
-        self.out = out
-
-    def emit(self, record):
-        msg = record.getMessage()
-        if "Newton iterations" in msg and "t = " in msg:
-            self.out.append(int(msg.split(":")[1].split("Newton")[0]))
 
 
 if __name__ == "__main__":

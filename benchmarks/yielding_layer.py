@@ -41,15 +41,12 @@ def run(steps: int, coarse: bool, tolerance: float | None = None) -> dict:
     scene = load_scene(SCENE).with_changes(consolidation=changes)
     if coarse:
         scene = scene.with_coarse_mesh()
-    per_step: list[int] = []
-    handler = _IterationsPerStep(per_step)
-    logging.getLogger("tankfx").addHandler(handler)
     t0 = time.perf_counter()
-    try:
-        r = analyse(scene).results
-    finally:
-        logging.getLogger("tankfx").removeHandler(handler)
+    r = analyse(scene).results
     elapsed = time.perf_counter() - t0
+    # (each time step's Newton iterations, its tries and parts together)
+    per_step = [s["newton_iterations"] for s in r["consolidation"]["history"]
+                if s.get("newton_iterations") is not None]
     at = {round(s["t_days"]): s for s in r["consolidation"]["at_times"] if s["t_days"]}
     return {"steps_per_decade": steps, "time_s": elapsed,
             "time_tolerance": scene.consolidation.time_tolerance,
@@ -60,19 +57,6 @@ def run(steps: int, coarse: bool, tolerance: float | None = None) -> dict:
             "w0_mm": {d: 1e3 * at[d]["w0"] for d in PEER if d in at},
             "u_kPa": {d: 1e-3 * at[d]["piezometers"][0] for d in PEER if d in at},
             "plastic_points": r["soil"]["plastic_points"]}
-
-
-class _IterationsPerStep(logging.Handler):
-    """Collects the Newton iterations of each time step from the progress lines."""
-
-    def __init__(self, out):
-        super().__init__(logging.INFO)
-        self.out = out
-
-    def emit(self, record):
-        msg = record.getMessage()
-        if "Newton iterations" in msg and "t = " in msg:
-            self.out.append(int(msg.split(":")[1].split("Newton")[0]))
 
 
 def main() -> None:

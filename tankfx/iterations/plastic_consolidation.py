@@ -99,10 +99,18 @@ class PlasticConsolidation(TimeStepping):
                 self._divide(t)
             else:
                 self._load_steps(t)
+        self._step_iterations = self.iterations - before
         if t is not None:
             # (progress: a step of an elastoplastic skeleton may take many iterations)
             self._log.info("  t = %.6g days: %d Newton iterations, %d points yield",
-                           t / DAY, self.iterations - before, self.newton.plastic_points())
+                           t / DAY, self._step_iterations, self.newton.plastic_points())
+
+    def _step(self, *args) -> tuple[dict, float]:
+        """:meth:`TimeStepping._step`; its state (in the history) also says the Newton
+        iterations the step took (``newton_iterations``: all its tries and parts)."""
+        state, dt = super()._step(*args)
+        state["newton_iterations"] = self._step_iterations
+        return state, dt
 
     def _converge(self) -> bool:
         """Newton from the committed state, committed where it converges (rolled back where
