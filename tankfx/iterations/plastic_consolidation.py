@@ -42,8 +42,10 @@ class PlasticConsolidation(TimeStepping):
 
     @staticmethod
     def describe(scene) -> str:
-        return TimeStepping.describe(scene).replace(
-            " (a solve each)", ", each by Newton's method on the elastoplastic skeleton and "
+        return TimeStepping.describe(scene).replace(" and ", " and at least ", 1).replace(
+            " (a solve each)", " (shorter ones where their local error is over "
+                               f"time_tolerance = {scene.consolidation.time_tolerance:g}), "
+                               "each by Newton's method on the elastoplastic skeleton and "
                                "the pore pressure (load steps for a load applied at once, a "
                                "time step divided where it does not converge)")
 
