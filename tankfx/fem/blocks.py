@@ -127,3 +127,25 @@ class OutOfBalance:
         if self.relative_to_largest:
             self._largest = total = max(total, self._largest)
         return math.sqrt(float(np.sum(residual ** 2)) / max(total, 1e-300))
+
+
+class Balanced:
+    """The out-of-balance measures of a model that builds its :class:`OutOfBalance` as
+    ``_out_of_balance``: the whole system's, per block, and per block as vectors."""
+
+    def out_of_balance(self) -> float:
+        """||A u - f|| / ||f||: the out-of-balance force of the current fields under the
+        current coefficients, relative to the load vector (over all blocks, the supports'
+        rows left out; zero, to round-off, at a converged state)."""
+        return self._out_of_balance()
+
+    def block_residuals(self) -> tuple[list[str], np.ndarray, np.ndarray]:
+        """Per block: its name, the norm of its out-of-balance vector and of its largest
+        term (:meth:`OutOfBalance.blocks`)."""
+        residual, _, terms = self._out_of_balance.blocks()
+        return self._out_of_balance.names, residual, terms
+
+    def block_vectors(self, values=None) -> list[np.ndarray]:
+        """Per block, its out-of-balance vector on this rank's dofs, or the current
+        coefficients' action on ``values`` (:meth:`OutOfBalance.vectors`)."""
+        return self._out_of_balance.vectors(values)

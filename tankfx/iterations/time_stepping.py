@@ -464,12 +464,16 @@ class TimeStepping:
                     if float(t) not in grid:
                         steps.pop(k)
                     continue
+                if error is not None and error > control.REJECT * control.tolerance:
+                    self._log.warning("warning: consolidation: the step to t = %.6g days taken "
+                                      "after %d shorter tries, its local error %.3g of the "
+                                      "tolerance", t / DAY, rejected, error / control.tolerance)
                 if kind == "jump":
                     control.restart(t)
-                elif kind == "restart":
-                    control.states = control.states[-1:]
-                    control.accept(t)
                 else:
+                    if kind == "restart":
+                        # (the stretch begins at the step's start)
+                        control.states = control.states[-1:]
                     control.accept(t)
                 proposal, rejected = control.next_step(dt, error) if dt > 0.0 else math.inf, 0
             last_at_t = k + 1 == len(steps) or steps[k + 1][0] != t

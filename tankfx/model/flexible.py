@@ -13,14 +13,14 @@ import numpy as np
 import ufl
 from dolfinx import fem
 
-from ..fem.blocks import OutOfBalance
+from ..fem.blocks import Balanced, OutOfBalance
 from ..fem.evaluate import allsum, assemble_scalar, evaluate_at, nodal_values_on_facets
 from ..mesh import FACET_TAGS, Domain
 from ..scene.scene import Scene
 from .soil import SoilBlock, SoilSetting
 
 
-class FlexibleLoad:
+class FlexibleLoad(Balanced):
     """A uniform pressure on r <= load_radius of the bare soil (no structure)."""
 
     def __init__(self, scene: Scene, domain: Domain):
@@ -86,21 +86,6 @@ class FlexibleLoad:
         blocks = isinstance(self.a, list)
         return OutOfBalance(self.a if blocks else [[self.a]], self.L if blocks else [self.L],
                             self.unknowns if blocks else [self.unknowns], self.bcs)
-
-    def out_of_balance(self) -> float:
-        """||A u - f|| / ||f|| of the current solution (see :class:`OutOfBalance`)."""
-        return self._out_of_balance()
-
-    def block_residuals(self) -> tuple[list[str], np.ndarray, np.ndarray]:
-        """Per block: its name, the norm of its out-of-balance vector and of its largest
-        term (:meth:`tankfx.fem.blocks.OutOfBalance.blocks`)."""
-        residual, _, terms = self._out_of_balance.blocks()
-        return self._out_of_balance.names, residual, terms
-
-    def block_vectors(self, values=None) -> list[np.ndarray]:
-        """Per block, its out-of-balance vector on this rank's dofs, or the current
-        coefficients' action on ``values`` (:meth:`tankfx.fem.blocks.OutOfBalance.vectors`)."""
-        return self._out_of_balance.vectors(values)
 
     def soil_residual(self):
         return self.soil.residual(self.soil.a, self.L_u)

@@ -25,7 +25,7 @@ import ufl
 from dolfinx import fem
 from dolfinx import mesh as dmesh
 
-from ..fem.blocks import OutOfBalance, empty_form
+from ..fem.blocks import Balanced, OutOfBalance, empty_form
 from ..fem.evaluate import allsum, evaluate_at
 from ..fem.solvers import reaction_force
 from ..laws import interface
@@ -42,7 +42,7 @@ from .tank_loads import TankLoads
 _SUB_TAG = {"contact": st.PLATE, "wall": st.WALL, "wall_embedded": st.WALL_EMBEDDED}
 
 
-class TankModel:
+class TankModel(Balanced):
     """Soil, plate and (optional) wall of a scene as one block system: its forms ``a``,
     ``L``, supports ``bcs`` and unknowns, the interface states, and the structure's results.
     ``face_offset=False`` puts the shells' mid-surfaces on the contact lines (only for
@@ -285,23 +285,6 @@ class TankModel:
     @cached_property
     def _out_of_balance(self) -> OutOfBalance:
         return OutOfBalance(self.a, self.L, self.unknowns, self.bcs, self.entity_maps)
-
-    def out_of_balance(self) -> float:
-        """||A u - f|| / ||f||: the out-of-balance force of the current fields under the
-        current interface coefficients, relative to the load vector (over all blocks, the
-        supports' rows left out; zero, to round-off, at a converged state)."""
-        return self._out_of_balance()
-
-    def block_residuals(self) -> tuple[list[str], np.ndarray, np.ndarray]:
-        """Per block: its name, the norm of its out-of-balance vector and of its largest
-        term (:meth:`tankfx.fem.blocks.OutOfBalance.blocks`)."""
-        residual, _, terms = self._out_of_balance.blocks()
-        return self._out_of_balance.names, residual, terms
-
-    def block_vectors(self, values=None) -> list[np.ndarray]:
-        """Per block, its out-of-balance vector on this rank's dofs, or the current
-        coefficients' action on ``values`` (:meth:`tankfx.fem.blocks.OutOfBalance.vectors`)."""
-        return self._out_of_balance.vectors(values)
 
     def soil_residual(self):
         a_ss, a_sb = self.a[0][0], self.a[0][-1]
